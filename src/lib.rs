@@ -1,0 +1,1 @@
+//! pdbem library: scenes, runner, outputs.
