@@ -1,0 +1,153 @@
+//! The Kelvin kernels (REFERENCES.md, seed 002 Eqs. 17-20) integrated over a straight
+//! element, written in terms of the scalar moments of [`super::moments`].
+//!
+//! With $R = \xi e + \eta n$ (so $r_i = R_i / r$, $\partial r/\partial n = \eta / r$):
+//! $$U_{ij} = C_U[-(3-4\nu)\delta_{ij}\ln r + R_iR_j/r^2]$$
+//! $$T_{ij} = -C_T[(1-2\nu)\delta_{ij}\eta/r^2 + 2\eta R_iR_j/r^4 - (1-2\nu)(R_in_j - R_jn_i)/r^2]$$
+//! $$D_{kij} = C_T[(1-2\nu)(R_i\delta_{kj} + R_j\delta_{ki} - R_k\delta_{ij})/r^2 + 2R_iR_jR_k/r^4]$$
+//! $$S_{kij} = C_S[2\eta((1-2\nu)\delta_{ij}R_k + \nu(R_i\delta_{jk} + R_j\delta_{ik}))/r^4
+//!   - 8\eta R_iR_jR_k/r^6 + 2\nu(n_iR_jR_k + n_jR_iR_k)/r^4 + 2(1-2\nu)n_kR_iR_j/r^4
+//!   + ((1-2\nu)(n_j\delta_{ik} + n_i\delta_{jk}) - (1-4\nu)n_k\delta_{ij})/r^2]$$
+//! with $C_U = 1/(8\pi\mu(1-\nu))$, $C_T = 1/(4\pi(1-\nu))$, $C_S = \mu/(2\pi(1-\nu))$,
+//! $K_{jk} = D_{kij} m_i$, $H_{jk} = S_{kij} m_i$.
+
+use super::moments::Moments;
+use super::KernelConsts;
+use nalgebra::Vector2;
+use std::f64::consts::PI;
+
+/// A 2x2 block, row-major: `b[row][col]`.
+pub type Block = [[f64; 2]; 2];
+
+/// The four integrated kernels of one field point / element pair.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PairIntegrals {
+    /// $\int U_{ij}$: displacement i at x from traction j on the element.
+    pub u: Block,
+    /// $\int T_{ij}$ (with the free-term jump on the element itself).
+    pub t: Block,
+    /// $\int K_{jk}$: traction j at x (normal m) from traction k on the element.
+    pub k: Block,
+    /// $\int H_{jk}$: traction j at x (normal m) from displacement k on the element.
+    pub h: Block,
+}
+
+/// Integrated products of R: V = int R/r^2k, Q = int RR/r^2k, W = int RRR/r^2k.
+struct RTensors {
+    v: [f64; 2],
+    q: Block,
+    w: [[[f64; 2]; 2]; 2],
+}
+
+fn r_tensors(e: &Vector2<f64>, n: &Vector2<f64>, mo: &Moments, k: usize) -> RTensors {
+    let eta = mo.eta;
+    let m = &mo.m;
+    let mut out = RTensors {
+        v: [0.0; 2],
+        q: [[0.0; 2]; 2],
+        w: [[[0.0; 2]; 2]; 2],
+    };
+    // Coefficient of a product with `ne` factors of n out of `p`: eta^ne M[p-ne][k].
+    let coef = |p: usize, ne: usize| -> f64 {
+        if ne > p {
+            return 0.0;
+        }
+        let a = p - ne;
+        if a > 3 {
+            return 0.0;
+        }
+        eta.powi(ne as i32) * m[a][k]
+    };
+    let basis = [e, n];
+    for i in 0..2 {
+        out.v[i] = coef(1, 0) * e[i] + coef(1, 1) * n[i];
+        for j in 0..2 {
+            let mut q = 0.0;
+            for (bi, vi) in basis.iter().enumerate() {
+                for (bj, vj) in basis.iter().enumerate() {
+                    q += coef(2, bi + bj) * vi[i] * vj[j];
+                }
+            }
+            out.q[i][j] = q;
+            for l in 0..2 {
+                let mut w = 0.0;
+                for (bi, vi) in basis.iter().enumerate() {
+                    for (bj, vj) in basis.iter().enumerate() {
+                        for (bl, vl) in basis.iter().enumerate() {
+                            w += coef(3, bi + bj + bl) * vi[i] * vj[j] * vl[l];
+                        }
+                    }
+                }
+                out.w[i][j][l] = w;
+            }
+        }
+    }
+    out
+}
+
+#[inline]
+fn delta(i: usize, j: usize) -> f64 {
+    if i == j {
+        1.0
+    } else {
+        0.0
+    }
+}
+
+/// The four kernel integrals from the moments of one pair.
+pub fn kernel_integrals(
+    e: &Vector2<f64>,
+    n: &Vector2<f64>,
+    m: &Vector2<f64>,
+    mo: &Moments,
+    kc: &KernelConsts,
+) -> PairIntegrals {
+    let (mu, nu) = (kc.mu, kc.nu);
+    let cu = 1.0 / (8.0 * PI * mu * (1.0 - nu));
+    let ct = 1.0 / (4.0 * PI * (1.0 - nu));
+    let cs = mu / (2.0 * PI * (1.0 - nu));
+    let eta = mo.eta;
+    let r1 = r_tensors(e, n, mo, 1);
+    let r2 = r_tensors(e, n, mo, 2);
+    let r3 = r_tensors(e, n, mo, 3);
+    let s0 = mo.m[0][1];
+    let a = 1.0 - 2.0 * nu;
+
+    let mut out = PairIntegrals::default();
+    for i in 0..2 {
+        for j in 0..2 {
+            out.u[i][j] = cu * (-(3.0 - 4.0 * nu) * delta(i, j) * mo.l + r1.q[i][j]);
+            out.t[i][j] = -ct
+                * (a * delta(i, j) * eta * s0 + 2.0 * eta * r2.q[i][j]
+                    - a * (r1.v[i] * n[j] - r1.v[j] * n[i]));
+        }
+    }
+    // K_jk = D_kij m_i ; H_jk = S_kij m_i
+    for j in 0..2 {
+        for k in 0..2 {
+            let mut dk = 0.0;
+            let mut sk = 0.0;
+            for i in 0..2 {
+                let d = ct
+                    * (a * (r1.v[i] * delta(k, j) + r1.v[j] * delta(k, i) - r1.v[k] * delta(i, j))
+                        + 2.0 * r2.w[i][j][k]);
+                let s = cs
+                    * (2.0
+                        * eta
+                        * (a * delta(i, j) * r2.v[k]
+                            + nu * (r2.v[i] * delta(j, k) + r2.v[j] * delta(i, k)))
+                        - 8.0 * eta * r3.w[i][j][k]
+                        + 2.0 * nu * (n[i] * r2.q[j][k] + n[j] * r2.q[i][k])
+                        + 2.0 * a * n[k] * r2.q[i][j]
+                        + (a * (n[j] * delta(i, k) + n[i] * delta(j, k))
+                            - (1.0 - 4.0 * nu) * n[k] * delta(i, j))
+                            * s0);
+                dk += d * m[i];
+                sk += s * m[i];
+            }
+            out.k[j][k] = dk;
+            out.h[j][k] = sk;
+        }
+    }
+    out
+}

@@ -1,0 +1,445 @@
+//! Mesh generation from loops and cracks.
+
+use super::{subdivide, Crack, Element, Mesh, V2};
+use crate::BemError;
+
+/// A closed polygonal loop: the outer boundary or a hole.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LoopSpec {
+    /// Vertices (orientation is normalised by the builder).
+    pub points: Vec<V2>,
+    /// Group name of each edge (edge i runs from point i to point i+1).
+    pub edge_groups: Vec<String>,
+    /// Target element size of each edge; an edge shorter than its size is one element.
+    pub edge_sizes: Vec<f64>,
+    /// True for a hole (clockwise), false for the outer boundary (counter-clockwise).
+    pub is_hole: bool,
+}
+
+/// How the two faces of a crack sit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FaceMode {
+    /// Both faces on the crack line (the dual BIE keeps the system regular).
+    Coincident,
+    /// Faces offset by +-gap/2 along the crack normal, meeting at the tips.
+    Gap(f64),
+}
+
+/// Uniform refinement near crack tips.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TipRefinement {
+    /// Element size within `radius` of the tip.
+    pub size: f64,
+    /// Radius of the uniform fine zone.
+    pub radius: f64,
+}
+
+/// A crack: an open polyline with two faces.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CrackSpec {
+    /// Name (groups `<name>.upper`, `<name>.lower`).
+    pub name: String,
+    /// Polyline; an end on a loop is a mouth, any other end is a tip.
+    pub points: Vec<V2>,
+    /// Coincident faces or a gap.
+    pub faces: FaceMode,
+    /// Element size along the crack.
+    pub element_size: f64,
+    /// Optional refinement at the tips.
+    pub tip: Option<TipRefinement>,
+}
+
+/// Collects loops and cracks and builds the [`Mesh`].
+#[derive(Debug, Clone, Default)]
+pub struct MeshBuilder {
+    loops: Vec<LoopSpec>,
+    cracks: Vec<CrackSpec>,
+}
+
+/// Signed area of a polygon (positive when counter-clockwise).
+pub(crate) fn signed_area(p: &[V2]) -> f64 {
+    let n = p.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (p[i], p[(i + 1) % n]);
+            a.x * b.y - b.x * a.y
+        })
+        .sum::<f64>()
+        * 0.5
+}
+
+/// Parameter t in [0,1] of the projection of q on segment ab, and the distance to it.
+fn project(q: V2, a: V2, b: V2) -> (f64, f64) {
+    let d = b - a;
+    let t = ((q - a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0);
+    (t, (a + t * d - q).norm())
+}
+
+impl MeshBuilder {
+    /// Empty builder.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds a closed loop.
+    pub fn add_loop(&mut self, l: LoopSpec) -> &mut Self {
+        self.loops.push(l);
+        self
+    }
+
+    /// Adds a crack.
+    pub fn add_crack(&mut self, c: CrackSpec) -> &mut Self {
+        self.cracks.push(c);
+        self
+    }
+
+    /// Builds the mesh.
+    pub fn build(&self) -> Result<Mesh, BemError> {
+        let mut mesh = Mesh::default();
+        let loops: Vec<LoopSpec> = self
+            .loops
+            .iter()
+            .map(oriented)
+            .collect::<Result<_, _>>()?;
+        let tol = self.tolerance();
+        // Mouths: (loop, edge, parameter interval removed) per crack end on a loop.
+        let mut cuts: Vec<Vec<Vec<(f64, f64, f64)>>> = loops
+            .iter()
+            .map(|l| vec![Vec::new(); l.points.len()])
+            .collect();
+        let mut ends = Vec::new();
+        for c in &self.cracks {
+            check_crack(c)?;
+            let gap = match c.faces {
+                FaceMode::Coincident => 0.0,
+                FaceMode::Gap(g) => g,
+            };
+            let mut on = [false, false];
+            for (k, &p) in [c.points[0], *c.points.last().unwrap()].iter().enumerate() {
+                if let Some((li, ei, t)) = find_on_loop(&loops, p, tol) {
+                    on[k] = true;
+                    let l = &loops[li];
+                    let (a, b) = edge(l, ei);
+                    let half = 0.5 * gap / (b - a).norm();
+                    cuts[li][ei].push((t - half, t + half, c.element_size));
+                }
+            }
+            ends.push(on);
+        }
+        for (li, l) in loops.iter().enumerate() {
+            let start = mesh.elements.len();
+            for ei in 0..l.points.len() {
+                let g = group_index(&mut mesh.groups, &l.edge_groups[ei]);
+                let (a, b) = edge(l, ei);
+                for (p, q) in edge_pieces(a, b, l.edge_sizes[ei], &cuts[li][ei]) {
+                    mesh.elements.push(Element::new(p, q, g));
+                }
+            }
+            mesh.loops.push(start..mesh.elements.len());
+        }
+        for (c, on) in self.cracks.iter().zip(ends) {
+            add_crack_faces(&mut mesh, c, on);
+        }
+        Ok(mesh)
+    }
+
+    /// Geometric tolerance: 1e-9 of the largest extent.
+    fn tolerance(&self) -> f64 {
+        let mut ext: f64 = 0.0;
+        for l in &self.loops {
+            for p in &l.points {
+                ext = ext.max(p.x.abs()).max(p.y.abs());
+            }
+        }
+        for c in &self.cracks {
+            for p in &c.points {
+                ext = ext.max(p.x.abs()).max(p.y.abs());
+            }
+        }
+        1e-9 * ext.max(1e-300)
+    }
+}
+
+fn edge(l: &LoopSpec, i: usize) -> (V2, V2) {
+    (l.points[i], l.points[(i + 1) % l.points.len()])
+}
+
+fn group_index(groups: &mut Vec<String>, name: &str) -> usize {
+    if let Some(i) = groups.iter().position(|g| g == name) {
+        i
+    } else {
+        groups.push(name.to_string());
+        groups.len() - 1
+    }
+}
+
+/// Loop with the orientation DESIGN.md requires (edge data carried along when reversed).
+fn oriented(l: &LoopSpec) -> Result<LoopSpec, BemError> {
+    let n = l.points.len();
+    if n < 3 || l.edge_groups.len() != n || l.edge_sizes.len() != n {
+        return Err(BemError::Mesh(format!(
+            "a loop needs at least 3 points and one group and size per edge (points {n}, groups {}, sizes {})",
+            l.edge_groups.len(),
+            l.edge_sizes.len()
+        )));
+    }
+    if let Some(s) = l.edge_sizes.iter().find(|s| !(**s > 0.0)) {
+        return Err(BemError::Mesh(format!("element size {s} must be positive")));
+    }
+    let area = signed_area(&l.points);
+    if area == 0.0 {
+        return Err(BemError::Mesh("loop of zero area".into()));
+    }
+    let want_ccw = !l.is_hole;
+    if (area > 0.0) == want_ccw {
+        return Ok(l.clone());
+    }
+    // Reverse: edge i (p_i -> p_{i+1}) becomes edge n-1-i of the reversed loop.
+    let mut points = l.points.clone();
+    points.reverse();
+    let mut groups = l.edge_groups.clone();
+    let mut sizes = l.edge_sizes.clone();
+    // Reversed points q_k = p_{n-1-k}; edge k runs q_k -> q_{k+1} = p_{n-1-k} -> p_{n-2-k},
+    // which is old edge n-2-k (mod n).
+    groups = (0..n).map(|k| groups[(2 * n - 2 - k) % n].clone()).collect();
+    sizes = (0..n).map(|k| sizes[(2 * n - 2 - k) % n]).collect();
+    Ok(LoopSpec {
+        points,
+        edge_groups: groups,
+        edge_sizes: sizes,
+        is_hole: l.is_hole,
+    })
+}
+
+fn check_crack(c: &CrackSpec) -> Result<(), BemError> {
+    if c.points.len() < 2 {
+        return Err(BemError::Mesh(format!("crack '{}' needs at least 2 points", c.name)));
+    }
+    if c.points.windows(2).any(|w| (w[1] - w[0]).norm() == 0.0) {
+        return Err(BemError::Mesh(format!("crack '{}' has a zero-length segment", c.name)));
+    }
+    if !(c.element_size > 0.0) {
+        return Err(BemError::Mesh(format!(
+            "crack '{}': element size {} must be positive",
+            c.name, c.element_size
+        )));
+    }
+    if let FaceMode::Gap(g) = c.faces {
+        if !(g > 0.0) {
+            return Err(BemError::Mesh(format!("crack '{}': gap {g} must be positive", c.name)));
+        }
+    }
+    Ok(())
+}
+
+fn find_on_loop(loops: &[LoopSpec], p: V2, tol: f64) -> Option<(usize, usize, f64)> {
+    for (li, l) in loops.iter().enumerate() {
+        for ei in 0..l.points.len() {
+            let (a, b) = edge(l, ei);
+            let (t, d) = project(p, a, b);
+            if d <= tol {
+                return Some((li, ei, t));
+            }
+        }
+    }
+    None
+}
+
+/// Elements of one loop edge, split at crack mouths (the gap interval left out) and
+/// refined towards each mouth to the crack's element size.
+fn edge_pieces(a: V2, b: V2, size: f64, cuts: &[(f64, f64, f64)]) -> Vec<(V2, V2)> {
+    let len = (b - a).norm();
+    let mut cuts = cuts.to_vec();
+    cuts.sort_by(|x, y| x.0.total_cmp(&y.0));
+    // Intervals to mesh: [start, end] with the refinement size at each end (if a mouth).
+    let mut spans: Vec<(f64, f64, Option<f64>, Option<f64>)> = Vec::new();
+    let mut t0 = 0.0;
+    let mut h0 = None;
+    for &(lo, hi, hc) in &cuts {
+        spans.push((t0, lo.max(t0), h0, Some(hc)));
+        t0 = hi.min(1.0);
+        h0 = Some(hc);
+    }
+    spans.push((t0, 1.0, h0, None));
+    let mut out = Vec::new();
+    for (s, e, hs, he) in spans {
+        let l = (e - s) * len;
+        if l <= 1e-12 * len {
+            continue;
+        }
+        let pts = span_points(l, size, hs, he);
+        for w in pts.windows(2) {
+            let p = a + (b - a) * (s + w[0] / len);
+            let q = a + (b - a) * (s + w[1] / len);
+            out.push((p, q));
+        }
+    }
+    out
+}
+
+/// Break points of a span refined towards a mouth at its start and/or end.
+fn span_points(l: f64, size: f64, hs: Option<f64>, he: Option<f64>) -> Vec<f64> {
+    let refine = |h: Option<f64>| h.filter(|h| *h < size).map(|h| (h, 3.0 * h));
+    match (refine(hs), refine(he)) {
+        (None, None) => subdivide(l, size, None, false),
+        (Some(r), None) => subdivide(l, size, Some(r), false),
+        (None, Some(r)) => subdivide(l, size, Some(r), true),
+        (Some(r1), Some(r2)) => {
+            let mut a = subdivide(0.5 * l, size, Some(r1), false);
+            let b = subdivide(0.5 * l, size, Some(r2), true);
+            a.pop();
+            a.extend(b.iter().map(|x| x + 0.5 * l));
+            a
+        }
+    }
+}
+
+/// Break points along the crack polyline: arc parameters of every vertex.
+fn crack_stations(c: &CrackSpec, on: [bool; 2]) -> Vec<(V2, f64, usize)> {
+    let nseg = c.points.len() - 1;
+    let mut out = Vec::new();
+    let mut s0 = 0.0;
+    for k in 0..nseg {
+        let (a, b) = (c.points[k], c.points[k + 1]);
+        let len = (b - a).norm();
+        let tip_end = k == nseg - 1 && !on[1];
+        let tip_start = k == 0 && !on[0];
+        let tip = c.tip.map(|t| (t.size, t.radius));
+        let pts = match (tip_start, tip_end) {
+            (true, true) => {
+                let mut p = subdivide(0.5 * len, c.element_size, tip, false);
+                let q = subdivide(0.5 * len, c.element_size, tip, true);
+                p.pop();
+                p.extend(q.iter().map(|x| x + 0.5 * len));
+                p
+            }
+            (true, false) => subdivide(len, c.element_size, tip, false),
+            (false, true) => subdivide(len, c.element_size, tip, true),
+            (false, false) => subdivide(len, c.element_size, None, false),
+        };
+        for (i, t) in pts.iter().enumerate() {
+            if k > 0 && i == 0 {
+                continue;
+            }
+            out.push((a + (b - a) * (t / len), s0 + t, k));
+        }
+        s0 += len;
+    }
+    out
+}
+
+fn add_crack_faces(mesh: &mut Mesh, c: &CrackSpec, on: [bool; 2]) {
+    let gap = match c.faces {
+        FaceMode::Coincident => 0.0,
+        FaceMode::Gap(g) => g,
+    };
+    let pts = crack_stations(c, on);
+    let np = pts.len();
+    let nseg = c.points.len() - 1;
+    // Left normal at each break point (averaged at polyline vertices).
+    let seg_normal = |k: usize| {
+        let d = (c.points[k + 1] - c.points[k]).normalize();
+        V2::new(-d.y, d.x)
+    };
+    let offset = |i: usize| -> V2 {
+        let is_tip = (i == 0 && !on[0]) || (i == np - 1 && !on[1]);
+        if gap == 0.0 || is_tip {
+            return V2::zeros();
+        }
+        let k = pts[i].2;
+        let nrm = if i > 0 && k > 0 && pts[i - 1].2 == k - 1 {
+            (seg_normal(k - 1) + seg_normal(k)).normalize()
+        } else {
+            seg_normal(k.min(nseg - 1))
+        };
+        nrm * (0.5 * gap)
+    };
+    let gu = group_index(&mut mesh.groups, &format!("{}.upper", c.name));
+    let gl = group_index(&mut mesh.groups, &format!("{}.lower", c.name));
+    let mut crack = Crack {
+        name: c.name.clone(),
+        points: c.points.clone(),
+        start_is_tip: !on[0],
+        end_is_tip: !on[1],
+        upper: Vec::new(),
+        lower: Vec::new(),
+        stations: Vec::new(),
+        gap,
+    };
+    for i in 0..np - 1 {
+        let (p, q) = (pts[i].0, pts[i + 1].0);
+        let (op, oq) = (offset(i), offset(i + 1));
+        crack.upper.push(mesh.elements.len());
+        mesh.elements.push(Element::new(p + op, q + oq, gu));
+        crack.lower.push(mesh.elements.len());
+        mesh.elements.push(Element::new(q - oq, p - op, gl));
+        crack.stations.push(0.5 * (pts[i].1 + pts[i + 1].1));
+    }
+    mesh.cracks.push(crack);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rect(w: f64, h: f64, size: f64) -> LoopSpec {
+        LoopSpec {
+            points: vec![V2::new(0.0, 0.0), V2::new(w, 0.0), V2::new(w, h), V2::new(0.0, h)],
+            edge_groups: ["bottom", "right", "top", "left"].map(String::from).to_vec(),
+            edge_sizes: vec![size; 4],
+            is_hole: false,
+        }
+    }
+
+    #[test]
+    fn rectangle_is_counter_clockwise_with_outward_normals() {
+        let mut b = MeshBuilder::new();
+        b.add_loop(rect(2.0, 1.0, 0.25));
+        let m = b.build().unwrap();
+        assert_eq!(m.len(), 24);
+        let bottom = m.group("bottom").unwrap();
+        for e in m.elements.iter().filter(|e| e.group == bottom) {
+            assert!((e.normal - V2::new(0.0, -1.0)).norm() < 1e-14);
+        }
+    }
+
+    #[test]
+    fn reversed_loop_keeps_edge_names() {
+        let mut l = rect(2.0, 1.0, 0.5);
+        l.points.reverse();
+        l.edge_groups = ["top", "right", "bottom", "left"].map(String::from).to_vec();
+        let mut b = MeshBuilder::new();
+        b.add_loop(l);
+        let m = b.build().unwrap();
+        let top = m.group("top").unwrap();
+        for e in m.elements.iter().filter(|e| e.group == top) {
+            assert!((e.normal - V2::new(0.0, 1.0)).norm() < 1e-14, "{:?}", e);
+        }
+    }
+
+    #[test]
+    fn edge_crack_splits_the_edge_at_its_mouth() {
+        let mut b = MeshBuilder::new();
+        b.add_loop(rect(2.0, 1.0, 0.3));
+        b.add_crack(CrackSpec {
+            name: "c".into(),
+            points: vec![V2::new(0.77, 1.0), V2::new(0.77, 0.5)],
+            faces: FaceMode::Gap(1e-4),
+            element_size: 0.05,
+            tip: None,
+        });
+        let m = b.build().unwrap();
+        let c = &m.cracks[0];
+        assert!(!c.start_is_tip && c.end_is_tip);
+        assert_eq!(c.upper.len(), 10);
+        let top = m.group("top").unwrap();
+        let total: f64 = m.elements.iter().filter(|e| e.group == top).map(|e| e.h).sum();
+        assert!((total - (2.0 - 1e-4)).abs() < 1e-12);
+        // Upper face (left of downward direction = +x side) has normal pointing to -x.
+        let u = &m.elements[c.upper[3]];
+        assert!((u.normal - V2::new(-1.0, 0.0)).norm() < 1e-12);
+        assert!(u.mid.x > 0.77);
+        let l = &m.elements[c.lower[3]];
+        assert!((l.mid.y - u.mid.y).abs() < 1e-14);
+    }
+}

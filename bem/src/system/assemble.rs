@@ -1,0 +1,180 @@
+//! Parallel assembly of the scaled, bordered system (column pairs per element, rayon).
+
+use super::{Bc, SolveParams};
+use crate::integrate::{integrate_element, KernelConsts, PairIntegrals};
+use crate::mesh::Mesh;
+use crate::Material;
+use rayon::prelude::*;
+
+/// The assembled system: column-major `a` (n x n), right-hand side, kept columns.
+pub(super) struct Assembled {
+    pub n: usize,
+    pub a: Vec<f64>,
+    pub rhs: Vec<f64>,
+    pub col_scale: Vec<f64>,
+    pub variable: Vec<(usize, Vec<f64>)>,
+    pub norm1: f64,
+}
+
+/// Per-thread accumulator of the right-hand side and the kept columns.
+#[derive(Default)]
+struct Acc {
+    rhs: Vec<f64>,
+    variable: Vec<(usize, Vec<f64>)>,
+}
+
+/// Coefficient blocks of collocation element i (normal m, length hi) on element j.
+#[inline]
+fn blocks(p: &PairIntegrals, same: bool, alpha: f64, beta: f64) -> ([[f64; 2]; 2], [[f64; 2]; 2]) {
+    let mut hc = [[0.0; 2]; 2];
+    let mut gc = [[0.0; 2]; 2];
+    for r in 0..2 {
+        for c in 0..2 {
+            let d = if same && r == c { 1.0 } else { 0.0 };
+            hc[r][c] = alpha * (d + p.t[r][c]) + beta * p.h[r][c];
+            gc[r][c] = alpha * p.u[r][c] + beta * (p.k[r][c] - d);
+        }
+    }
+    (hc, gc)
+}
+
+pub(super) fn assemble(
+    mesh: &Mesh,
+    material: &Material,
+    bcs: &[[Bc; 2]],
+    params: &SolveParams,
+    modes: &[Vec<f64>],
+) -> Assembled {
+    let kc = KernelConsts::from(material);
+    let nel = mesh.len();
+    let ndof = 2 * nel;
+    let n = ndof + modes.len();
+    let mut a = vec![0.0; n * n];
+    let els = &mesh.elements;
+    let variable_el: Vec<bool> = els
+        .iter()
+        .map(|e| params.variable_groups.contains(&e.group))
+        .collect();
+
+    let acc = a[..n * ndof]
+        .par_chunks_mut(2 * n)
+        .enumerate()
+        .fold(Acc::default, |mut acc, (j, cols)| {
+            let ej = &els[j];
+            let (c0, c1) = cols.split_at_mut(n);
+            let mut known = [vec![0.0; 0], vec![0.0; 0]];
+            let keep = [0, 1].map(|c| bcs[j][c].value() != 0.0 || variable_el[j]);
+            for c in 0..2 {
+                if keep[c] {
+                    known[c] = vec![0.0; n];
+                }
+            }
+            for (i, ei) in els.iter().enumerate() {
+                let p = integrate_element(ei.mid, ei.normal, ej, &kc);
+                let beta = params.beta_factor * ei.h / material.e;
+                let (hc, gc) = blocks(&p, i == j, params.alpha, beta);
+                for c in 0..2 {
+                    let col = if c == 0 { &mut *c0 } else { &mut *c1 };
+                    for r in 0..2 {
+                        // (coefficient of the unknown, left-hand-side coefficient of the known)
+                        let (unk, kno) = if bcs[j][c].is_displacement() {
+                            (-gc[r][c], hc[r][c])
+                        } else {
+                            (hc[r][c], -gc[r][c])
+                        };
+                        col[2 * i + r] = unk;
+                        if keep[c] {
+                            // Known values move to the right-hand side with opposite sign.
+                            known[c][2 * i + r] = -kno;
+                        }
+                    }
+                }
+            }
+            if acc.rhs.is_empty() {
+                acc.rhs = vec![0.0; n];
+            }
+            for c in 0..2 {
+                if !keep[c] {
+                    continue;
+                }
+                let v = bcs[j][c].value();
+                for (b, k) in acc.rhs.iter_mut().zip(&known[c]) {
+                    *b += k * v;
+                }
+                if variable_el[j] {
+                    acc.variable.push((2 * j + c, std::mem::take(&mut known[c])));
+                }
+            }
+            // Rigid-mode multiplier rows: R^T x = 0 (entries on u-unknown columns).
+            for (k, mode) in modes.iter().enumerate() {
+                for c in 0..2 {
+                    let col = if c == 0 { &mut *c0 } else { &mut *c1 };
+                    col[ndof + k] = mode[2 * j + c];
+                }
+            }
+            acc
+        })
+        .reduce(Acc::default, |mut x, y| {
+            if x.rhs.is_empty() {
+                return Acc {
+                    rhs: y.rhs,
+                    variable: [x.variable, y.variable].concat(),
+                };
+            }
+            if !y.rhs.is_empty() {
+                for (a, b) in x.rhs.iter_mut().zip(&y.rhs) {
+                    *a += b;
+                }
+            }
+            x.variable.extend(y.variable);
+            x
+        });
+    let mut rhs = if acc.rhs.is_empty() { vec![0.0; n] } else { acc.rhs };
+    let mut variable = acc.variable;
+    variable.sort_by_key(|(d, _)| *d);
+
+    // Bordering columns: R over all equation rows.
+    for (k, mode) in modes.iter().enumerate() {
+        let col = &mut a[(ndof + k) * n..(ndof + k + 1) * n];
+        col[..ndof].copy_from_slice(mode);
+    }
+    // The constraint rows act on unknown displacements only.
+    for j in 0..nel {
+        for c in 0..2 {
+            if bcs[j][c].is_displacement() {
+                for k in 0..modes.len() {
+                    a[(2 * j + c) * n + ndof + k] = 0.0;
+                }
+            }
+        }
+    }
+    let col_scale = scale_columns(&mut a, n, ndof);
+    let norm1 = (0..n)
+        .map(|c| a[c * n..(c + 1) * n].iter().map(|v| v.abs()).sum::<f64>())
+        .fold(0.0, f64::max);
+    rhs.truncate(n);
+    Assembled {
+        n,
+        a,
+        rhs,
+        col_scale,
+        variable,
+        norm1,
+    }
+}
+
+/// Scales the first `ndof` columns to unit max-norm (over the equation rows); returns the
+/// factors d with x = d * y.
+fn scale_columns(a: &mut [f64], n: usize, ndof: usize) -> Vec<f64> {
+    a[..n * ndof]
+        .par_chunks_mut(n)
+        .map(|col| {
+            let m = col[..ndof].iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            let d = if m > 0.0 { 1.0 / m } else { 1.0 };
+            for v in col[..ndof].iter_mut() {
+                *v *= d;
+            }
+            d
+        })
+        .collect()
+}

@@ -1,0 +1,74 @@
+//! Rigid-body modes left free by the prescribed displacements.
+//!
+//! The three rigid motions (x and y translation, rotation about the centroid scaled by the
+//! mesh size) are evaluated at every element's collocation point. Restricted to the
+//! displacement-prescribed components they span a Gram matrix G; the eigenvectors of G with
+//! (relatively) zero eigenvalue are the motions the conditions do not fix. They are returned
+//! orthonormalised over all degrees of freedom.
+
+use super::Bc;
+use crate::mesh::Mesh;
+use nalgebra::{Matrix3, SymmetricEigen};
+
+/// Free rigid modes as vectors over the 2 N degrees of freedom (orthonormal).
+pub(super) fn free_modes(mesh: &Mesh, bcs: &[[Bc; 2]]) -> Vec<Vec<f64>> {
+    let nel = mesh.len();
+    let c = mesh.elements.iter().map(|e| e.mid).sum::<crate::V2>() / nel as f64;
+    let scale = mesh
+        .elements
+        .iter()
+        .map(|e| (e.mid - c).norm())
+        .fold(0.0, f64::max)
+        .max(1e-300);
+    let basis: [Vec<f64>; 3] = [
+        (0..2 * nel).map(|d| if d % 2 == 0 { 1.0 } else { 0.0 }).collect(),
+        (0..2 * nel).map(|d| if d % 2 == 1 { 1.0 } else { 0.0 }).collect(),
+        (0..2 * nel)
+            .map(|d| {
+                let p = (mesh.elements[d / 2].mid - c) / scale;
+                if d % 2 == 0 {
+                    -p.y
+                } else {
+                    p.x
+                }
+            })
+            .collect(),
+    ];
+    let mut g = Matrix3::<f64>::zeros();
+    let mut full = Matrix3::<f64>::zeros();
+    for d in 0..2 * nel {
+        for k in 0..3 {
+            for l in 0..3 {
+                let v = basis[k][d] * basis[l][d];
+                full[(k, l)] += v;
+                if bcs[d / 2][d % 2].is_displacement() {
+                    g[(k, l)] += v;
+                }
+            }
+        }
+    }
+    let eig = SymmetricEigen::new(g);
+    let tol = 1e-10 * full.trace();
+    let mut modes: Vec<Vec<f64>> = Vec::new();
+    for k in 0..3 {
+        if eig.eigenvalues[k] > tol {
+            continue;
+        }
+        let v = eig.eigenvectors.column(k);
+        let mut m: Vec<f64> = (0..2 * nel)
+            .map(|d| (0..3).map(|l| v[l] * basis[l][d]).sum())
+            .collect();
+        for prev in &modes {
+            let dot: f64 = prev.iter().zip(&m).map(|(a, b)| a * b).sum();
+            for (x, p) in m.iter_mut().zip(prev) {
+                *x -= dot * p;
+            }
+        }
+        let norm = m.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if norm > 0.0 {
+            m.iter_mut().for_each(|x| *x /= norm);
+            modes.push(m);
+        }
+    }
+    modes
+}
