@@ -42,43 +42,30 @@ struct RTensors {
 fn r_tensors(e: &Vector2<f64>, n: &Vector2<f64>, mo: &Moments, k: usize) -> RTensors {
     let eta = mo.eta;
     let m = &mo.m;
+    // c[p][ne]: coefficient of a product of p factors with ne of them n: eta^ne M[p-ne][k].
+    let (e1, e2, e3) = (eta, eta * eta, eta * eta * eta);
+    let v = [m[1][k], e1 * m[0][k]];
+    let q = [m[2][k], e1 * m[1][k], e2 * m[0][k]];
+    let w = [m[3][k], e1 * m[2][k], e2 * m[1][k], e3 * m[0][k]];
+    let b = [[e[0], n[0]], [e[1], n[1]]];
     let mut out = RTensors {
         v: [0.0; 2],
         q: [[0.0; 2]; 2],
         w: [[[0.0; 2]; 2]; 2],
     };
-    // Coefficient of a product with `ne` factors of n out of `p`: eta^ne M[p-ne][k].
-    let coef = |p: usize, ne: usize| -> f64 {
-        if ne > p {
-            return 0.0;
-        }
-        let a = p - ne;
-        if a > 3 {
-            return 0.0;
-        }
-        eta.powi(ne as i32) * m[a][k]
-    };
-    let basis = [e, n];
     for i in 0..2 {
-        out.v[i] = coef(1, 0) * e[i] + coef(1, 1) * n[i];
+        out.v[i] = v[0] * b[i][0] + v[1] * b[i][1];
         for j in 0..2 {
-            let mut q = 0.0;
-            for (bi, vi) in basis.iter().enumerate() {
-                for (bj, vj) in basis.iter().enumerate() {
-                    q += coef(2, bi + bj) * vi[i] * vj[j];
-                }
-            }
-            out.q[i][j] = q;
+            out.q[i][j] = q[0] * b[i][0] * b[j][0]
+                + q[1] * (b[i][0] * b[j][1] + b[i][1] * b[j][0])
+                + q[2] * b[i][1] * b[j][1];
             for l in 0..2 {
-                let mut w = 0.0;
-                for (bi, vi) in basis.iter().enumerate() {
-                    for (bj, vj) in basis.iter().enumerate() {
-                        for (bl, vl) in basis.iter().enumerate() {
-                            w += coef(3, bi + bj + bl) * vi[i] * vj[j] * vl[l];
-                        }
-                    }
-                }
-                out.w[i][j][l] = w;
+                let (ei, ej, el) = (b[i][0], b[j][0], b[l][0]);
+                let (ni, nj, nl) = (b[i][1], b[j][1], b[l][1]);
+                out.w[i][j][l] = w[0] * ei * ej * el
+                    + w[1] * (ei * ej * nl + ei * nj * el + ni * ej * el)
+                    + w[2] * (ei * nj * nl + ni * ej * nl + ni * nj * el)
+                    + w[3] * ni * nj * nl;
             }
         }
     }

@@ -12,6 +12,7 @@
 
 mod builder;
 mod spacing;
+pub mod stencil;
 
 pub use builder::{CrackSpec, FaceMode, LoopSpec, MeshBuilder, TipRefinement};
 pub use spacing::subdivide;

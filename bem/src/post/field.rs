@@ -3,7 +3,7 @@
 //! $\sigma_{ij}(x) = \sum_e \int D_{kij} t_k - \int S_{kij} u_k$ (REFERENCES.md), the stress
 //! obtained row by row as the traction on the planes with normals $e_1$ and $e_2$.
 
-use crate::integrate::{integrate_element, KernelConsts};
+use crate::integrate::{integrate_element, integrate_element_linear, KernelConsts, PairIntegrals};
 use crate::mesh::{Mesh, V2};
 use crate::{Material, Solution};
 use rayon::prelude::*;
@@ -47,14 +47,29 @@ impl<'a> FieldEvaluator<'a> {
         [e[0] * x.x + e[2] * x.y, e[2] * x.x + e[1] * x.y]
     }
 
+    /// Element integrals for field point x (normal m) and the element's displacement as
+    /// seen by the integrals: (integrals, first-moment integrals, derivative).
+    fn pair(&self, x: V2, m: V2, e: usize) -> (PairIntegrals, Option<(PairIntegrals, [f64; 2])>) {
+        let el = &self.mesh.elements[e];
+        if self.sol.du.is_empty() {
+            (integrate_element(x, m, el, &self.kc), None)
+        } else {
+            let (p, p1) = integrate_element_linear(x, m, el, &self.kc);
+            (p, Some((p1, self.sol.du[e])))
+        }
+    }
+
     /// Displacement at an interior point.
     pub fn displacement(&self, x: V2) -> [f64; 2] {
         let mut u = self.background_u(x);
-        for (el, (ue, te)) in self.mesh.elements.iter().zip(self.sol.u.iter().zip(&self.sol.t)) {
-            let p = integrate_element(x, V2::new(1.0, 0.0), el, &self.kc);
+        for (e, (ue, te)) in self.sol.u.iter().zip(&self.sol.t).enumerate() {
+            let (p, lin) = self.pair(x, V2::new(1.0, 0.0), e);
             for i in 0..2 {
                 for j in 0..2 {
                     u[i] += p.u[i][j] * te[j] - p.t[i][j] * ue[j];
+                    if let Some((p1, g)) = &lin {
+                        u[i] -= p1.t[i][j] * g[j];
+                    }
                 }
             }
         }
@@ -64,12 +79,15 @@ impl<'a> FieldEvaluator<'a> {
     /// Stress [sxx, syy, sxy] at an interior point.
     pub fn stress(&self, x: V2) -> [f64; 3] {
         let mut s = [[0.0; 2]; 2];
-        for (el, (ue, te)) in self.mesh.elements.iter().zip(self.sol.u.iter().zip(&self.sol.t)) {
+        for (e, (ue, te)) in self.sol.u.iter().zip(&self.sol.t).enumerate() {
             for (row, m) in [V2::new(1.0, 0.0), V2::new(0.0, 1.0)].iter().enumerate() {
-                let p = integrate_element(x, *m, el, &self.kc);
+                let (p, lin) = self.pair(x, *m, e);
                 for j in 0..2 {
                     for k in 0..2 {
                         s[row][j] += p.k[j][k] * te[k] - p.h[j][k] * ue[k];
+                        if let Some((p1, g)) = &lin {
+                            s[row][j] -= p1.h[j][k] * g[k];
+                        }
                     }
                 }
             }

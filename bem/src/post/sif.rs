@@ -236,68 +236,110 @@ fn williams(mode: u8, r: f64, th: f64, mu: f64, kappa: f64) -> ([f64; 2], [f64; 
     }
 }
 
-/// Interaction-integral SIFs and J on a circle of `radius` around `tip` (direction `dir`).
-pub fn interaction_integral(ev: &FieldEvaluator, tip: V2, dir: V2, radius: f64, npts: usize) -> (f64, f64, f64) {
+/// Integrand of (M_I, M_II, J) per unit arc length at angle `th` of the contour.
+fn contour_integrand(ev: &FieldEvaluator, tip: V2, dir: V2, radius: f64, th: f64) -> [f64; 3] {
     let mat = *ev.material();
-    let (mu, kappa, ep) = (mat.mu(), mat.kappa(), mat.e_prime());
+    let (mu, kappa) = (mat.mu(), mat.kappa());
     let nrm = V2::new(-dir.y, dir.x);
     let to_local = |v: V2| V2::new(v.dot(&dir), v.dot(&nrm));
-    let rule = gauss_legendre(npts.min(crate::integrate::quadrature::MAX_ORDER));
-    // Composite rule: split (-pi, pi) into panels of 16 points.
-    let panels = npts.div_ceil(rule.len()).max(1);
     let delta = 1e-4 * radius;
-    let mut m = [0.0; 2];
-    let mut j = 0.0;
-    for p in 0..panels {
-        let (a, b) = (-PI + 2.0 * PI * p as f64 / panels as f64, -PI + 2.0 * PI * (p + 1) as f64 / panels as f64);
-        for &(t, w) in rule {
-            let th = 0.5 * (a + b) + 0.5 * (b - a) * t;
-            let wt = w * 0.5 * (b - a) * radius;
-            let (sn, cs) = th.sin_cos();
-            let x = tip + radius * (cs * dir + sn * nrm);
-            let sg = ev.stress(x);
-            // Rotate stress into the tip frame.
-            let (c1, s1) = (dir.x, dir.y);
-            let s11 = sg[0] * c1 * c1 + sg[1] * s1 * s1 + 2.0 * sg[2] * c1 * s1;
-            let s22 = sg[0] * s1 * s1 + sg[1] * c1 * c1 - 2.0 * sg[2] * c1 * s1;
-            let s12 = (sg[1] - sg[0]) * c1 * s1 + sg[2] * (c1 * c1 - s1 * s1);
-            let up = ev.displacement(x + delta * dir);
-            let um = ev.displacement(x - delta * dir);
-            let du = to_local(V2::new(up[0] - um[0], up[1] - um[1]) / (2.0 * delta));
-            let n = [cs, sn];
-            let sig = [[s11, s12], [s12, s22]];
-            let eps = mat.strain_from_stress([s11, s22, s12]);
-            let w_energy = 0.5 * (s11 * eps[0] + s22 * eps[1] + 2.0 * s12 * eps[2]);
-            let mut jint = w_energy * n[0];
-            for i in 0..2 {
-                for jj in 0..2 {
-                    jint -= sig[i][jj] * du[i] * n[jj];
-                }
+    let (sn, cs) = th.sin_cos();
+    let x = tip + radius * (cs * dir + sn * nrm);
+    let sg = ev.stress(x);
+    // Rotate stress into the tip frame.
+    let (c1, s1) = (dir.x, dir.y);
+    let s11 = sg[0] * c1 * c1 + sg[1] * s1 * s1 + 2.0 * sg[2] * c1 * s1;
+    let s22 = sg[0] * s1 * s1 + sg[1] * c1 * c1 - 2.0 * sg[2] * c1 * s1;
+    let s12 = (sg[1] - sg[0]) * c1 * s1 + sg[2] * (c1 * c1 - s1 * s1);
+    let up = ev.displacement(x + delta * dir);
+    let um = ev.displacement(x - delta * dir);
+    let du = to_local(V2::new(up[0] - um[0], up[1] - um[1]) / (2.0 * delta));
+    let n = [cs, sn];
+    let sig = [[s11, s12], [s12, s22]];
+    let eps = mat.strain_from_stress([s11, s22, s12]);
+    let w_energy = 0.5 * (s11 * eps[0] + s22 * eps[1] + 2.0 * s12 * eps[2]);
+    let mut out = [0.0; 3];
+    out[2] = w_energy * n[0];
+    for i in 0..2 {
+        for jj in 0..2 {
+            out[2] -= sig[i][jj] * du[i] * n[jj];
+        }
+    }
+    for mode in 1..=2u8 {
+        let (_, sa) = williams(mode, radius, th, mu, kappa);
+        let ea = mat.strain_from_stress(sa);
+        // d u_aux / d x1 by central differences in the tip frame.
+        let ua = |dx: f64| {
+            let (xx, yy) = (radius * cs + dx, radius * sn);
+            williams(mode, xx.hypot(yy), yy.atan2(xx), mu, kappa).0
+        };
+        let (ap, am) = (ua(delta), ua(-delta));
+        let dua = [(ap[0] - am[0]) / (2.0 * delta), (ap[1] - am[1]) / (2.0 * delta)];
+        let siga = [[sa[0], sa[2]], [sa[2], sa[1]]];
+        let w12 = s11 * ea[0] + s22 * ea[1] + 2.0 * s12 * ea[2];
+        let mut v = w12 * n[0];
+        for i in 0..2 {
+            for jj in 0..2 {
+                v -= (sig[i][jj] * dua[i] + siga[i][jj] * du[i]) * n[jj];
             }
-            j += wt * jint;
-            for mode in 1..=2u8 {
-                let (_, sa) = williams(mode, radius, th, mu, kappa);
-                let ea = mat.strain_from_stress(sa);
-                // d u_aux / d x1 by central differences in the tip frame.
-                let ua = |dx: f64| {
-                    let (xx, yy) = (radius * cs + dx, radius * sn);
-                    williams(mode, xx.hypot(yy), yy.atan2(xx), mu, kappa).0
-                };
-                let (ap, am) = (ua(delta), ua(-delta));
-                let dua = [(ap[0] - am[0]) / (2.0 * delta), (ap[1] - am[1]) / (2.0 * delta)];
-                let siga = [[sa[0], sa[2]], [sa[2], sa[1]]];
-                let w12 = s11 * ea[0] + s22 * ea[1] + 2.0 * s12 * ea[2];
-                let mut integrand = w12 * n[0];
-                for i in 0..2 {
-                    for jj in 0..2 {
-                        integrand -= (sig[i][jj] * dua[i] + siga[i][jj] * du[i]) * n[jj];
-                    }
-                }
-                m[mode as usize - 1] += wt * integrand;
+        }
+        out[mode as usize - 1] = v;
+    }
+    out
+}
+
+/// Interaction-integral SIFs and J on a circle of `radius` around `tip` (direction `dir`).
+///
+/// Interior fields of constant elements are polluted within about one element length of
+/// the boundary (the element-to-element jumps act as small dislocations), so the contour
+/// is integrated by Gauss panels on |θ| ≤ π - θ_c with θ_c = 3 h_tip / ρ, and the two
+/// wedges next to the crack faces by the quadratic through three unpolluted samples (the
+/// integrand is smooth in θ up to the faces).
+pub fn interaction_integral(
+    ev: &FieldEvaluator,
+    tip: V2,
+    dir: V2,
+    radius: f64,
+    npts: usize,
+    h_tip: f64,
+) -> (f64, f64, f64) {
+    let ep = ev.material().e_prime();
+    let theta_c = (3.0 * h_tip / radius).clamp(0.0, 0.5);
+    let f = |th: f64| contour_integrand(ev, tip, dir, radius, th);
+    let rule = gauss_legendre(16);
+    let panels = npts.div_ceil(16).max(1);
+    let (lo, hi) = (-PI + theta_c, PI - theta_c);
+    let mut acc = [0.0; 3];
+    for p in 0..panels {
+        let a = lo + (hi - lo) * p as f64 / panels as f64;
+        let b = lo + (hi - lo) * (p + 1) as f64 / panels as f64;
+        for &(t, w) in rule {
+            let v = f(0.5 * (a + b) + 0.5 * (b - a) * t);
+            for k in 0..3 {
+                acc[k] += w * 0.5 * (b - a) * radius * v[k];
             }
         }
     }
-    (0.5 * ep * m[0], 0.5 * ep * m[1], j)
+    if theta_c > 0.0 {
+        for side in [-1.0, 1.0] {
+            // Samples at distance theta_c, 2 theta_c, 3 theta_c from the face; the quadratic
+            // through them (in the distance d from the face) integrated over d in [0, theta_c].
+            let s: Vec<[f64; 3]> = (1..=3).map(|k| f(side * (PI - k as f64 * theta_c))).collect();
+            // Weights of the quadratic through d = 1, 2, 3 (units of theta_c) integrated on [0, 1].
+            let wts = [23.0 / 12.0, -16.0 / 12.0, 5.0 / 12.0];
+            for k in 0..3 {
+                acc[k] += radius * theta_c * (wts[0] * s[0][k] + wts[1] * s[1][k] + wts[2] * s[2][k]);
+            }
+        }
+    }
+    (0.5 * ep * acc[0], 0.5 * ep * acc[1], acc[2])
+}
+
+/// Length of the crack-face element nearest to a tip.
+fn tip_element_size(mesh: &Mesh, crack: usize, at_end: bool) -> f64 {
+    let c = &mesh.cracks[crack];
+    let i = if at_end { c.upper.len() - 1 } else { 0 };
+    mesh.elements[c.upper[i]].h
 }
 
 /// Analyses every tip of the mesh.
@@ -319,7 +361,8 @@ pub fn analyze_tips(
         }
         let (k1c, k2c, np) = cod_sif(mesh, &mat, sol, ci, at_end, opts.fit_fraction * l);
         let radius = opts.contour_fraction * l;
-        let (k1m, k2m, j) = interaction_integral(ev, pos, dir, radius, opts.contour_points);
+        let h_tip = tip_element_size(mesh, ci, at_end);
+        let (k1m, k2m, j) = interaction_integral(ev, pos, dir, radius, opts.contour_points, h_tip);
         out.push(TipResult {
             crack: ci,
             at_end,

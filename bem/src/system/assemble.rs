@@ -1,7 +1,8 @@
 //! Parallel assembly of the scaled, bordered system (column pairs per element, rayon).
 
 use super::{Bc, SolveParams};
-use crate::integrate::{integrate_element, KernelConsts, PairIntegrals};
+use crate::integrate::{integrate_element, integrate_element_linear, KernelConsts, PairIntegrals};
+use crate::mesh::stencil::Stencil;
 use crate::mesh::Mesh;
 use crate::Material;
 use rayon::prelude::*;
@@ -44,6 +45,7 @@ pub(super) fn assemble(
     bcs: &[[Bc; 2]],
     params: &SolveParams,
     modes: &[Vec<f64>],
+    stencil: Option<&Stencil>,
 ) -> Assembled {
     let kc = KernelConsts::from(material);
     let nel = mesh.len();
@@ -56,10 +58,18 @@ pub(super) fn assemble(
         .map(|e| params.variable_groups.contains(&e.group))
         .collect();
 
+    // First-moment (reconstruction) coefficients of u, column (j, c) = H^c_1[:, (j, c)].
+    let mut first = if stencil.is_some() { vec![0.0; ndof * ndof] } else { Vec::new() };
+    let mut first_cols: Vec<Option<&mut [f64]>> = if stencil.is_some() {
+        first.chunks_mut(2 * ndof).map(Some).collect()
+    } else {
+        (0..nel).map(|_| None).collect()
+    };
     let acc = a[..n * ndof]
         .par_chunks_mut(2 * n)
+        .zip(first_cols.par_iter_mut())
         .enumerate()
-        .fold(Acc::default, |mut acc, (j, cols)| {
+        .fold(Acc::default, |mut acc, (j, (cols, fcols))| {
             let ej = &els[j];
             let (c0, c1) = cols.split_at_mut(n);
             let mut known = [vec![0.0; 0], vec![0.0; 0]];
@@ -70,8 +80,19 @@ pub(super) fn assemble(
                 }
             }
             for (i, ei) in els.iter().enumerate() {
-                let p = integrate_element(ei.mid, ei.normal, ej, &kc);
                 let beta = params.beta_factor * ei.h / material.e;
+                let p = match fcols.as_deref_mut() {
+                    None => integrate_element(ei.mid, ei.normal, ej, &kc),
+                    Some(f) => {
+                        let (p, p1) = integrate_element_linear(ei.mid, ei.normal, ej, &kc);
+                        for r in 0..2 {
+                            for c in 0..2 {
+                                f[c * ndof + 2 * i + r] = params.alpha * p1.t[r][c] + beta * p1.h[r][c];
+                            }
+                        }
+                        p
+                    }
+                };
                 let (hc, gc) = blocks(&p, i == j, params.alpha, beta);
                 for c in 0..2 {
                     let col = if c == 0 { &mut *c0 } else { &mut *c1 };
@@ -132,6 +153,10 @@ pub(super) fn assemble(
     let mut rhs = if acc.rhs.is_empty() { vec![0.0; n] } else { acc.rhs };
     let mut variable = acc.variable;
     variable.sort_by_key(|(d, _)| *d);
+    drop(first_cols);
+    if let Some(st) = stencil {
+        add_reconstruction(&mut a, n, ndof, &first, st, bcs, &mut rhs, &mut variable);
+    }
 
     // Bordering columns: R over all equation rows.
     for (k, mode) in modes.iter().enumerate() {
@@ -160,6 +185,64 @@ pub(super) fn assemble(
         col_scale,
         variable,
         norm1,
+    }
+}
+
+/// Adds the linear-reconstruction terms: u-column (k, c) gains
+/// sum_j w_jk H^c_1[:, (j, c)] over the elements j whose stencil uses k. Unknown
+/// displacements take it into A, prescribed ones into the right-hand side.
+fn add_reconstruction(
+    a: &mut [f64],
+    n: usize,
+    ndof: usize,
+    first: &[f64],
+    st: &Stencil,
+    bcs: &[[Bc; 2]],
+    rhs: &mut [f64],
+    variable: &mut [(usize, Vec<f64>)],
+) {
+    let nel = ndof / 2;
+    let mut reverse: Vec<Vec<(usize, f64)>> = vec![Vec::new(); nel];
+    for (j, row) in st.iter().enumerate() {
+        for &(k, w) in row {
+            reverse[k].push((j, w));
+        }
+    }
+    let known: Vec<(usize, Vec<f64>)> = a[..n * ndof]
+        .par_chunks_mut(n)
+        .enumerate()
+        .filter_map(|(dof, col)| {
+            let (k, c) = (dof / 2, dof % 2);
+            if reverse[k].is_empty() {
+                return None;
+            }
+            let mut add = vec![0.0; ndof];
+            for &(j, w) in &reverse[k] {
+                let src = &first[(2 * j + c) * ndof..(2 * j + c + 1) * ndof];
+                for (x, y) in add.iter_mut().zip(src) {
+                    *x += w * y;
+                }
+            }
+            if bcs[k][c].is_displacement() {
+                Some((dof, add))
+            } else {
+                for (x, y) in col[..ndof].iter_mut().zip(&add) {
+                    *x += y;
+                }
+                None
+            }
+        })
+        .collect();
+    for (dof, add) in known {
+        let v = bcs[dof / 2][dof % 2].value();
+        for (b, x) in rhs.iter_mut().zip(&add) {
+            *b -= x * v;
+        }
+        if let Some((_, col)) = variable.iter_mut().find(|(d, _)| *d == dof) {
+            for (b, x) in col.iter_mut().zip(&add) {
+                *b -= x;
+            }
+        }
     }
 }
 
