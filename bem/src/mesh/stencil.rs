@@ -11,17 +11,23 @@
 //! plain constant elements). Linear fields, rigid rotation included, are then integrated
 //! exactly: the patch test becomes exact to round-off.
 //!
-//! Crack faces keep plain constant elements: the crack-opening displacement behaves like
-//! sqrt(r) at the tip, and the measured SIF and CMOD errors of the seed plates were smaller
-//! with constant faces than with reconstructed faces (central differences or a sqrt(r)-aware
-//! split into mean and jump both gave +4 to +11 % K errors at a/W = 0.8, against -7.6 %
-//! for constant faces at h = 0.1, converging to -4.5 % at h = 0.05). The crack-opening fit
-//! of [`crate::post::sif`] is calibrated for constant faces.
+//! Crack faces rotate with the body too, so they are reconstructed as well, except within
+//! `FACE_TIP_ZONE` L of a tip (L as in [`crate::post::sif::tip_length_scale`]): there the
+//! opening behaves like sqrt(r), and the crack-opening fit and the interaction integral
+//! (both inside 0.3 L) are calibrated for constant elements. Measured on the H = 2W strip
+//! (K against Tada, outline h = 0.1, crack h = 0.025), a/W = 0.2 / 0.5 / 0.8:
+//! faces all constant +0.06 / -0.13 / -2.3 %; zone 0.3 L: -0.40 / -0.46 / -1.1 %;
+//! zone 0.6 L: +0.03 / -0.10 / -0.43 % (the last is -0.08 % against the FEM table, which
+//! Tada exceeds by 0.33 % at 0.8); zone 1.0 L: +0.06 / -0.07 / -0.81 %. Reconstructing up
+//! to the tip (central or sqrt(r)-aware differences) overshoots by +4 to +11 %.
 
 use super::{Mesh, V2};
 
 /// g_j = sum_k w_k u_k, per element j: (element k, weight w_k) pairs (empty: no reconstruction).
 pub type Stencil = Vec<Vec<(usize, f64)>>;
+
+/// Crack-face zone kept constant around each tip, as a fraction of L (see module docs).
+pub const FACE_TIP_ZONE: f64 = 0.6;
 
 /// Tolerance for "same straight side" and "contiguous": relative to the element length.
 const TOL: f64 = 1e-9;
@@ -31,7 +37,8 @@ fn collinear(mesh: &Mesh, a: usize, b: usize) -> bool {
     ea.tangent.dot(&eb.tangent) > 1.0 - TOL
 }
 
-/// Builds the stencil from the closed loops (in traversal order); crack faces get none.
+/// Builds the stencil from the closed loops (in traversal order) and the crack faces
+/// outside the tip zones.
 pub fn tangential_stencil(mesh: &Mesh) -> Stencil {
     let n = mesh.len();
     let mut prev: Vec<Option<usize>> = vec![None; n];
@@ -65,6 +72,9 @@ pub fn tangential_stencil(mesh: &Mesh) -> Stencil {
             }
         }
     }
+    for c in &mesh.cracks {
+        link_faces(mesh, c, FACE_TIP_ZONE, &joined, &mut prev, &mut next);
+    }
     (0..n)
         .map(|j| {
             let sj = |k: usize| (mesh.elements[k].mid - mesh.elements[j].mid).dot(&mesh.elements[j].tangent);
@@ -85,6 +95,43 @@ pub fn tangential_stencil(mesh: &Mesh) -> Stencil {
             }
         })
         .collect()
+}
+
+/// Links the face elements of `c` that lie farther than `zone` L from every tip (L as in
+/// [`crate::post::sif::tip_length_scale`]).
+fn link_faces(
+    mesh: &Mesh,
+    c: &super::Crack,
+    zone: f64,
+    joined: &dyn Fn(usize, usize) -> bool,
+    prev: &mut [Option<usize>],
+    next: &mut [Option<usize>],
+) {
+    let total = c.length();
+    let ci = mesh.cracks.iter().position(|x| std::ptr::eq(x, c)).unwrap_or(0);
+    let tips: Vec<(f64, f64)> = [(c.start_is_tip, 0.0, c.points[0]), (c.end_is_tip, total, *c.points.last().unwrap())]
+        .iter()
+        .filter(|t| t.0)
+        .map(|t| (t.1, zone * crate::post::sif::tip_length_scale(mesh, ci, t.2)))
+        .collect();
+    let free = |i: usize| tips.iter().all(|(s, r)| (c.stations[i] - s).abs() > *r);
+    let m = c.stations.len();
+    for i in 0..m.saturating_sub(1) {
+        if !(free(i) && free(i + 1)) {
+            continue;
+        }
+        let (a, b) = (c.upper[i], c.upper[i + 1]);
+        if joined(a, b) {
+            next[a] = Some(b);
+            prev[b] = Some(a);
+        }
+        // Lower-face elements run against the polyline: lower[i+1] precedes lower[i].
+        let (a, b) = (c.lower[i + 1], c.lower[i]);
+        if joined(a, b) {
+            next[a] = Some(b);
+            prev[b] = Some(a);
+        }
+    }
 }
 
 /// Tangential derivatives g_j of an element field `u` by the stencil.
