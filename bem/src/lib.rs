@@ -17,6 +17,7 @@
 //! - [`post`]: interior displacement and stress, boundary stress, SIFs (crack-opening fit and
 //!   interaction integral), kink angle, CMOD.
 
+pub mod bench;
 pub mod error;
 pub mod integrate;
 pub mod material;
