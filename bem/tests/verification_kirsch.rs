@@ -29,11 +29,14 @@ fn kirsch_hole_peak_stress() {
         peak = peak.max(*s);
     }
     println!("peak hoop {peak:.5} (exact 3), max abs error {worst:.3e}, cond {:.1}", sys.info().condition);
-    assert!((peak - 3.0).abs() < 0.03);
-    assert!(worst < 0.03);
+    // Issue bound: 1 %. Measured: peak 2.99999, worst 5.9e-4 (2.9984 and 4.8e-3 with plain
+    // constant elements on the circle).
+    assert!((peak - 3.0).abs() < 3e-3);
+    assert!(worst < 2e-3);
     assert!(sys.info().condition < 1e3);
     // Interior point check: sigma_xx at (0, 2) = sigma (1 + a^2/(2r^2) + 3a^4/(2r^4)) = 1.21875.
     let s = ev.stress(V2::new(0.0, 2.0));
     println!("sigma_xx(0,2) = {:.6}", s[0]);
-    assert!((s[0] - 1.21875).abs() < 1e-3);
+    // Measured 1.218768 (1.5e-5 off).
+    assert!((s[0] - 1.21875).abs() < 1e-4);
 }

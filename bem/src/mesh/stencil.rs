@@ -6,10 +6,10 @@
 //! whose halves rotate, converge slowly (REFERENCES.md). The remedy keeps one unknown per
 //! element but integrates $u(s) \approx u_j + g_j (s - s_j)$ over element j, with the
 //! tangential derivative $g_j$ from the neighbours along the same straight side:
-//! central differences inside a side, one-sided at corners, crack tips and crack mouths,
-//! none for an element alone on its side (so curved loops made of single-element sides keep
-//! plain constant elements). Linear fields, rigid rotation included, are then integrated
-//! exactly: the patch test becomes exact to round-off.
+//! central differences inside a side or a smooth chain (polygonal circles: turns below 30
+//! degrees), one-sided at corners, crack tips and crack mouths, none for an element alone
+//! on its side. Linear fields, rigid rotation included, are then integrated exactly on
+//! straight sides: the patch test becomes exact to round-off.
 //!
 //! Crack faces rotate with the body too, so they are reconstructed as well, except within
 //! `FACE_TIP_ZONE` L of a tip (L as in [`crate::post::sif::tip_length_scale`]): there the
@@ -32,9 +32,13 @@ pub const FACE_TIP_ZONE: f64 = 0.6;
 /// Tolerance for "same straight side" and "contiguous": relative to the element length.
 const TOL: f64 = 1e-9;
 
-fn collinear(mesh: &Mesh, a: usize, b: usize) -> bool {
+/// Largest turn between neighbouring elements of one smooth chain (polygonal circles turn
+/// by 2 pi / n; rectangle corners, 90 degrees, break the chain).
+const MAX_TURN_COS: f64 = 0.866; // cos 30 degrees
+
+fn smooth(mesh: &Mesh, a: usize, b: usize) -> bool {
     let (ea, eb) = (&mesh.elements[a], &mesh.elements[b]);
-    ea.tangent.dot(&eb.tangent) > 1.0 - TOL
+    ea.tangent.dot(&eb.tangent) > MAX_TURN_COS
 }
 
 /// Builds the stencil from the closed loops (in traversal order) and the crack faces
@@ -58,7 +62,7 @@ pub fn tangential_stencil(mesh: &Mesh) -> Stencil {
         let (ea, eb) = (&mesh.elements[a], &mesh.elements[b]);
         let tol = TOL * ea.h.max(eb.h);
         (ea.b - eb.a).norm() <= tol
-            && collinear(mesh, a, b)
+            && smooth(mesh, a, b)
             && !mouths.iter().any(|m| (m - ea.b).norm() <= 1e3 * tol)
     };
     for r in &mesh.loops {
