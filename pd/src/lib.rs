@@ -1,1 +1,39 @@
-//! Bond-based peridynamics (seed 002 section 2.1, seed 000 sections 2-4).
+//! Bond-based peridynamics for pdbem (seed 002 section 2.1, seed 000
+//! sections 2-4, seed 001 sections 3-6).
+//!
+//! Map of the crate:
+//! - [`problem`]: the data-in description [`PdProblem`] (region, grid, material,
+//!   failure, pre-cracks, boundary conditions) and its `validate()`.
+//! - [`grid`], [`bonds`], [`surface`], [`boundary`]: discretisation (regular
+//!   grid with fictitious layers, CSR bond families with partial volumes,
+//!   surface correction, boundary data).
+//! - [`material`], [`forces`], [`damage`]: PMB micromodulus, critical stretch,
+//!   tanh degradation; parallel force gather; damage `phi`.
+//! - [`model`]: [`PdModel`], the state and the operations the solvers and the
+//!   coupling use (`set_prescribed_displacements`, `virtual_node_forces`, ...).
+//! - [`solvers`]: [`solvers::adr`], [`solvers::implicit`] and
+//!   [`solvers::switching`], each `params in, Result<SolveInfo, PdError> out`.
+//! - [`measure`]: initiation load and kink angle from the damage field.
+//! - [`cases`]: the seed cases as problem constructors; [`bench`]: benchmarks.
+
+pub mod bench;
+pub mod bonds;
+pub mod boundary;
+pub mod cases;
+pub mod damage;
+pub mod error;
+pub mod forces;
+pub mod geometry;
+pub mod grid;
+pub mod material;
+pub mod measure;
+pub mod model;
+pub mod problem;
+pub mod solvers;
+pub mod surface;
+pub mod tangent;
+
+pub use error::PdError;
+pub use model::{ModelState, PdModel};
+pub use problem::{BoundaryCondition, Failure, Hole, Layer, PdProblem, Plane, Region, Selection};
+pub use solvers::{Convergence, SolveInfo};

@@ -1,0 +1,91 @@
+//! The one error type of `pdbem-pd`.
+//!
+//! Every variant carries the numbers that explain it, and input errors name
+//! the offending field of [`crate::PdProblem`] and the violated constraint,
+//! in the spirit of faer's `CgError::NoConvergence { abs_residual, .. }`.
+
+use thiserror::Error;
+
+/// Errors returned by model construction and the solvers.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum PdError {
+    /// A field of the problem description violates a constraint.
+    #[error("invalid input `{field}`: {reason}")]
+    InvalidInput {
+        /// Dotted path of the field, e.g. `failure.s_m`.
+        field: String,
+        /// What is wrong and what to change, with the numbers.
+        reason: String,
+    },
+    /// A slice passed to the model has the wrong length.
+    #[error("length mismatch for {what}: expected {expected}, got {got}")]
+    LengthMismatch {
+        /// Which argument.
+        what: &'static str,
+        /// Expected length.
+        expected: usize,
+        /// Length received.
+        got: usize,
+    },
+    /// A solver produced a non-finite value.
+    #[error("{solver}: non-finite value at iteration {iteration} (load factor {load})")]
+    NonFinite {
+        /// Solver name.
+        solver: &'static str,
+        /// Iteration (within the load step) where it happened.
+        iteration: usize,
+        /// Load factor of the step.
+        load: f64,
+    },
+    /// The residual grew by more than the allowed factor.
+    #[error(
+        "{solver} diverged at iteration {iteration} (load factor {load}): residual {residual:.3e} grew from {initial:.3e}"
+    )]
+    Diverged {
+        /// Solver name.
+        solver: &'static str,
+        /// Iteration where the growth was detected.
+        iteration: usize,
+        /// Load factor of the step.
+        load: f64,
+        /// Current residual measure.
+        residual: f64,
+        /// Smallest residual measure seen in the step.
+        initial: f64,
+    },
+    /// The iteration cap was reached without meeting the tolerance.
+    #[error(
+        "{solver} did not converge in {iterations} iterations (load factor {load}): measure {measure:.3e} > tolerance {tolerance:.3e}"
+    )]
+    NoConvergence {
+        /// Solver name.
+        solver: &'static str,
+        /// Iterations done.
+        iterations: usize,
+        /// Load factor of the step.
+        load: f64,
+        /// Last convergence measure.
+        measure: f64,
+        /// Requested tolerance.
+        tolerance: f64,
+    },
+    /// The sparse linear solve failed (all fallbacks included).
+    #[error("linear solve failed ({dofs} free DOFs): {reason}")]
+    LinearSolve {
+        /// Number of unknowns.
+        dofs: usize,
+        /// Message from the factorization.
+        reason: String,
+    },
+}
+
+impl PdError {
+    /// Shorthand for [`PdError::InvalidInput`].
+    pub fn invalid(field: impl Into<String>, reason: impl Into<String>) -> Self {
+        PdError::InvalidInput {
+            field: field.into(),
+            reason: reason.into(),
+        }
+    }
+}

@@ -1,0 +1,376 @@
+//! [`PdModel`]: grid, bonds, material, boundary data and the mutable state
+//! (displacements, bond history, load factor), with the operations the
+//! solvers and the coupling need.
+//!
+//! Nodes `0..n_real` are real, `n_real..n` fictitious (virtual). Forces are
+//! force densities (N/m^3) inside the solvers; public force getters return
+//! Newtons (density times the node volume).
+
+use std::ops::Range;
+
+use crate::bonds::{build_bonds, cut_cracks, Bonds};
+use crate::boundary::{resolve, Boundary};
+use crate::damage::damage;
+use crate::error::PdError;
+use crate::forces::{
+    bond_tangent, elastic_energy, internal_forces, BondState, ForceStats, History,
+};
+use crate::geometry::P2;
+use crate::grid::{build_grid, Grid};
+use crate::material::{micromodulus, BondLaw};
+use crate::problem::PdProblem;
+use crate::surface::apply_surface_correction;
+
+/// A snapshot of the mutable state, for roll-back (switching solver) and
+/// restarts (coupling).
+#[derive(Clone, Debug, Default)]
+pub struct ModelState {
+    /// Displacements.
+    pub u: Vec<P2>,
+    /// Bond intact flags.
+    pub intact: Vec<u8>,
+    /// Bond stretch history.
+    pub s_hist: Vec<f64>,
+    /// Load factor.
+    pub load: f64,
+}
+
+/// A discretised bond-based PD body ready for the solvers.
+#[derive(Clone, Debug)]
+pub struct PdModel {
+    pub(crate) grid: Grid,
+    pub(crate) bonds: Bonds,
+    pub(crate) law: BondLaw,
+    pub(crate) c: f64,
+    pub(crate) intact: Vec<u8>,
+    pub(crate) s_hist: Vec<f64>,
+    pub(crate) u: Vec<P2>,
+    pub(crate) bc: Boundary,
+    pub(crate) load: f64,
+    pub(crate) force: Vec<P2>,
+    pub(crate) cut: usize,
+}
+
+impl PdModel {
+    /// Validate the problem and build the model (load factor 0, zero displacement).
+    pub fn new(p: &PdProblem) -> Result<Self, PdError> {
+        p.validate()?;
+        let grid = build_grid(p)?;
+        let mut bonds = build_bonds(&grid, &p.region);
+        let c = micromodulus(p.plane, p.youngs_modulus, p.thickness, grid.delta);
+        if p.surface_correction {
+            apply_surface_correction(&mut bonds, c, grid.volume, p.youngs_modulus, p.plane);
+        }
+        bonds.set_coefficients(c, grid.volume);
+        let mut intact = vec![1u8; bonds.len()];
+        let cut = cut_cracks(&grid, &bonds, &p.cracks, &mut intact);
+        if !p.cracks.is_empty() && cut == 0 {
+            return Err(PdError::invalid(
+                "cracks",
+                "no bond crosses the pre-cracks: they lie outside the material or are shorter than dx",
+            ));
+        }
+        let bc = resolve(p, &grid)?;
+        let law = BondLaw::from_failure(p.failure, p.plane, p.youngs_modulus, grid.delta);
+        let n = grid.len();
+        let nb = bonds.len();
+        Ok(PdModel {
+            grid,
+            bonds,
+            law,
+            c,
+            intact,
+            s_hist: vec![0.0; nb],
+            u: vec![[0.0; 2]; n],
+            bc,
+            load: 0.0,
+            force: vec![[0.0; 2]; n],
+            cut,
+        })
+    }
+
+    /// The grid (positions, spacing, horizon, node volume).
+    pub fn grid(&self) -> &Grid {
+        &self.grid
+    }
+
+    /// The static bond data.
+    pub fn bonds(&self) -> &Bonds {
+        &self.bonds
+    }
+
+    /// The resolved bond law.
+    pub fn law(&self) -> BondLaw {
+        self.law
+    }
+
+    /// Micromodulus `c` (N/m^6).
+    pub fn micromodulus(&self) -> f64 {
+        self.c
+    }
+
+    /// Boundary data (fixed components, base values, body forces).
+    pub fn boundary(&self) -> &Boundary {
+        &self.bc
+    }
+
+    /// Number of nodes (real + fictitious).
+    pub fn n_nodes(&self) -> usize {
+        self.grid.len()
+    }
+
+    /// Number of real nodes.
+    pub fn n_real(&self) -> usize {
+        self.grid.n_real
+    }
+
+    /// Number of directed bonds (twice the number of pairs).
+    pub fn n_bonds(&self) -> usize {
+        self.bonds.len()
+    }
+
+    /// Reference positions.
+    pub fn positions(&self) -> &[P2] {
+        &self.grid.pos
+    }
+
+    /// Current displacements.
+    pub fn displacements(&self) -> &[P2] {
+        &self.u
+    }
+
+    /// Bond intact flags (1 intact, 0 broken or cut), CSR order.
+    pub fn bond_intact(&self) -> &[u8] {
+        &self.intact
+    }
+
+    /// Warm start: set every node's displacement (prescribed components are
+    /// overwritten by their prescribed values).
+    pub fn set_displacements(&mut self, u: &[P2]) -> Result<(), PdError> {
+        if u.len() != self.u.len() {
+            return Err(PdError::LengthMismatch {
+                what: "displacements",
+                expected: self.u.len(),
+                got: u.len(),
+            });
+        }
+        self.u.copy_from_slice(u);
+        self.apply_prescribed();
+        Ok(())
+    }
+
+    /// Current load factor.
+    pub fn load_factor(&self) -> f64 {
+        self.load
+    }
+
+    /// Set the load factor and impose the scaled prescribed displacements.
+    pub fn set_load_factor(&mut self, load: f64) {
+        self.load = load;
+        self.apply_prescribed();
+    }
+
+    /// Impose `load * base` on every prescribed component.
+    pub fn apply_prescribed(&mut self) {
+        for (i, f) in self.bc.fixed.iter().enumerate() {
+            for c in 0..2 {
+                if f[c] {
+                    self.u[i][c] = self.load * self.bc.base[i][c];
+                }
+            }
+        }
+    }
+
+    /// Indices of the fictitious (virtual) nodes.
+    pub fn virtual_nodes(&self) -> Range<usize> {
+        self.grid.n_real..self.grid.len()
+    }
+
+    /// Coupling: set the base displacement of every virtual node (in
+    /// [`Self::virtual_nodes`] order), both components, and impose it at the
+    /// current load factor (use load factor 1 to take the values as given).
+    pub fn set_prescribed_displacements(&mut self, u: &[P2]) -> Result<(), PdError> {
+        let r = self.virtual_nodes();
+        if u.len() != r.len() {
+            return Err(PdError::LengthMismatch {
+                what: "virtual-node displacements",
+                expected: r.len(),
+                got: u.len(),
+            });
+        }
+        for (k, i) in r.enumerate() {
+            self.bc.base[i] = u[k];
+        }
+        self.apply_prescribed();
+        Ok(())
+    }
+
+    /// Coupling: the force (N) each virtual node exerts on the real nodes,
+    /// summed over its bonds to real nodes (virtual-virtual bonds excluded;
+    /// seed 002 Eq. 24 and Fig. 6), in [`Self::virtual_nodes`] order.
+    pub fn virtual_node_forces(&self) -> Vec<P2> {
+        let n_real = self.grid.n_real as u32;
+        let v = self.grid.volume;
+        self.virtual_nodes()
+            .map(|i| {
+                let mut f = [0.0; 2];
+                for b in self.bonds.row(i) {
+                    let j = self.bonds.nbr[b];
+                    if j >= n_real || self.intact[b] == 0 {
+                        continue;
+                    }
+                    let j = j as usize;
+                    let y = [
+                        self.bonds.xi[b][0] + (self.u[j][0] - self.u[i][0]),
+                        self.bonds.xi[b][1] + (self.u[j][1] - self.u[i][1]),
+                    ];
+                    let t = self.bond_force(b, y);
+                    // Force on j from i is minus the force on i from j.
+                    f[0] -= v * t[0];
+                    f[1] -= v * t[1];
+                }
+                f
+            })
+            .collect()
+    }
+
+    fn bond_force(&self, b: usize, y: P2) -> P2 {
+        let l = y[0].hypot(y[1]);
+        let s = l * self.bonds.inv_len[b] - 1.0;
+        let t = match self.law {
+            BondLaw::Degrading { s_m, s_c, beta } => {
+                crate::material::degradation(s.max(self.s_hist[b]), s_m, s_c, beta).0
+            }
+            _ => 1.0,
+        };
+        let f = self.bonds.k[b] * t * s / l;
+        [f * y[0], f * y[1]]
+    }
+
+    /// Internal force (N) on every node at the current state (history frozen).
+    pub fn internal_forces(&mut self) -> Vec<P2> {
+        self.compute_forces(History::Frozen);
+        let v = self.grid.volume;
+        self.force.iter().map(|f| [f[0] * v, f[1] * v]).collect()
+    }
+
+    /// Sum of the internal forces (N) on the given nodes: minus the reaction
+    /// the supports there must provide.
+    pub fn force_on(&mut self, nodes: &[usize]) -> P2 {
+        self.compute_forces(History::Frozen);
+        let v = self.grid.volume;
+        nodes.iter().fold([0.0; 2], |a, &i| {
+            [a[0] + self.force[i][0] * v, a[1] + self.force[i][1] * v]
+        })
+    }
+
+    /// Compute the force densities into the scratch buffer.
+    pub(crate) fn compute_forces(&mut self, history: History) -> ForceStats {
+        internal_forces(
+            &self.bonds,
+            self.law,
+            BondState {
+                intact: &mut self.intact,
+                s_hist: &mut self.s_hist,
+            },
+            &self.u,
+            &mut self.force,
+            history,
+        )
+    }
+
+    /// Commit the bond history at the current displacements (break bonds
+    /// past `s0`/`s_c`, raise `s_hist`); returns the pass statistics.
+    pub fn commit_history(&mut self) -> ForceStats {
+        self.compute_forces(History::Update)
+    }
+
+    /// Statistics of the current state without changing it.
+    pub fn stretch_stats(&mut self) -> ForceStats {
+        self.compute_forces(History::Frozen)
+    }
+
+    /// Damage of every node (seed 002 Eq. 8).
+    pub fn damage(&self) -> Vec<f64> {
+        damage(&self.bonds, &self.intact)
+    }
+
+    /// Number of broken bond pairs, not counting pre-crack cuts.
+    pub fn broken_bonds(&self) -> usize {
+        let dead = self.intact.iter().filter(|&&x| x == 0).count();
+        (dead - self.cut) / 2
+    }
+
+    /// Elastic bond energy (J) of the intact bonds at the current state.
+    pub fn energy(&self) -> f64 {
+        elastic_energy(&self.bonds, &self.intact, &self.u, self.grid.volume)
+    }
+
+    /// Snapshot of the mutable state.
+    pub fn state(&self) -> ModelState {
+        ModelState {
+            u: self.u.clone(),
+            intact: self.intact.clone(),
+            s_hist: self.s_hist.clone(),
+            load: self.load,
+        }
+    }
+
+    /// Copy a snapshot into `dst` without reallocating.
+    pub fn save_into(&self, dst: &mut ModelState) {
+        dst.u.clone_from(&self.u);
+        dst.intact.clone_from(&self.intact);
+        dst.s_hist.clone_from(&self.s_hist);
+        dst.load = self.load;
+    }
+
+    /// Restore a snapshot taken from this model.
+    pub fn restore(&mut self, s: &ModelState) {
+        self.u.clone_from(&s.u);
+        self.intact.clone_from(&s.intact);
+        self.s_hist.clone_from(&s.s_hist);
+        self.load = s.load;
+    }
+
+    /// Dense tangent `K = -dF/du` over all `2n` DOFs (DOF `2i + c`), force
+    /// densities, history frozen. A testing aid for small models only.
+    pub fn tangent_dense(&self) -> Vec<Vec<f64>> {
+        let n = self.n_nodes();
+        let mut k = vec![vec![0.0; 2 * n]; 2 * n];
+        for i in 0..n {
+            for b in self.bonds.row(i) {
+                if self.intact[b] == 0 {
+                    continue;
+                }
+                let j = self.bonds.nbr[b] as usize;
+                let y = [
+                    self.bonds.xi[b][0] + (self.u[j][0] - self.u[i][0]),
+                    self.bonds.xi[b][1] + (self.u[j][1] - self.u[i][1]),
+                ];
+                let m = bond_tangent(
+                    self.law,
+                    self.bonds.k[b],
+                    self.bonds.inv_len[b],
+                    y,
+                    self.s_hist[b],
+                );
+                for p in 0..2 {
+                    for q in 0..2 {
+                        k[2 * i + p][2 * i + q] += m[p][q];
+                        k[2 * i + p][2 * j + q] -= m[p][q];
+                    }
+                }
+            }
+        }
+        k
+    }
+
+    /// Internal force densities (N/m^3) for a given displacement field,
+    /// history frozen, leaving the model state unchanged. A testing aid.
+    pub fn force_density_at(&mut self, u: &[P2]) -> Vec<P2> {
+        let saved = std::mem::replace(&mut self.u, u.to_vec());
+        self.compute_forces(History::Frozen);
+        self.u = saved;
+        self.force.clone()
+    }
+}

@@ -1,0 +1,201 @@
+//! Quasi-static solvers, one interface: a params struct in,
+//! `Result<SolveInfo, PdError>` out (faer / argmin style).
+//!
+//! - [`adr`]: adaptive dynamic relaxation (seed 002 Eqs. 9-15, Kilic & Madenci).
+//! - [`implicit`]: Newton-Raphson on the full nonlinear equilibrium with the
+//!   analytic tangent (seed 000 section 2).
+//! - [`switching`]: implicit while no bond passes the damage onset, ADR while
+//!   bonds fail, implicit again once failure stops (seed 000 section 4).
+//!
+//! All three measure convergence the same way ([`Convergence`]): the relative
+//! whole-field displacement change of seed 000 Eq. 16,
+//! $e_u = \|u_n - u_{n-1}\|_2 / \|u_{n-1}\|_2 < e_0$, or the relative force
+//! residual $\|R_{free}\|_2 / \|R_{ref}\|_2$ with $R_{ref}$ the larger of the
+//! applied body forces and the support reactions. Each solver drives the
+//! load factor from its current value to `target_load` in equal steps.
+
+pub mod adr;
+pub mod implicit;
+pub mod switching;
+
+use serde::Serialize;
+
+use crate::geometry::P2;
+use crate::model::PdModel;
+
+/// Convergence measure shared by all solvers.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Deserialize, Serialize)]
+pub enum Convergence {
+    /// Relative displacement change per iteration below `e0` (seed 000 Eq. 16).
+    Displacement {
+        /// Tolerance (seed 000 uses 1e-9).
+        e0: f64,
+    },
+    /// Relative force residual below `tol`.
+    Residual {
+        /// Tolerance.
+        tol: f64,
+    },
+}
+
+impl Default for Convergence {
+    /// Seed 000 section 3: `e0 = 1e-9`.
+    fn default() -> Self {
+        Convergence::Displacement { e0: 1e-9 }
+    }
+}
+
+/// Solver phase kind.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub enum PhaseKind {
+    /// Newton-Raphson.
+    Implicit,
+    /// Adaptive dynamic relaxation.
+    Explicit,
+}
+
+/// One contiguous run of one solver kind.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Phase {
+    /// Solver kind.
+    pub kind: PhaseKind,
+    /// Load factor at the start.
+    pub load_start: f64,
+    /// Load factor at the end.
+    pub load_end: f64,
+    /// Iterations (Newton iterations or ADR steps).
+    pub iterations: usize,
+    /// Wall time (s).
+    pub time_s: f64,
+}
+
+/// Where the switching solver changed phase.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SwitchPoint {
+    /// Load factor at the switch.
+    pub load: f64,
+    /// Total iterations done before the switch.
+    pub iteration: usize,
+    /// Phase entered.
+    pub to: PhaseKind,
+    /// Why.
+    pub reason: String,
+}
+
+/// Result of one load step.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct StepRecord {
+    /// Load factor.
+    pub load: f64,
+    /// Iterations in the step.
+    pub iterations: usize,
+    /// Broken bond pairs after the step (cumulative, pre-cracks excluded).
+    pub broken_bonds: usize,
+    /// Largest stretch of an intact bond.
+    pub max_stretch: f64,
+    /// Final convergence measure of the step.
+    pub measure: f64,
+    /// Solver kind of the step.
+    pub kind: PhaseKind,
+}
+
+/// What a solve did.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct SolveInfo {
+    /// Total iterations (Newton iterations + ADR steps).
+    pub iterations: usize,
+    /// Convergence measure per Newton iteration, and per 100 ADR steps plus
+    /// the last one of each step.
+    pub residual_history: Vec<f64>,
+    /// Bond pairs broken during this solve.
+    pub bonds_broken: usize,
+    /// Load factor reached.
+    pub final_load: f64,
+    /// Load steps.
+    pub steps: Vec<StepRecord>,
+    /// Solver phases in order.
+    pub phases: Vec<Phase>,
+    /// Switch points (switching solver).
+    pub switch_points: Vec<SwitchPoint>,
+    /// Time in implicit phases (s).
+    pub time_implicit_s: f64,
+    /// Time in explicit phases (s).
+    pub time_explicit_s: f64,
+    /// Of the implicit time, tangent assembly (s).
+    pub time_assembly_s: f64,
+    /// Of the implicit time, factorisation and solve (s).
+    pub time_factorization_s: f64,
+    /// Number of numeric factorisations.
+    pub factorizations: usize,
+    /// Factorisations that fell back to LU.
+    pub lu_fallbacks: usize,
+    /// Total wall time (s).
+    pub wall_time_s: f64,
+}
+
+impl SolveInfo {
+    pub(crate) fn push_phase(
+        &mut self,
+        kind: PhaseKind,
+        load_start: f64,
+        load_end: f64,
+        iterations: usize,
+        time_s: f64,
+    ) {
+        match kind {
+            PhaseKind::Implicit => self.time_implicit_s += time_s,
+            PhaseKind::Explicit => self.time_explicit_s += time_s,
+        }
+        if let Some(last) = self.phases.last_mut() {
+            if last.kind == kind {
+                last.load_end = load_end;
+                last.iterations += iterations;
+                last.time_s += time_s;
+                return;
+            }
+        }
+        self.phases.push(Phase {
+            kind,
+            load_start,
+            load_end,
+            iterations,
+            time_s,
+        });
+    }
+}
+
+/// Residual norms at the current state, from the force densities already in
+/// `model.force`: (free-DOF residual, reference). The reference is the larger
+/// of the applied body force and the reaction at prescribed DOFs.
+pub(crate) fn residual_norms(model: &PdModel) -> (f64, f64) {
+    let (mut r2, mut b2, mut re2) = (0.0, 0.0, 0.0);
+    let lam = model.load;
+    for i in 0..model.force.len() {
+        let f = model.force[i];
+        let b = model.bc.body[i];
+        for c in 0..2 {
+            let bi = lam * b[c];
+            b2 += bi * bi;
+            if model.bc.fixed[i][c] {
+                re2 += f[c] * f[c];
+            } else {
+                let r = f[c] + bi;
+                r2 += r * r;
+            }
+        }
+    }
+    (r2.sqrt(), b2.sqrt().max(re2.sqrt()))
+}
+
+/// Squared norm of a displacement field over the free DOFs.
+pub(crate) fn norm2_free(u: &[P2], fixed: &[[bool; 2]]) -> f64 {
+    let mut s = 0.0;
+    for (x, f) in u.iter().zip(fixed) {
+        for c in 0..2 {
+            if !f[c] {
+                s += x[c] * x[c];
+            }
+        }
+    }
+    s
+}

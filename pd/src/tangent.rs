@@ -1,0 +1,270 @@
+//! Sparse tangent over the free DOFs and its solution with faer.
+//!
+//! $K = -\partial F/\partial u$ (seed 000 Eqs. 8-10, 14-15): for each intact
+//! bond the 2x2 block $B$ of [`crate::forces::bond_tangent`] enters $K_{ii}$
+//! with $+$ and $K_{ij}$ with $-$; prescribed DOFs are removed (seed 000
+//! section 2.3). $K$ is symmetric, so only the lower triangle is stored
+//! (CSC, column = free DOF in node order). The pattern holds every bond of
+//! the family, broken ones included, so the symbolic Cholesky factorisation
+//! is computed once and reused for every Newton iteration. Values are
+//! filled in parallel, each node writing only its own columns.
+//!
+//! Solve: sparse $LL^T$; if a pivot is not positive (compressed or softening
+//! bonds), sparse LU on the full matrix.
+
+use faer::linalg::solvers::Solve;
+use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMat, Triplet};
+use faer::{MatMut, Side};
+use rayon::prelude::*;
+
+use crate::bonds::Bonds;
+use crate::error::PdError;
+use crate::forces::{bond_tangent, RowPtr};
+use crate::geometry::P2;
+use crate::material::BondLaw;
+
+const NONE: usize = usize::MAX;
+
+/// Which factorisation solved the last system.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Factorization {
+    /// Sparse Cholesky.
+    Cholesky,
+    /// Sparse LU fallback (tangent not positive definite).
+    Lu,
+}
+
+/// Pattern, values and cached symbolic factorisation of the free-DOF tangent.
+pub struct Tangent {
+    /// Free index of DOF `2i + c`, or `usize::MAX` when prescribed.
+    pub dof: Vec<usize>,
+    /// Number of free DOFs.
+    pub n_free: usize,
+    symbolic: SymbolicSparseColMat<usize>,
+    /// Start of node `i`'s columns in the value array.
+    node_start: Vec<usize>,
+    values: Vec<f64>,
+    llt_symbolic: Option<SymbolicLlt<usize>>,
+}
+
+impl Tangent {
+    /// Build the pattern for the given bonds and fixed components.
+    pub fn new(bonds: &Bonds, fixed: &[[bool; 2]]) -> Result<Self, PdError> {
+        let n = fixed.len();
+        let mut dof = vec![NONE; 2 * n];
+        let mut n_free = 0;
+        for i in 0..n {
+            for c in 0..2 {
+                if !fixed[i][c] {
+                    dof[2 * i + c] = n_free;
+                    n_free += 1;
+                }
+            }
+        }
+        if n_free == 0 {
+            return Err(PdError::LinearSolve {
+                dofs: 0,
+                reason: "every DOF is prescribed".into(),
+            });
+        }
+        let mut col_ptr = Vec::with_capacity(n_free + 1);
+        let mut row_idx = Vec::new();
+        let mut node_start = Vec::with_capacity(n + 1);
+        col_ptr.push(0);
+        for i in 0..n {
+            node_start.push(row_idx.len());
+            for q in 0..2 {
+                if dof[2 * i + q] == NONE {
+                    continue;
+                }
+                for p in q..2 {
+                    if dof[2 * i + p] != NONE {
+                        row_idx.push(dof[2 * i + p]);
+                    }
+                }
+                for b in bonds.row(i) {
+                    let j = bonds.nbr[b] as usize;
+                    if j > i {
+                        for p in 0..2 {
+                            if dof[2 * j + p] != NONE {
+                                row_idx.push(dof[2 * j + p]);
+                            }
+                        }
+                    }
+                }
+                col_ptr.push(row_idx.len());
+            }
+        }
+        node_start.push(row_idx.len());
+        let nnz = row_idx.len();
+        let symbolic = SymbolicSparseColMat::new_checked(n_free, n_free, col_ptr, None, row_idx);
+        Ok(Tangent {
+            dof,
+            n_free,
+            symbolic,
+            node_start,
+            values: vec![0.0; nnz],
+            llt_symbolic: None,
+        })
+    }
+
+    /// Number of stored (lower-triangle) entries.
+    pub fn nnz(&self) -> usize {
+        self.values.len()
+    }
+
+    /// Fill the values at displacement `u` (history frozen).
+    pub fn assemble(
+        &mut self,
+        bonds: &Bonds,
+        law: BondLaw,
+        intact: &[u8],
+        s_hist: &[f64],
+        u: &[P2],
+    ) {
+        let vals = RowPtr(self.values.as_mut_ptr());
+        let dof = &self.dof;
+        let node_start = &self.node_start;
+        (0..u.len()).into_par_iter().with_min_len(64).for_each(|i| {
+            let vp = vals;
+            let f0 = dof[2 * i] != NONE;
+            let f1 = dof[2 * i + 1] != NONE;
+            if !f0 && !f1 {
+                return;
+            }
+            // Layout of node i: col 0 = [diag (1 or 2), off-diag...], col 1 = [diag, off-diag...].
+            let start = node_start[i];
+            let mut off0 = 0usize; // number of off-diagonal entries of column 0
+            if f0 && f1 {
+                for b in bonds.row(i) {
+                    let j = bonds.nbr[b] as usize;
+                    if j > i {
+                        off0 += (dof[2 * j] != NONE) as usize + (dof[2 * j + 1] != NONE) as usize;
+                    }
+                }
+            }
+            let col0_len = if f0 { (1 + f1 as usize) + off0 } else { 0 };
+            let mut p0 = start + if f0 { 1 + f1 as usize } else { 0 };
+            let mut p1 = start + col0_len + 1;
+            let mut d = [[0.0; 2]; 2];
+            // Tiny diagonal shift (1e-10 of the node's intact stiffness) so an
+            // isolated node or a one-directional bond star stays solvable.
+            let mut kref = 0.0;
+            for b in bonds.row(i) {
+                kref += bonds.k[b] * bonds.inv_len[b];
+            }
+            d[0][0] += 1e-10 * kref;
+            d[1][1] += 1e-10 * kref;
+            for b in bonds.row(i) {
+                let j = bonds.nbr[b] as usize;
+                let m = if intact[b] != 0 {
+                    let y = [
+                        bonds.xi[b][0] + (u[j][0] - u[i][0]),
+                        bonds.xi[b][1] + (u[j][1] - u[i][1]),
+                    ];
+                    bond_tangent(law, bonds.k[b], bonds.inv_len[b], y, s_hist[b])
+                } else {
+                    [[0.0; 2]; 2]
+                };
+                for p in 0..2 {
+                    for q in 0..2 {
+                        d[p][q] += m[p][q];
+                    }
+                }
+                if j > i {
+                    for p in 0..2 {
+                        if dof[2 * j + p] == NONE {
+                            continue;
+                        }
+                        // SAFETY: positions lie in node i's own column range.
+                        unsafe {
+                            if f0 {
+                                *vp.0.add(p0) = -m[p][0];
+                                p0 += 1;
+                            }
+                            if f1 {
+                                *vp.0.add(p1) = -m[p][1];
+                                p1 += 1;
+                            }
+                        }
+                    }
+                }
+            }
+            // SAFETY: diagonal slots of node i's columns.
+            unsafe {
+                if f0 {
+                    *vp.0.add(start) = d[0][0];
+                    if f1 {
+                        *vp.0.add(start + 1) = d[1][0];
+                    }
+                }
+                if f1 {
+                    *vp.0.add(start + col0_len) = d[1][1];
+                }
+            }
+        });
+    }
+
+    /// Solve `K x = rhs` in place (rhs over the free DOFs). Returns the
+    /// factorisation used.
+    pub fn solve(&mut self, rhs: &mut [f64]) -> Result<Factorization, PdError> {
+        let n = self.n_free;
+        let mat = SparseColMatRef::new(self.symbolic.as_ref(), &self.values);
+        if self.llt_symbolic.is_none() {
+            let s = SymbolicLlt::try_new(self.symbolic.as_ref(), Side::Lower).map_err(|e| {
+                PdError::LinearSolve {
+                    dofs: n,
+                    reason: format!("symbolic Cholesky: {e:?}"),
+                }
+            })?;
+            self.llt_symbolic = Some(s);
+        }
+        let sym = self.llt_symbolic.clone().unwrap();
+        match Llt::try_new_with_symbolic(sym, mat, Side::Lower) {
+            Ok(llt) => {
+                llt.solve_in_place(MatMut::from_column_major_slice_mut(rhs, n, 1));
+                Ok(Factorization::Cholesky)
+            }
+            Err(_) => {
+                self.solve_lu(rhs)?;
+                Ok(Factorization::Lu)
+            }
+        }
+    }
+
+    fn solve_lu(&self, rhs: &mut [f64]) -> Result<(), PdError> {
+        let n = self.n_free;
+        let cp = self.symbolic.col_ptr();
+        let ri = self.symbolic.row_idx();
+        let mut trip = Vec::with_capacity(2 * self.values.len());
+        for c in 0..n {
+            for k in cp[c]..cp[c + 1] {
+                let r = ri[k];
+                let v = self.values[k];
+                trip.push(Triplet::new(r, c, v));
+                if r != c {
+                    trip.push(Triplet::new(c, r, v));
+                }
+            }
+        }
+        let full = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &trip).map_err(|e| {
+            PdError::LinearSolve {
+                dofs: n,
+                reason: format!("building the full matrix: {e:?}"),
+            }
+        })?;
+        let lu = full.sp_lu().map_err(|e| PdError::LinearSolve {
+            dofs: n,
+            reason: format!("tangent not positive definite and LU failed: {e:?}"),
+        })?;
+        lu.solve_in_place(MatMut::from_column_major_slice_mut(rhs, n, 1));
+        if rhs.iter().any(|v| !v.is_finite()) {
+            return Err(PdError::LinearSolve {
+                dofs: n,
+                reason: "singular tangent (LU produced non-finite values); is a rigid-body mode unconstrained?".into(),
+            });
+        }
+        Ok(())
+    }
+}
