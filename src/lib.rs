@@ -1,1 +1,26 @@
-//! pdbem library: scenes, runner, outputs.
+//! pdbem library: scenes, runner, outputs, plots and the command line.
+//!
+//! Map:
+//! - [`scene`]: RON scene types, loading, the one `validate()`, dotted paths for sweeps;
+//! - [`geometry`]: plane geometry helpers (areas, orientation, intersections);
+//! - [`analytic`]: reference solutions of REFERENCES.md (Tada SENT, CMOD, Kirsch, ...);
+//! - [`runner`]: [`runner::RunContext`], [`runner::RunSummary`], dispatch to the solvers,
+//!   summary/CSV/plot writing, reference errors;
+//! - [`run_bem`], [`run_pd`]: the solver entry points the runner calls;
+//! - [`output`]: atomic files, CSV tables, `summary.json`;
+//! - [`plot`]: report plots (geometry, value vs parameter, error vs time, scatter fields);
+//! - [`sweep`]: `pdbem sweep` (grid of dotted-path overrides);
+//! - [`bench`]: `pdbem bench`;
+//! - [`cli`]: the `pdbem` command line.
+
+pub mod analytic;
+pub mod bench;
+pub mod cli;
+pub mod geometry;
+pub mod output;
+pub mod plot;
+pub mod run_bem;
+pub mod run_pd;
+pub mod runner;
+pub mod scene;
+pub mod sweep;

@@ -1,1 +1,5 @@
-fn main() {}
+//! The `pdbem` binary: see [`pdbem::cli`].
+
+fn main() -> std::process::ExitCode {
+    pdbem::cli::main()
+}

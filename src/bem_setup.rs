@@ -1,0 +1,264 @@
+//! From a scene to a BEM model: mesh (loops, holes, cracks, patches), per-element boundary
+//! conditions at a load factor, solver parameters and the remote field of infinite bodies.
+//!
+//! Default element sizes (each overridable in `bem`):
+//! - outline and polygon holes: `bem.element_size`, else 1/100 of the smaller body extent
+//!   (infinite bodies: 1/80 of the longest crack or the largest hole diameter);
+//! - circles: `bem.elements_per_circle`, else 128;
+//! - crack faces: the smaller of the outline size and L/80, with L the tip's length scale
+//!   (crack length, half of it for interior cracks, or the ligament ahead if shorter). The
+//!   interaction integral wants its contour (0.25-0.3 L) at least ~20 elements wide, and
+//!   the face reconstruction keeps 0.6 L around each tip constant (see `pdbem_bem::mesh::stencil`).
+//!
+//! Infinite bodies are solved by superposition (DESIGN.md): holes and crack faces carry
+//! minus the remote traction, and the remote field is added back in post-processing.
+
+use crate::geometry::{circle_polygon, P2};
+use crate::scene::shapes::{HoleShape, SceneGeometry};
+use crate::scene::{Component, Faces, Plane, Scene};
+use anyhow::{bail, Context, Result};
+use pdbem_bem::mesh::{CrackSpec, FaceMode, LoopSpec, TipRefinement};
+use pdbem_bem::post::Background;
+use pdbem_bem::{Bc, Material, Mesh, MeshBuilder, SolveParams};
+
+/// Default circle discretization.
+pub const DEFAULT_ELEMENTS_PER_CIRCLE: usize = 128;
+/// Default outline size as a fraction of the smaller body extent.
+pub const DEFAULT_OUTLINE_FRACTION: f64 = 0.01;
+/// Default crack element size as a fraction of the tip length scale L.
+pub const DEFAULT_CRACK_FRACTION: f64 = 1.0 / 80.0;
+
+/// Everything a BEM solve needs.
+pub struct BemSetup {
+    /// The mesh.
+    pub mesh: Mesh,
+    /// Per-element conditions at the requested load factor.
+    pub bcs: Vec<[Bc; 2]>,
+    /// Solver parameters.
+    pub params: SolveParams,
+    /// Remote field (infinite bodies) scaled by the load factor.
+    pub background: Background,
+    /// Material.
+    pub material: Material,
+}
+
+/// BEM material of a scene.
+pub fn material(scene: &Scene) -> Result<Material> {
+    let plane = match scene.material.plane {
+        Plane::Stress => pdbem_bem::Plane::Stress,
+        Plane::Strain => pdbem_bem::Plane::Strain,
+    };
+    Material::new(scene.material.e, scene.material.nu, plane).context("material")
+}
+
+/// Builds the model at load `factor`, with every element size divided by `refine`
+/// (2 for the fine level of a Richardson pair).
+pub fn build(scene: &Scene, factor: f64, refine: f64) -> Result<BemSetup> {
+    let geo = SceneGeometry::of(scene);
+    let mat = material(scene)?;
+    let base = outline_size(scene, &geo) / refine;
+    let per_circle = ((scene.bem.elements_per_circle.unwrap_or(DEFAULT_ELEMENTS_PER_CIRCLE) as f64) * refine).round() as usize;
+    let size_of = |group: &str| scene.bem.group_sizes.get(group).map(|s| s / refine).unwrap_or(base);
+    let mut b = MeshBuilder::new();
+    if let Some(outline) = &geo.outline {
+        let (points, groups) = split_at_patches(scene, &outline.points, &outline.groups);
+        let sizes = groups.iter().map(|g| size_of(g)).collect();
+        b.add_loop(LoopSpec {
+            points,
+            edge_groups: groups,
+            edge_sizes: sizes,
+            is_hole: false,
+        });
+    }
+    for (name, shape) in &geo.holes {
+        let points: Vec<P2> = match shape {
+            HoleShape::Circle { center, radius } => circle_polygon(center, *radius, per_circle, true),
+            HoleShape::Polygon(p) => p.clone(),
+        };
+        let n = points.len();
+        let size = match shape {
+            HoleShape::Circle { .. } => f64::INFINITY,
+            HoleShape::Polygon(_) => size_of(name),
+        };
+        b.add_loop(LoopSpec {
+            points,
+            edge_groups: vec![name.clone(); n],
+            edge_sizes: vec![size; n],
+            is_hole: true,
+        });
+    }
+    // A first mesh without cracks tells the ligaments for the default crack sizes.
+    let loops_only = b.build().context("meshing the outline and holes")?;
+    for (c, line) in scene.cracks.iter().zip(&geo.cracks) {
+        let l = crack_length_scale(&loops_only, &line.points, line.mouth);
+        let h = scene
+            .bem
+            .group_sizes
+            .get(&c.name)
+            .copied()
+            .unwrap_or_else(|| base.min(l * DEFAULT_CRACK_FRACTION) * refine)
+            / refine;
+        b.add_crack(CrackSpec {
+            name: c.name.clone(),
+            points: line.points.clone(),
+            faces: match c.faces {
+                Faces::Coincident => FaceMode::Coincident,
+                Faces::Gap(g) => FaceMode::Gap(g),
+            },
+            element_size: h,
+            tip: scene.bem.tip_refinement.as_ref().map(|t| TipRefinement {
+                size: t.element_size / refine,
+                radius: t.radius,
+            }),
+        });
+    }
+    let mesh = b.build().context("meshing")?;
+    let remote = geo.remote.map(|s| s.map(|v| v * factor));
+    let bcs = conditions(scene, &mesh, factor, remote)?;
+    let params = SolveParams {
+        infinite: geo.outline.is_none(),
+        estimate_condition: scene.bem.condition_estimate,
+        ..Default::default()
+    };
+    Ok(BemSetup {
+        mesh,
+        bcs,
+        params,
+        background: Background {
+            stress: remote.unwrap_or([0.0; 3]),
+        },
+        material: mat,
+    })
+}
+
+/// The outline element size: the scene's, or the default rule.
+pub fn outline_size(scene: &Scene, geo: &SceneGeometry) -> f64 {
+    if let Some(h) = scene.bem.element_size {
+        return h;
+    }
+    if let Some(o) = &geo.outline {
+        let (mut lo, mut hi) = (o.points[0], o.points[0]);
+        for p in &o.points {
+            lo = lo.inf(p);
+            hi = hi.sup(p);
+        }
+        let ext = (hi - lo).min();
+        return DEFAULT_OUTLINE_FRACTION * ext;
+    }
+    // Infinite body: from the largest feature.
+    let mut feature: f64 = 0.0;
+    for c in &geo.cracks {
+        feature = feature.max(c.points.windows(2).map(|w| (w[1] - w[0]).norm()).sum());
+    }
+    for (_, h) in &geo.holes {
+        if let HoleShape::Circle { radius, .. } = h {
+            feature = feature.max(2.0 * radius);
+        }
+    }
+    feature.max(1e-300) * DEFAULT_CRACK_FRACTION
+}
+
+/// Tip length scale of a crack before meshing: its length (half for interior cracks), or
+/// the distance from a tip to the outline / holes if shorter.
+fn crack_length_scale(loops: &Mesh, pts: &[P2], mouth: bool) -> f64 {
+    let len: f64 = pts.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    let mut l = if mouth { len } else { 0.5 * len };
+    let mut tips = vec![*pts.last().unwrap_or(&P2::zeros())];
+    if !mouth {
+        tips.push(pts[0]);
+    }
+    for t in tips {
+        for e in &loops.elements {
+            let d = e.b - e.a;
+            let s = ((t - e.a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0);
+            let dist = (e.a + s * d - t).norm();
+            if dist > 1e-9 * len {
+                l = l.min(dist);
+            }
+        }
+    }
+    l
+}
+
+/// Splits the outline at the end points of `body.patches` and names the pieces inside a
+/// patch by the patch name.
+fn split_at_patches(scene: &Scene, pts: &[P2], groups: &[String]) -> (Vec<P2>, Vec<String>) {
+    if scene.body.patches.is_empty() {
+        return (pts.to_vec(), groups.to_vec());
+    }
+    let n = pts.len();
+    let mut out_p = Vec::new();
+    let mut out_g = Vec::new();
+    for i in 0..n {
+        let (a, b) = (pts[i], pts[(i + 1) % n]);
+        let d = b - a;
+        let len2 = d.norm_squared();
+        let mut cuts = vec![0.0, 1.0];
+        for p in &scene.body.patches {
+            for q in [P2::new(p.from.0, p.from.1), P2::new(p.to.0, p.to.1)] {
+                let t = (q - a).dot(&d) / len2;
+                if t > 1e-12 && t < 1.0 - 1e-12 && (a + t * d - q).norm() <= 1e-9 * len2.sqrt() {
+                    cuts.push(t);
+                }
+            }
+        }
+        cuts.sort_by(f64::total_cmp);
+        cuts.dedup_by(|x, y| (*x - *y).abs() < 1e-12);
+        for w in cuts.windows(2) {
+            let mid = a + 0.5 * (w[0] + w[1]) * d;
+            out_p.push(a + w[0] * d);
+            let name = scene
+                .body
+                .patches
+                .iter()
+                .find(|p| on_segment(mid, P2::new(p.from.0, p.from.1), P2::new(p.to.0, p.to.1)))
+                .map(|p| p.name.clone())
+                .unwrap_or_else(|| groups[i].clone());
+            out_g.push(name);
+        }
+    }
+    (out_p, out_g)
+}
+
+fn on_segment(q: P2, a: P2, b: P2) -> bool {
+    let d = b - a;
+    let t = (q - a).dot(&d) / d.norm_squared();
+    (0.0..=1.0).contains(&t) && (a + t * d - q).norm() <= 1e-9 * d.norm()
+}
+
+/// Per-element conditions at load `factor`; traction-free where nothing is said.
+fn conditions(scene: &Scene, mesh: &Mesh, factor: f64, remote: Option<[f64; 3]>) -> Result<Vec<[Bc; 2]>> {
+    let mut bcs = vec![[Bc::Traction(0.0), Bc::Traction(0.0)]; mesh.len()];
+    for (k, bc) in scene.boundary.iter().enumerate() {
+        let Some(g) = mesh.group(&bc.on) else {
+            bail!("boundary.{k}.on = '{}': no such group in the mesh", bc.on);
+        };
+        for i in mesh.group_elements(g) {
+            let e = &mesh.elements[i];
+            for (c, comp) in [bc.x, bc.y].iter().enumerate() {
+                match comp {
+                    Component::Free => {}
+                    Component::Displacement(v) => bcs[i][c] = Bc::Displacement(v * factor),
+                    Component::Traction(v) => bcs[i][c] = Bc::Traction(v * factor),
+                }
+            }
+            let (tn, ts) = (bc.normal.unwrap_or(0.0), bc.shear.unwrap_or(0.0));
+            if tn != 0.0 || ts != 0.0 {
+                let t = (e.normal * tn + e.tangent * ts) * factor;
+                bcs[i] = [Bc::Traction(t.x), Bc::Traction(t.y)];
+            }
+        }
+    }
+    if let Some(s) = remote {
+        for (i, e) in mesh.elements.iter().enumerate() {
+            let n = e.normal;
+            let t = [s[0] * n.x + s[2] * n.y, s[2] * n.x + s[1] * n.y];
+            for c in 0..2 {
+                if let Bc::Traction(v) = bcs[i][c] {
+                    bcs[i][c] = Bc::Traction(v - t[c]);
+                }
+            }
+        }
+    }
+    Ok(bcs)
+}

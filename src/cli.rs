@@ -1,0 +1,270 @@
+//! The `pdbem` command line (clap): `check`, `run`, `sweep`, `bench`,
+//! `plot-paths`. [`main`] parses the arguments and returns the exit code.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+use crate::bench::BenchKind;
+use crate::runner::{mode_of, run_scene, RunSummary};
+use crate::scene::shapes::SceneGeometry;
+use crate::scene::Scene;
+
+/// Hybrid peridynamics + boundary element crack-growth engine for 2-D elastic bodies.
+#[derive(Debug, Parser)]
+#[command(name = "pdbem", version, about)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// Sub-commands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Validate a scene and print a short summary.
+    Check {
+        /// Scene file (RON).
+        scene: PathBuf,
+        /// Also write the geometry plot to this folder.
+        #[arg(long)]
+        plot: Option<PathBuf>,
+    },
+    /// Solve a scene and write summary.json, CSV tables and plots.
+    Run {
+        /// Scene file (RON).
+        scene: PathBuf,
+        /// Run folder. Default `runs/<scene name>`.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// No progress output.
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Run a scene over a grid of values of dotted fields.
+    Sweep {
+        /// Scene file (RON).
+        scene: PathBuf,
+        /// FIELD=v1,v2,... (dotted path, e.g. cracks.0.length or bem.element_size); repeat for a grid.
+        #[arg(long = "vary", required = true)]
+        vary: Vec<String>,
+        /// Sweep folder. Default `runs/<scene name>-sweep`.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// No progress output.
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Benchmarks.
+    Bench {
+        /// Which benchmark.
+        #[arg(value_enum)]
+        kind: BenchKind,
+        /// Output folder.
+        #[arg(long)]
+        out: PathBuf,
+        /// Smaller sizes.
+        #[arg(long)]
+        quick: bool,
+    },
+    /// Overlay the crack paths of several growth runs.
+    PlotPaths {
+        /// Run folders.
+        #[arg(required = true)]
+        runs: Vec<PathBuf>,
+        /// Output file stem. Default `paths` in the current folder.
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+}
+
+/// Parses the command line, runs the command, prints errors; returns the exit code.
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match execute(cli.command) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// Runs one command.
+pub fn execute(command: Command) -> anyhow::Result<()> {
+    match command {
+        Command::Check { scene, plot } => check(&scene, plot.as_deref()),
+        Command::Run { scene, out, quiet } => run(&scene, out, quiet),
+        Command::Sweep {
+            scene,
+            vary,
+            out,
+            quiet,
+        } => sweep(&scene, &vary, out, quiet),
+        Command::Bench { kind, out, quick } => crate::bench::run(kind, &out, quick),
+        Command::PlotPaths { runs, out } => {
+            let _ = (runs, out);
+            anyhow::bail!("plot-paths is not available yet: crack-growth runs arrive with issue 5")
+        }
+    }
+}
+
+fn load(path: &Path) -> anyhow::Result<Scene> {
+    let scene = Scene::load(path)?;
+    for note in &scene.notes {
+        eprintln!("note: {}: {note}", path.display());
+    }
+    Ok(scene)
+}
+
+fn check(path: &Path, plot_dir: Option<&Path>) -> anyhow::Result<()> {
+    let scene = load(path)?;
+    println!("{}", describe(&scene));
+    if let Some(dir) = plot_dir {
+        let w = crate::output::OutputWriter::create(dir)?;
+        let fig = crate::runner::report::geometry_plot(&scene, None);
+        let mut s = RunSummary::default();
+        crate::runner::report::save_plot(&w, "geometry", &fig, &scene.outputs.formats, &mut s)?;
+        w.commit()?;
+        println!("geometry plot written to {}", dir.display());
+    }
+    Ok(())
+}
+
+/// A short human-readable summary of a valid scene.
+pub fn describe(scene: &Scene) -> String {
+    let geo = SceneGeometry::of(scene);
+    let m = &scene.material;
+    let mut out = vec![
+        format!(
+            "scene {} ({}): valid",
+            scene.name,
+            scene.file_label().display()
+        ),
+        format!("  mode: {}", mode_of(scene).as_str()),
+        format!(
+            "  material: E = {} Pa, nu = {}, plane {:?}, thickness {} m",
+            m.e, m.nu, m.plane, m.thickness
+        ),
+    ];
+    out.push(match (&geo.outline, geo.remote) {
+        (Some(o), _) => {
+            let (lo, hi) = crate::geometry::bounding_box(&o.points);
+            format!(
+                "  body: {} outline points, {} x {} m, {} hole(s)",
+                o.points.len(),
+                hi.x - lo.x,
+                hi.y - lo.y,
+                geo.holes.len()
+            )
+        }
+        (None, Some(s)) => format!(
+            "  body: infinite plate, remote stress sxx {} syy {} sxy {} Pa, {} hole(s)",
+            s[0],
+            s[1],
+            s[2],
+            geo.holes.len()
+        ),
+        (None, None) => "  body: infinite plate".into(),
+    });
+    for c in &geo.cracks {
+        let len = crate::geometry::polyline_length(&c.points);
+        let kind = if c.mouth {
+            "edge crack (CMOD reported)"
+        } else {
+            "interior crack"
+        };
+        out.push(format!("  crack {}: {kind}, length {len} m", c.name));
+    }
+    out.push(format!(
+        "  boundary groups: {}",
+        scene.edge_groups().join(", ")
+    ));
+    out.push(format!(
+        "  BEM: element size {} m, about {} elements",
+        scene.element_size(),
+        scene.estimated_elements()
+    ));
+    for (name, r) in crate::runner::reference::tip_references(scene) {
+        out.push(format!(
+            "  reference at {name}: K_I = {:.6e}, K_II = {:.6e} Pa m^0.5",
+            r.k1, r.k2
+        ));
+    }
+    if let Some((name, c)) = crate::runner::reference::cmod_reference(scene) {
+        out.push(format!("  reference CMOD of {name}: {c:.6e} m"));
+    }
+    out.join("\n")
+}
+
+fn default_out(scene: &Scene, suffix: &str) -> PathBuf {
+    PathBuf::from("runs").join(format!("{}{suffix}", scene.name))
+}
+
+fn run(path: &Path, out: Option<PathBuf>, quiet: bool) -> anyhow::Result<()> {
+    let scene = load(path)?;
+    let out = out.unwrap_or_else(|| default_out(&scene, ""));
+    let summary = run_scene(&scene, &out, quiet)?;
+    if !quiet {
+        print_summary(&summary);
+        println!("outputs in {}", out.display());
+    }
+    Ok(())
+}
+
+fn print_summary(s: &RunSummary) {
+    println!(
+        "{}: mode {}, {} elements, {:.3} s",
+        s.scene,
+        s.mode,
+        s.elements
+            .map(|e| e.to_string())
+            .unwrap_or_else(|| "-".into()),
+        s.wall_time_s
+    );
+    for t in &s.tips {
+        let err = t
+            .k1_err
+            .map(|e| format!(" (K_I error {:+.3} %)", 100.0 * e))
+            .unwrap_or_default();
+        println!(
+            "  tip {}: K_I {:.6e}, K_II {:.6e}, kink {:.2} deg{err}",
+            t.name, t.k1, t.k2, t.kink_deg
+        );
+    }
+    for c in &s.cracks {
+        if let Some(v) = c.cmod {
+            let err = c
+                .cmod_err
+                .map(|e| format!(" (error {:+.3} %)", 100.0 * e))
+                .unwrap_or_default();
+            println!("  crack {}: CMOD {v:.6e} m{err}", c.name);
+        }
+    }
+    for n in &s.notes {
+        println!("  note: {n}");
+    }
+}
+
+fn sweep(path: &Path, vary: &[String], out: Option<PathBuf>, quiet: bool) -> anyhow::Result<()> {
+    let scene = load(path)?;
+    let varies = vary
+        .iter()
+        .map(|v| crate::sweep::parse_vary(v))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(anyhow::Error::msg)?;
+    let out = out.unwrap_or_else(|| default_out(&scene, "-sweep"));
+    let rows = crate::sweep::run_sweep(&scene, &varies, &out, quiet)?;
+    let failed = rows.iter().filter(|r| r.error.is_some()).count();
+    println!(
+        "{} runs ({} failed); table in {}",
+        rows.len(),
+        failed,
+        out.join("sweep.csv").display()
+    );
+    if let Some(e) = rows.iter().find_map(|r| r.error.as_ref()) {
+        println!("first failure: {e}");
+    }
+    Ok(())
+}

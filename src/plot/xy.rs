@@ -1,0 +1,224 @@
+//! Line/marker plots of series against a parameter, on linear or log axes:
+//! K against a/W with the analytic curve, error against element size, error
+//! against wall time (log-log).
+
+use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::style::{series_color, CAPTION_SIZE, FONT, LABEL_SIZE};
+use super::{msg, span, Figure};
+
+/// How a series is drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SeriesStyle {
+    /// A line (analytic curves).
+    Line,
+    /// Markers only (computed points).
+    Markers,
+    /// Line through markers.
+    LineMarkers,
+}
+
+/// One labelled series of `(x, y)` points.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Series {
+    /// Legend text.
+    pub label: String,
+    /// Points.
+    pub points: Vec<(f64, f64)>,
+    /// Drawing style.
+    pub style: SeriesStyle,
+}
+
+impl Series {
+    /// A series.
+    pub fn new(label: impl Into<String>, points: Vec<(f64, f64)>, style: SeriesStyle) -> Series {
+        Series {
+            label: label.into(),
+            points,
+            style,
+        }
+    }
+}
+
+/// A value-against-parameter plot.
+#[derive(Debug, Clone, PartialEq)]
+pub struct XyPlot {
+    /// Caption.
+    pub title: String,
+    /// x axis label with unit, e.g. `a/W (-)`.
+    pub x_label: String,
+    /// y axis label with unit, e.g. `K_I (Pa m^0.5)`.
+    pub y_label: String,
+    /// Series, in legend order.
+    pub series: Vec<Series>,
+    /// Logarithmic x axis (non-positive x are dropped).
+    pub log_x: bool,
+    /// Logarithmic y axis (non-positive y are dropped).
+    pub log_y: bool,
+}
+
+impl XyPlot {
+    /// A linear plot.
+    pub fn new(
+        title: impl Into<String>,
+        x_label: impl Into<String>,
+        y_label: impl Into<String>,
+    ) -> XyPlot {
+        XyPlot {
+            title: title.into(),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            series: Vec::new(),
+            log_x: false,
+            log_y: false,
+        }
+    }
+
+    /// Error against wall time, log-log: one point per run.
+    pub fn error_vs_time(
+        title: impl Into<String>,
+        error_label: impl Into<String>,
+        series: Vec<Series>,
+    ) -> XyPlot {
+        XyPlot {
+            title: title.into(),
+            x_label: "wall time (s)".into(),
+            y_label: error_label.into(),
+            series,
+            log_x: true,
+            log_y: true,
+        }
+    }
+
+    /// Points usable on these axes (finite, positive on log axes).
+    fn usable(&self, p: &(f64, f64)) -> bool {
+        p.0.is_finite()
+            && p.1.is_finite()
+            && (!self.log_x || p.0 > 0.0)
+            && (!self.log_y || p.1 > 0.0)
+    }
+
+    fn ranges(&self) -> ((f64, f64), (f64, f64)) {
+        let pts: Vec<(f64, f64)> = self
+            .series
+            .iter()
+            .flat_map(|s| s.points.iter().copied())
+            .filter(|p| self.usable(p))
+            .collect();
+        let pad = |(a, b): (f64, f64), log: bool| {
+            if log {
+                let (a, b) = if a > 0.0 { (a, b) } else { (1.0, 10.0) };
+                (a / 1.5, b * 1.5)
+            } else {
+                let d = 0.05 * (b - a);
+                (a - d, b + d)
+            }
+        };
+        let x = pad(span(pts.iter().map(|p| p.0)), self.log_x);
+        let y = pad(span(pts.iter().map(|p| p.1)), self.log_y);
+        (x, y)
+    }
+}
+
+impl Figure for XyPlot {
+    fn size(&self) -> (u32, u32) {
+        (900, 650)
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        labels: bool,
+    ) -> Result<(), String> {
+        root.fill(&WHITE).map_err(msg)?;
+        let ((x0, x1), (y0, y1)) = self.ranges();
+        match (self.log_x, self.log_y) {
+            (false, false) => self.draw_on(root, labels, x0..x1, y0..y1),
+            (true, false) => self.draw_on(root, labels, (x0..x1).log_scale(), y0..y1),
+            (false, true) => self.draw_on(root, labels, x0..x1, (y0..y1).log_scale()),
+            (true, true) => self.draw_on(root, labels, (x0..x1).log_scale(), (y0..y1).log_scale()),
+        }
+    }
+}
+
+impl XyPlot {
+    fn draw_on<DB, XR, YR>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        labels: bool,
+        xr: XR,
+        yr: YR,
+    ) -> Result<(), String>
+    where
+        DB: DrawingBackend,
+        XR: AsRangedCoord<Value = f64>,
+        YR: AsRangedCoord<Value = f64>,
+        XR::CoordDescType: ValueFormatter<f64>,
+        YR::CoordDescType: ValueFormatter<f64>,
+    {
+        let mut builder = ChartBuilder::on(root);
+        builder.margin(20);
+        if labels {
+            builder
+                .caption(&self.title, (FONT, CAPTION_SIZE))
+                .x_label_area_size(55)
+                .y_label_area_size(85);
+        }
+        let mut chart = builder.build_cartesian_2d(xr, yr).map_err(msg)?;
+        let mut mesh = chart.configure_mesh();
+        if labels {
+            mesh.x_desc(&self.x_label)
+                .y_desc(&self.y_label)
+                .axis_desc_style((FONT, LABEL_SIZE))
+                .label_style((FONT, LABEL_SIZE - 4));
+        } else {
+            mesh.x_labels(0).y_labels(0);
+        }
+        mesh.light_line_style(RGBColor(235, 235, 235))
+            .draw()
+            .map_err(msg)?;
+        for (i, s) in self.series.iter().enumerate() {
+            let color = series_color(i);
+            let pts: Vec<(f64, f64)> = s
+                .points
+                .iter()
+                .copied()
+                .filter(|p| self.usable(p))
+                .collect();
+            let line = matches!(s.style, SeriesStyle::Line | SeriesStyle::LineMarkers);
+            let marks = matches!(s.style, SeriesStyle::Markers | SeriesStyle::LineMarkers);
+            if line {
+                let a = chart
+                    .draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))
+                    .map_err(msg)?;
+                if labels {
+                    a.label(&s.label).legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                    });
+                }
+            }
+            if marks {
+                let a = chart
+                    .draw_series(pts.iter().map(|p| Circle::new(*p, 5, color.filled())))
+                    .map_err(msg)?;
+                if labels && !line {
+                    a.label(&s.label)
+                        .legend(move |(x, y)| Circle::new((x + 10, y), 5, color.filled()));
+                }
+            }
+        }
+        if labels && !self.series.is_empty() {
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .label_font((FONT, LABEL_SIZE - 4))
+                .position(SeriesLabelPosition::UpperLeft)
+                .draw()
+                .map_err(msg)?;
+        }
+        Ok(())
+    }
+}

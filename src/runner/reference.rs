@@ -1,0 +1,202 @@
+//! Reference values and errors for a run, from the scene's `reference`
+//! section (REFERENCES.md formulas in [`crate::analytic`]).
+//!
+//! Errors: `k1_err = (k1 - k1_ref) / |k1_ref|`, likewise for `k2` and `cmod`;
+//! when a reference value is zero (K_II of a mode-I crack) the error is taken
+//! relative to |K_ref| = sqrt(k1_ref^2 + k2_ref^2). `kink_err_deg` is the
+//! difference in degrees.
+
+use serde_json::json;
+
+use super::{RunSummary, TipResult};
+use crate::analytic::{inclined_crack_k, kink_angle_deg, sent_cmod, sent_f_fem, sent_k1};
+use crate::geometry::{polyline_length, P2};
+use crate::scene::shapes::{CrackLine, SceneGeometry};
+use crate::scene::{Reference, Scene};
+
+/// Relative error of `value` against `reference`, scaled by `scale` when the
+/// reference is (nearly) zero.
+pub fn relative_error(value: f64, reference: f64, scale: f64) -> f64 {
+    let s = if reference.abs() > 1e-12 * scale.abs() {
+        reference.abs()
+    } else {
+        scale.abs()
+    };
+    (value - reference) / s.max(1e-300)
+}
+
+/// Reference of one tip: `(k1, k2, optional k1 from the FEM table)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TipReference {
+    /// K_I (Pa sqrt(m)).
+    pub k1: f64,
+    /// K_II (Pa sqrt(m)).
+    pub k2: f64,
+    /// K_I from the SENT FEM table, where it applies.
+    pub k1_fem: Option<f64>,
+}
+
+/// Reference values of every tip that has one, by tip name.
+pub fn tip_references(scene: &Scene) -> Vec<(String, TipReference)> {
+    let geo = SceneGeometry::of(scene);
+    let Some(crack) = geo.cracks.first() else {
+        return Vec::new();
+    };
+    match scene.reference {
+        Some(Reference::SentTada { width, sigma }) if crack.mouth => {
+            let a = polyline_length(&crack.points);
+            let k1 = sent_k1(sigma, a, width);
+            let fem = sent_f_fem(a / width).map(|f| sigma * (std::f64::consts::PI * a).sqrt() * f);
+            vec![(
+                format!("{}.end", crack.name),
+                TipReference {
+                    k1,
+                    k2: 0.0,
+                    k1_fem: fem,
+                },
+            )]
+        }
+        Some(Reference::InclinedCrackInfinite { sigma, beta_deg }) => {
+            inclined_references(crack, geo.remote, sigma, beta_deg)
+        }
+        _ => Vec::new(),
+    }
+}
+
+/// Inclined-crack references: from the remote stress tensor when the plate is
+/// infinite (sign-consistent per tip), else from sigma and beta.
+fn inclined_references(
+    crack: &CrackLine,
+    remote: Option<[f64; 3]>,
+    sigma: f64,
+    beta_deg: f64,
+) -> Vec<(String, TipReference)> {
+    let a = 0.5 * polyline_length(&crack.points);
+    let n = crack.points.len();
+    let ends = [
+        (
+            format!("{}.start", crack.name),
+            crack.points[0] - crack.points[1],
+        ),
+        (
+            format!("{}.end", crack.name),
+            crack.points[n - 1] - crack.points[n - 2],
+        ),
+    ];
+    ends.into_iter()
+        .map(|(name, dir)| {
+            let (k1, k2) = match remote {
+                Some(s) => tensor_k(s, dir, a),
+                None => inclined_crack_k(sigma, a, beta_deg),
+            };
+            (
+                name,
+                TipReference {
+                    k1,
+                    k2,
+                    k1_fem: None,
+                },
+            )
+        })
+        .collect()
+}
+
+/// K_I = sigma_nn sqrt(pi a), K_II = sigma_tn sqrt(pi a) for a straight crack
+/// of half-length `a` in an infinite plate; t = outward tip direction, n = t
+/// rotated +90 degrees.
+fn tensor_k(s: [f64; 3], dir: P2, a: f64) -> (f64, f64) {
+    let t = dir / dir.norm().max(1e-300);
+    let n = P2::new(-t.y, t.x);
+    let sig = |u: &P2, v: &P2| u.x * (s[0] * v.x + s[2] * v.y) + u.y * (s[2] * v.x + s[1] * v.y);
+    let root = (std::f64::consts::PI * a).sqrt();
+    (sig(&n, &n) * root, sig(&t, &n) * root)
+}
+
+/// Fills reference values and errors into a summary.
+pub fn apply(scene: &Scene, summary: &mut RunSummary) {
+    for (name, r) in tip_references(scene) {
+        if let Some(tip) = summary.tips.iter_mut().find(|t| t.name == name) {
+            fill_tip(tip, &r);
+        }
+    }
+    apply_cmod(scene, summary);
+    apply_kirsch(scene, summary);
+}
+
+fn fill_tip(tip: &mut TipResult, r: &TipReference) {
+    let scale = r.k1.hypot(r.k2);
+    let kink = kink_angle_deg(r.k1, r.k2);
+    tip.k1_ref = Some(r.k1);
+    tip.k2_ref = Some(r.k2);
+    tip.kink_ref_deg = Some(kink);
+    tip.k1_err = Some(relative_error(tip.k1, r.k1, scale));
+    tip.k2_err = Some(relative_error(tip.k2, r.k2, scale));
+    tip.kink_err_deg = Some(tip.kink_deg - kink);
+    tip.k1_ref_fem = r.k1_fem;
+    tip.k1_err_fem = r.k1_fem.map(|f| relative_error(tip.k1, f, scale));
+}
+
+/// SENT CMOD reference of the first crack, `(crack name, cmod)`.
+pub fn cmod_reference(scene: &Scene) -> Option<(String, f64)> {
+    let Some(Reference::SentTada { width, sigma }) = scene.reference else {
+        return None;
+    };
+    let geo = SceneGeometry::of(scene);
+    let crack = geo.cracks.first().filter(|c| c.mouth)?;
+    let a = polyline_length(&crack.points);
+    Some((
+        crack.name.clone(),
+        sent_cmod(sigma, a, width, scene.material.e_prime()),
+    ))
+}
+
+fn apply_cmod(scene: &Scene, summary: &mut RunSummary) {
+    let Some((name, reference)) = cmod_reference(scene) else {
+        return;
+    };
+    if let Some(c) = summary.cracks.iter_mut().find(|c| c.name == name) {
+        c.cmod_ref = Some(reference);
+        c.cmod_err = c.cmod.map(|v| relative_error(v, reference, reference));
+    }
+}
+
+/// Kirsch: `hoop_peak_ref` = 3 sigma, and `hoop_peak_err` when the solver
+/// reported `hoop_peak` (Pa) in `extra`.
+fn apply_kirsch(scene: &Scene, summary: &mut RunSummary) {
+    let Some(Reference::Kirsch { sigma }) = scene.reference else {
+        return;
+    };
+    let reference = 3.0 * sigma;
+    summary
+        .extra
+        .insert("hoop_peak_ref".into(), json!(reference));
+    if let Some(v) = summary.extra.get("hoop_peak").and_then(|v| v.as_f64()) {
+        summary.extra.insert(
+            "hoop_peak_err".into(),
+            json!(relative_error(v, reference, reference)),
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tensor_k_matches_beta_formula_at_45_degrees() {
+        // Uniaxial syy = 1, crack at 45 degrees: beta = 45.
+        let (k1, k2) = tensor_k([0.0, 1.0, 0.0], P2::new(1.0, 1.0), 1.0);
+        let (r1, r2) = inclined_crack_k(1.0, 1.0, 45.0);
+        assert!((k1 - r1).abs() < 1e-12);
+        assert!((k2.abs() - r2).abs() < 1e-12);
+        // Both tips give the same K_II sign.
+        let (_, k2b) = tensor_k([0.0, 1.0, 0.0], P2::new(-1.0, -1.0), 1.0);
+        assert!((k2 - k2b).abs() < 1e-12);
+    }
+
+    #[test]
+    fn relative_error_of_zero_reference_uses_scale() {
+        assert!((relative_error(0.01, 0.0, 2.0) - 0.005).abs() < 1e-15);
+        assert!((relative_error(1.1, 1.0, 1.0) - 0.1).abs() < 1e-12);
+    }
+}

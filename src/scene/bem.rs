@@ -1,0 +1,84 @@
+//! `bem`: discretisation and post-processing settings of the boundary element
+//! solver. Absent = all defaults.
+
+use std::collections::BTreeMap;
+
+use serde::{Deserialize, Serialize};
+
+use super::body::Pt;
+
+/// BEM settings.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct BemSettings {
+    /// Target element length (m), > 0. Default: automatic, the smaller side of
+    /// the outline's bounding box / 100, or for an infinite plate the shortest
+    /// crack / 40 (see [`crate::scene::Scene::element_size`]).
+    pub element_size: Option<f64>,
+    /// Element length per edge group (m), overriding `element_size`. Default: none.
+    pub group_sizes: BTreeMap<String, f64>,
+    /// Uniform refinement around every crack tip. Default: none (REFERENCES.md:
+    /// keep elements near the tip uniform; geometric grading biases COD SIFs).
+    pub tip_refinement: Option<TipRefinement>,
+    /// Elements on each circular hole. Default: from the element size, at least 16.
+    pub elements_per_circle: Option<usize>,
+    /// Solve on h and h/2 and Richardson-extrapolate SIF and CMOD (O(h)
+    /// convergence of constant elements). Default false.
+    pub richardson: bool,
+    /// Fit range of the crack-opening SIF fit, as a fraction of L = a (or
+    /// min(a, W - a) for edge cracks), in (0, 1]. Default 0.3 (REFERENCES.md).
+    pub cod_fit_fraction: f64,
+    /// J / interaction integral contour. Default: a circle of radius 0.25 a with 64 points.
+    pub j_contour: JContour,
+    /// Report a condition-number estimate of the system. Default false.
+    pub condition_estimate: bool,
+    /// Extra interior points (m) where displacement and stress are reported. Default: none.
+    pub interior_points: Vec<Pt>,
+}
+
+impl Default for BemSettings {
+    fn default() -> Self {
+        BemSettings {
+            element_size: None,
+            group_sizes: BTreeMap::new(),
+            tip_refinement: None,
+            elements_per_circle: None,
+            richardson: false,
+            cod_fit_fraction: 0.3,
+            j_contour: JContour::default(),
+            condition_estimate: false,
+            interior_points: Vec::new(),
+        }
+    }
+}
+
+/// Uniform small elements within `radius` of each crack tip.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TipRefinement {
+    /// Element length near the tip (m), > 0.
+    pub element_size: f64,
+    /// Radius of the refined zone around the tip (m), > 0.
+    pub radius: f64,
+}
+
+/// Circular contour of interior points around each tip for the J and
+/// interaction integrals.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct JContour {
+    /// Contour radius as a fraction of the crack length a (edge crack) or
+    /// half-length (interior crack), in (0, 1). Default 0.25.
+    pub radius_fraction: f64,
+    /// Number of interior points on the contour, >= 8. Default 64.
+    pub points: usize,
+}
+
+impl Default for JContour {
+    fn default() -> Self {
+        JContour {
+            radius_fraction: 0.25,
+            points: 64,
+        }
+    }
+}

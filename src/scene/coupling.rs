@@ -1,0 +1,155 @@
+//! `coupling` (issue 4: PD windows iterated against the BEM body) and
+//! `growth` (issue 5: load stepping with moving windows). Absent = not built.
+
+use serde::{Deserialize, Serialize};
+
+use super::body::Pt;
+
+/// Static PD-BEM coupling (seed 002 Algorithm 1).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Coupling {
+    /// Side L_w of the square window (m), > 0 (for `Region`: its width).
+    pub side: f64,
+    /// Real PD nodes per window side (dx = side / n), >= 2.
+    pub n: usize,
+    /// Where the windows go. Default `AtTips`.
+    #[serde(default)]
+    pub placement: Placement,
+    /// Interface relaxation. Default `Aitken(0.3)` (seed 002 section 3.1.3 uses w = 0.3).
+    #[serde(default)]
+    pub relaxation: Relaxation,
+    /// Convergence: relative change of interface displacements below psi, > 0. Default 1e-4.
+    #[serde(default = "default_psi")]
+    pub psi: f64,
+    /// Coupling iteration cap, >= 1. Default 50.
+    #[serde(default = "default_max_iter")]
+    pub max_iter: usize,
+    /// How BEM displacements reach the PD virtual layers. Default `Copy` (seed 002 Eq. 23).
+    #[serde(default)]
+    pub displacement_map: DisplacementMap,
+}
+
+fn default_psi() -> f64 {
+    1e-4
+}
+
+fn default_max_iter() -> usize {
+    50
+}
+
+/// Window placement.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum Placement {
+    /// One square window centred on each crack tip inside the body, axes along the crack.
+    #[default]
+    AtTips,
+    /// One square window centred at `center` (m), rotated by `angle_deg`.
+    Centered {
+        /// Window centre (m).
+        center: Pt,
+        /// Rotation (degrees, counter-clockwise). Default 0.
+        #[serde(default)]
+        angle_deg: f64,
+    },
+    /// An axis-aligned rectangle (e.g. half a beam); sides on the outline take
+    /// the scene's boundary conditions.
+    Region {
+        /// Lower-left x (m).
+        x0: f64,
+        /// Lower-left y (m).
+        y0: f64,
+        /// Width (m), > 0; `side` should equal it.
+        width: f64,
+        /// Height (m), > 0.
+        height: f64,
+    },
+}
+
+/// Interface relaxation scheme (seed 002 Eqs. 25-28; IQN-ILS as in preCICE).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum Relaxation {
+    /// Constant factor w in (0, 1].
+    Constant(f64),
+    /// Aitken's dynamic factor, starting at w0 in (0, 1].
+    Aitken(f64),
+    /// Interface quasi-Newton with least squares.
+    IqnIls {
+        /// Relaxation of the first iteration, in (0, 1]. Default 0.1.
+        #[serde(default = "default_w0")]
+        w0: f64,
+        /// Earlier load steps whose secant pairs are reused. Default 0.
+        #[serde(default)]
+        reuse: usize,
+    },
+}
+
+fn default_w0() -> f64 {
+    0.1
+}
+
+impl Default for Relaxation {
+    fn default() -> Self {
+        Relaxation::Aitken(0.3)
+    }
+}
+
+/// BEM-to-PD displacement map.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum DisplacementMap {
+    /// Copy the interface element's value to its row of virtual nodes (seed 002 Eq. 23).
+    #[default]
+    Copy,
+    /// Evaluate the BEM displacement at each virtual node (interior points).
+    Interior,
+}
+
+/// Crack growth (seed 002 Algorithm 2).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Growth {
+    /// `PdBem` (default), `BemOnly` (SIF + kink + `da`) or `FullPd`.
+    #[serde(default)]
+    pub mode: GrowthMode,
+    /// Move the window when the tip passes this fraction of the window, in (0, 1). Default 0.9 (seed 002).
+    #[serde(default = "default_trigger")]
+    pub trigger_ratio: f64,
+    /// Window move per relocation (m), in (0, coupling.side]. Default side / 4.
+    #[serde(default)]
+    pub move_distance: Option<f64>,
+    /// BEM elements added to each crack face per relocation, >= 1. Default 5 (seed 002 section 3.2.2).
+    #[serde(default = "default_elements_per_extension")]
+    pub elements_per_extension: usize,
+    /// Crack increment of `BemOnly` growth (m), > 0. Default: the element size.
+    #[serde(default)]
+    pub da: Option<f64>,
+    /// Damage above which a node belongs to the macro crack (-). Default 0.38 (DESIGN.md).
+    #[serde(default = "default_damage_threshold")]
+    pub damage_threshold: f64,
+}
+
+fn default_trigger() -> f64 {
+    0.9
+}
+
+fn default_elements_per_extension() -> usize {
+    5
+}
+
+fn default_damage_threshold() -> f64 {
+    0.38
+}
+
+/// Growth comparison mode (issue 5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum GrowthMode {
+    /// PD windows over the tips, BEM elsewhere.
+    #[default]
+    PdBem,
+    /// BEM alone: SIF, maximum circumferential stress kink, fixed increment.
+    BemOnly,
+    /// PD over the whole body at the window resolution.
+    FullPd,
+}

@@ -1,0 +1,314 @@
+//! Scenes: the RON description of one study (DESIGN.md "Scenes and outputs").
+//!
+//! Entry points: [`Scene::load`] (read, parse, validate, normalise),
+//! [`Scene::from_ron_str`] (the same for inline text), [`Scene::validate`],
+//! [`path::with_overrides`] (set dotted paths for sweeps),
+//! [`shapes::SceneGeometry::of`] (points for meshing and plotting).
+//!
+//! Sections: `material` ([`material`]), `body` ([`body`]), `cracks`
+//! ([`crack`]), `boundary` and `load` ([`boundary`]), `bem` ([`bem`]),
+//! `reference` ([`reference`]), `pd` ([`pd`]), `coupling` and `growth`
+//! ([`coupling`]), `outputs` ([`outputs`]). What is absent is not built: no
+//! `pd` = BEM alone; `pd` without `coupling` = stand-alone PD; `coupling` =
+//! PD windows in a BEM body; `growth` = crack growth.
+//!
+//! RON extensions `implicit_some` and `unwrap_variant_newtypes` are on, so
+//! optional fields are written without `Some(...)` and newtype variants take
+//! their struct fields directly (`solver: Adr(tolerance: 1e-8)`).
+//!
+//! ```ron
+//! (
+//!     name: "sent_a5",
+//!     material: (E: 1e4, nu: 0.3333333333, plane: Stress),
+//!     body: (outline: Rectangle(x0: 0, y0: 0, width: 20, height: 10)),
+//!     cracks: [(name: "c", start: (10, 10), angle_deg: -90, length: 5)],
+//!     boundary: [
+//!         (on: "left", x: Traction(-0.5)),
+//!         (on: "right", x: Traction(0.5)),
+//!     ],
+//!     bem: (element_size: 0.1),
+//!     reference: SentTada(width: 10, sigma: 0.5),
+//! )
+//! ```
+
+pub mod bem;
+pub mod body;
+pub mod boundary;
+pub mod coupling;
+pub mod crack;
+pub mod error;
+pub mod material;
+pub mod outputs;
+pub mod path;
+pub mod pd;
+pub mod reference;
+pub mod shapes;
+pub mod validate;
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+pub use bem::{BemSettings, JContour, TipRefinement};
+pub use body::{Body, Hole, NamedEdge, Outline, Patch, Pt};
+pub use boundary::{BoundaryCondition, Component, Load};
+pub use coupling::{Coupling, DisplacementMap, Growth, GrowthMode, Placement, Relaxation};
+pub use crack::{Crack, CrackForm, Faces};
+pub use error::{Issue, SceneError};
+pub use material::{Fracture, Material, Plane};
+pub use outputs::{Grid, Line, Outputs, PlotFormat};
+pub use pd::{AdrParams, Failure, ImplicitParams, PdSettings, PdSolver, SwitchingParams};
+pub use reference::Reference;
+
+/// One study: geometry, material, loading and the optional solver sections.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Short identifier; the default run folder is `runs/<name>`. Required,
+    /// letters, digits, `_`, `-`, `.` only.
+    pub name: String,
+    /// Free text. Default empty.
+    #[serde(default)]
+    pub description: String,
+    /// Elastic constants and fracture data. Required.
+    pub material: Material,
+    /// Outline and holes. Required.
+    pub body: Body,
+    /// Cracks. Default: none.
+    #[serde(default)]
+    pub cracks: Vec<Crack>,
+    /// Boundary conditions on named groups; unnamed parts are traction-free. Default: none.
+    #[serde(default)]
+    pub boundary: Vec<BoundaryCondition>,
+    /// Load stepping. Default: one step at factor 1.
+    #[serde(default)]
+    pub load: Load,
+    /// BEM settings. Default: all defaults.
+    #[serde(default)]
+    pub bem: BemSettings,
+    /// Analytic reference. Default: none.
+    #[serde(default)]
+    pub reference: Option<Reference>,
+    /// Peridynamics. Default: none (BEM alone).
+    #[serde(default)]
+    pub pd: Option<PdSettings>,
+    /// PD-BEM coupling. Default: none.
+    #[serde(default)]
+    pub coupling: Option<Coupling>,
+    /// Crack growth. Default: none (static solve).
+    #[serde(default)]
+    pub growth: Option<Growth>,
+    /// Output selection. Default: plots and CSVs.
+    #[serde(default)]
+    pub outputs: Outputs,
+    /// File the scene was loaded from (not part of the RON).
+    #[serde(skip)]
+    pub source: Option<PathBuf>,
+    /// Messages from loading (e.g. orientation normalised), for the user.
+    #[serde(skip)]
+    pub notes: Vec<String>,
+}
+
+/// The RON options scenes are read with (`implicit_some`, `unwrap_variant_newtypes`).
+pub fn ron_options() -> ron::Options {
+    ron::Options::default()
+        .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
+        .with_default_extension(ron::extensions::Extensions::UNWRAP_VARIANT_NEWTYPES)
+}
+
+impl Scene {
+    /// Reads, parses, validates and normalises a scene file. Syntax errors name
+    /// the file, line and column; rule violations the file, field path and reason.
+    pub fn load(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+            file: path.to_path_buf(),
+            source,
+        })?;
+        Scene::from_ron_str(&text, path)
+    }
+
+    /// Parses, validates and normalises RON text; `file` labels messages.
+    pub fn from_ron_str(text: &str, file: impl AsRef<Path>) -> Result<Scene, SceneError> {
+        let mut scene = Scene::parse(text, file.as_ref())?;
+        scene.validate()?;
+        scene.normalise();
+        Ok(scene)
+    }
+
+    /// Parses RON text without validating.
+    pub fn parse(text: &str, file: &Path) -> Result<Scene, SceneError> {
+        let mut scene: Scene =
+            ron_options()
+                .from_str(text)
+                .map_err(|e: ron::error::SpannedError| SceneError::Syntax {
+                    file: file.to_path_buf(),
+                    line: e.span.start.line,
+                    column: e.span.start.col,
+                    message: e.code.to_string(),
+                })?;
+        scene.source = Some(file.to_path_buf());
+        Ok(scene)
+    }
+
+    /// Checks every rule (see [`validate`]); all violations are reported together.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let issues = validate::check(self);
+        if issues.is_empty() {
+            Ok(())
+        } else {
+            Err(SceneError::Invalid {
+                file: self.file_label(),
+                issues,
+            })
+        }
+    }
+
+    /// The file name used in messages (`<inline>` when not from a file).
+    pub fn file_label(&self) -> PathBuf {
+        self.source
+            .clone()
+            .unwrap_or_else(|| PathBuf::from("<inline>"))
+    }
+
+    /// Makes the outline counter-clockwise and polygon holes clockwise
+    /// (DESIGN.md), keeping each edge's name on the same edge; adds a note when
+    /// something was reversed.
+    pub fn normalise(&mut self) {
+        if let Outline::Polygon { points, edge_names } = &mut self.body.outline {
+            let pts: Vec<_> = points.iter().map(|p| crate::geometry::p2(*p)).collect();
+            if !crate::geometry::is_ccw(&pts) {
+                reverse_loop(points, edge_names.as_mut());
+                self.notes
+                    .push("body.outline: points reversed to run counter-clockwise".into());
+            }
+        }
+        for (i, hole) in self.body.holes.iter_mut().enumerate() {
+            if let Hole::Polygon { points, .. } = hole {
+                let pts: Vec<_> = points.iter().map(|p| crate::geometry::p2(*p)).collect();
+                if crate::geometry::is_ccw(&pts) {
+                    points.reverse();
+                    self.notes
+                        .push(format!("body.holes.{i}: points reversed to run clockwise"));
+                }
+            }
+        }
+    }
+
+    /// Element size used where no group size applies (m): `bem.element_size`,
+    /// or the smaller bounding-box side / 100 (finite body), or the shortest
+    /// crack / 40 (infinite plate; 1 m with no crack).
+    pub fn element_size(&self) -> f64 {
+        if let Some(h) = self.bem.element_size {
+            return h;
+        }
+        let geo = shapes::SceneGeometry::of(self);
+        match &geo.outline {
+            Some(o) => {
+                let (lo, hi) = crate::geometry::bounding_box(&o.points);
+                (hi - lo).min() / 100.0
+            }
+            None => geo
+                .cracks
+                .iter()
+                .map(|c| crate::geometry::polyline_length(&c.points) / 40.0)
+                .fold(f64::INFINITY, f64::min)
+                .min(
+                    geo.holes
+                        .iter()
+                        .map(|(_, h)| h.size() / 10.0)
+                        .fold(f64::INFINITY, f64::min),
+                )
+                .min(1.0),
+        }
+    }
+
+    /// Every edge-group name a boundary condition may use.
+    pub fn edge_groups(&self) -> Vec<String> {
+        let mut g = self.body.outline.edge_names();
+        if !matches!(self.body.outline, Outline::Infinite { .. }) {
+            g.push("outline".into());
+        }
+        g.extend(self.body.patches.iter().map(|p| p.name.clone()));
+        g.extend(self.body.holes.iter().enumerate().map(|(i, h)| h.name(i)));
+        for c in &self.cracks {
+            g.push(c.name.clone());
+            g.extend(c.face_names());
+        }
+        g
+    }
+
+    /// Scene with defaults applied to the JSON form (what sweeps edit).
+    pub fn to_json(&self) -> serde_json::Value {
+        // Serialising plain data with finite numbers cannot fail.
+        serde_json::to_value(self).unwrap_or(serde_json::Value::Null)
+    }
+}
+
+/// Elements on a piece of boundary of length `len` (m) with target size `h`
+/// (m): round(len / h). Zero means `h` is too coarse; validation rejects it.
+pub fn elements_on(len: f64, h: f64) -> usize {
+    let n = (len / h).round();
+    if n.is_finite() && n > 0.0 {
+        n as usize
+    } else {
+        0
+    }
+}
+
+impl Scene {
+    /// Rough BEM element count (outline, holes, both faces of every crack) at
+    /// the scene's sizes, ignoring tip refinement; for summaries.
+    pub fn estimated_elements(&self) -> usize {
+        let h = self.element_size();
+        let size = |g: &str| self.bem.group_sizes.get(g).copied().unwrap_or(h);
+        let geo = shapes::SceneGeometry::of(self);
+        let mut n = 0;
+        if let Some(o) = &geo.outline {
+            let m = o.points.len();
+            for k in 0..m {
+                let len = (o.points[(k + 1) % m] - o.points[k]).norm();
+                n += elements_on(len, size(&o.groups[k]));
+            }
+        }
+        for (name, hole) in &geo.holes {
+            n += match hole {
+                shapes::HoleShape::Circle { radius, .. } => {
+                    self.circle_elements(*radius, size(name))
+                }
+                shapes::HoleShape::Polygon(p) => {
+                    let mut c = p.clone();
+                    c.push(p[0]);
+                    elements_on(crate::geometry::polyline_length(&c), size(name))
+                }
+            };
+        }
+        for c in &geo.cracks {
+            n += 2 * elements_on(crate::geometry::polyline_length(&c.points), size(&c.name));
+        }
+        n
+    }
+
+    /// Elements on a circular hole of radius `r` (m): `bem.elements_per_circle`,
+    /// or round(2 pi r / h) with at least 16.
+    pub fn circle_elements(&self, r: f64, h: f64) -> usize {
+        self.bem
+            .elements_per_circle
+            .unwrap_or_else(|| elements_on(2.0 * std::f64::consts::PI * r, h).max(16))
+    }
+}
+
+/// Reverses a polygon's point order and moves edge names so each stays on its
+/// edge: edge k of the reversed loop is edge (n - 2 - k) mod n of the original.
+fn reverse_loop(points: &mut [Pt], names: Option<&mut Vec<String>>) {
+    let n = points.len();
+    points.reverse();
+    if let Some(names) = names {
+        if names.len() == n {
+            let old = names.clone();
+            for (k, name) in names.iter_mut().enumerate() {
+                *name = old[(2 * n - 2 - k) % n].clone();
+            }
+        }
+    }
+}

@@ -1,0 +1,149 @@
+//! `pd`: peridynamic model and solver settings (issue 3). Absent = no PD.
+//! Without `coupling` the whole body is solved by PD alone; with `coupling`
+//! these settings describe the PD windows.
+
+use serde::{Deserialize, Serialize};
+
+/// Default horizon factor m = delta / dx: 3.015 (seed 000, seed 002).
+pub(crate) fn default_horizon_factor() -> f64 {
+    3.015
+}
+
+/// PD settings.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PdSettings {
+    /// Grid spacing dx (m), > 0. Give `dx` or `nx`.
+    #[serde(default)]
+    pub dx: Option<f64>,
+    /// Nodes across the body's bounding-box width (dx = width / nx). Give `dx` or `nx`.
+    #[serde(default)]
+    pub nx: Option<usize>,
+    /// Horizon factor m, delta = m dx, >= 1. Default 3.015 (seed 000 section 3.2).
+    #[serde(default = "default_horizon_factor")]
+    pub horizon_factor: f64,
+    /// Solver and its parameters. Default `Switching` with default parameters.
+    #[serde(default)]
+    pub solver: PdSolver,
+    /// Bond failure law. Default `Elastic` (no bond breaks).
+    #[serde(default)]
+    pub failure: Failure,
+    /// Surface correction (Madenci & Oterkus energy method). Default false.
+    #[serde(default)]
+    pub surface_correction: bool,
+    /// Names of scene cracks cut as pre-cracks. Default: all scene cracks.
+    #[serde(default)]
+    pub pre_cracks: Option<Vec<String>>,
+}
+
+/// PD solver choice.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum PdSolver {
+    /// Adaptive dynamic relaxation (seed 002 Eqs. 9-15).
+    Adr(AdrParams),
+    /// Implicit Newton-Raphson (seed 000 section 2).
+    Implicit(ImplicitParams),
+    /// Implicit while no bond passes s_m, ADR while bonds fail (seed 000 section 4).
+    Switching(SwitchingParams),
+}
+
+impl Default for PdSolver {
+    fn default() -> Self {
+        PdSolver::Switching(SwitchingParams::default())
+    }
+}
+
+/// ADR parameters.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct AdrParams {
+    /// Convergence tolerance on the relative displacement change (seed 000 Eq. 16), > 0. Default 1e-9 (seed 000 e_0).
+    pub tolerance: f64,
+    /// Iteration cap per load step, >= 1. Default 100000.
+    pub max_iter: usize,
+    /// Fictitious time step (s), > 0. Default 1 (seed 002).
+    pub dt: f64,
+    /// Safety factor on the fictitious density, >= 1. Default 1.
+    pub safety_factor: f64,
+}
+
+impl Default for AdrParams {
+    fn default() -> Self {
+        AdrParams {
+            tolerance: 1e-9,
+            max_iter: 100_000,
+            dt: 1.0,
+            safety_factor: 1.0,
+        }
+    }
+}
+
+/// Implicit Newton-Raphson parameters.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ImplicitParams {
+    /// Convergence tolerance (seed 000 Eq. 16), > 0. Default 1e-9 (seed 000 e_0).
+    pub tolerance: f64,
+    /// Newton iterations per load increment, >= 1. Default 50.
+    pub max_iter: usize,
+}
+
+impl Default for ImplicitParams {
+    fn default() -> Self {
+        ImplicitParams {
+            tolerance: 1e-9,
+            max_iter: 50,
+        }
+    }
+}
+
+/// Explicit-implicit switching parameters (seed 000 section 4).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SwitchingParams {
+    /// Convergence tolerance of both phases, > 0. Default 1e-9 (seed 000 e_0).
+    pub tolerance: f64,
+    /// Newton iterations per implicit increment, >= 1. Default 50.
+    pub max_newton: usize,
+    /// ADR iterations per explicit increment, >= 1. Default 100000.
+    pub max_adr: usize,
+    /// Loading steps of the implicit phase, >= 1. Default 3 (seed 000 section 5.2).
+    pub implicit_steps: usize,
+    /// Loading steps of the explicit phase, >= 1. Default 180 (seed 000 section 5.2).
+    pub explicit_steps: usize,
+}
+
+impl Default for SwitchingParams {
+    fn default() -> Self {
+        SwitchingParams {
+            tolerance: 1e-9,
+            max_newton: 50,
+            max_adr: 100_000,
+            implicit_steps: 3,
+            explicit_steps: 180,
+        }
+    }
+}
+
+/// Bond failure law.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum Failure {
+    /// Bonds never break.
+    #[default]
+    Elastic,
+    /// PMB bonds break irreversibly at stretch s0 (-), > 0.
+    CriticalStretch(f64),
+    /// PMB with s0 from `material.fracture.g_c` (REFERENCES.md).
+    FromGc,
+    /// tanh degradation (seed 000 Eq. 12), 0 < s_m < s_c.
+    Degradation {
+        /// Stretch where degradation starts (-).
+        s_m: f64,
+        /// Stretch where the bond is fully broken (-).
+        s_c: f64,
+        /// Steepness (-), > 0. Seed 000 uses 3.
+        beta: f64,
+    },
+}

@@ -1,0 +1,281 @@
+//! Scene geometry as points: the outline loop with the group of each edge,
+//! hole shapes, and crack polylines with their mouths. Built from a valid
+//! scene by [`SceneGeometry::of`]; validation builds the same pieces one at a
+//! time so it can report what is wrong with each.
+
+use super::body::{Hole, Outline};
+use super::Scene;
+use crate::geometry::{
+    circle_polygon, p2, point_in_polygon, point_segment_distance, polygon_distance, scale_of,
+    signed_area, P2,
+};
+
+/// Points of a circle when a polygon is needed (plots, overlap tests).
+pub const CIRCLE_POINTS: usize = 256;
+
+/// A closed loop of straight edges; `groups[i]` names edge i (point i to i+1).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Loop {
+    /// Corner points (m), counter-clockwise for the outline.
+    pub points: Vec<P2>,
+    /// Group name of each edge.
+    pub groups: Vec<String>,
+}
+
+/// A hole, exact.
+#[derive(Debug, Clone, PartialEq)]
+pub enum HoleShape {
+    /// Circle with centre and radius (m).
+    Circle {
+        /// Centre (m).
+        center: P2,
+        /// Radius (m).
+        radius: f64,
+    },
+    /// Polygon (m).
+    Polygon(Vec<P2>),
+}
+
+/// A crack as a polyline, first point to last.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CrackLine {
+    /// Crack name.
+    pub name: String,
+    /// Points (m).
+    pub points: Vec<P2>,
+    /// True when the first point lies on the outline (an edge crack; CMOD is reported).
+    pub mouth: bool,
+}
+
+impl CrackLine {
+    /// Crack tips: the last point, and the first unless it is a mouth, as
+    /// `(tip name, position)`; tip names are `<crack>.end` and `<crack>.start`.
+    pub fn tips(&self) -> Vec<(String, P2)> {
+        let mut t = Vec::new();
+        if !self.mouth {
+            if let Some(p) = self.points.first() {
+                t.push((format!("{}.start", self.name), *p));
+            }
+        }
+        if let Some(p) = self.points.last() {
+            t.push((format!("{}.end", self.name), *p));
+        }
+        t
+    }
+}
+
+/// The whole scene geometry.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneGeometry {
+    /// Outer loop; `None` for an infinite plate.
+    pub outline: Option<Loop>,
+    /// Holes with their group names.
+    pub holes: Vec<(String, HoleShape)>,
+    /// Cracks.
+    pub cracks: Vec<CrackLine>,
+    /// Remote stress `[sxx, syy, sxy]` (Pa) of an infinite plate.
+    pub remote: Option<[f64; 3]>,
+}
+
+impl HoleShape {
+    /// Exact shape of a scene hole.
+    pub fn of(hole: &Hole) -> HoleShape {
+        match hole {
+            Hole::Circle { center, radius, .. } => HoleShape::Circle {
+                center: p2(*center),
+                radius: *radius,
+            },
+            Hole::Polygon { points, .. } => {
+                HoleShape::Polygon(points.iter().map(|p| p2(*p)).collect())
+            }
+        }
+    }
+
+    /// Points of the hole boundary, clockwise (circles with [`CIRCLE_POINTS`]).
+    pub fn polygon(&self) -> Vec<P2> {
+        match self {
+            HoleShape::Circle { center, radius } => {
+                circle_polygon(center, *radius, CIRCLE_POINTS, true)
+            }
+            HoleShape::Polygon(p) => {
+                let mut p = p.clone();
+                if signed_area(&p) > 0.0 {
+                    p.reverse();
+                }
+                p
+            }
+        }
+    }
+
+    /// Distance from `p` to the hole boundary (m).
+    pub fn boundary_distance(&self, p: &P2) -> f64 {
+        match self {
+            HoleShape::Circle { center, radius } => ((p - center).norm() - radius).abs(),
+            HoleShape::Polygon(pts) => polygon_distance(p, pts),
+        }
+    }
+
+    /// True when `p` is strictly inside the hole (more than `tol` from its boundary).
+    pub fn contains(&self, p: &P2, tol: f64) -> bool {
+        let inside = match self {
+            HoleShape::Circle { center, radius } => (p - center).norm() < *radius,
+            HoleShape::Polygon(pts) => point_in_polygon(p, pts),
+        };
+        inside && self.boundary_distance(p) > tol
+    }
+
+    /// Smallest distance from the segment `a`-`b` to the hole's inside: <= 0
+    /// means the segment reaches into or touches the hole (circles exact,
+    /// polygons through their edges).
+    pub fn segment_clearance(&self, a: &P2, b: &P2) -> f64 {
+        match self {
+            HoleShape::Circle { center, radius } => point_segment_distance(center, a, b) - radius,
+            HoleShape::Polygon(pts) => {
+                if point_in_polygon(a, pts) || point_in_polygon(b, pts) {
+                    return -1.0;
+                }
+                let n = pts.len();
+                (0..n)
+                    .map(|i| segment_segment_distance(a, b, &pts[i], &pts[(i + 1) % n]))
+                    .fold(f64::INFINITY, f64::min)
+            }
+        }
+    }
+
+    /// A length scale of the hole (m): radius, or half the bounding-box diagonal.
+    pub fn size(&self) -> f64 {
+        match self {
+            HoleShape::Circle { radius, .. } => *radius,
+            HoleShape::Polygon(p) => {
+                let (lo, hi) = crate::geometry::bounding_box(p);
+                0.5 * (hi - lo).norm()
+            }
+        }
+    }
+}
+
+/// Distance between two segments (0 when they intersect).
+pub fn segment_segment_distance(a1: &P2, a2: &P2, b1: &P2, b2: &P2) -> f64 {
+    if crate::geometry::segments_intersect(a1, a2, b1, b2) {
+        return 0.0;
+    }
+    [
+        point_segment_distance(a1, b1, b2),
+        point_segment_distance(a2, b1, b2),
+        point_segment_distance(b1, a1, a2),
+        point_segment_distance(b2, a1, a2),
+    ]
+    .into_iter()
+    .fold(f64::INFINITY, f64::min)
+}
+
+/// The outline as a loop (as written: orientation is normalised on load), or
+/// `None` for an infinite plate or an `Edges` chain that does not close.
+pub fn outline_loop(outline: &Outline) -> Option<Loop> {
+    match outline {
+        Outline::Rectangle {
+            x0,
+            y0,
+            width,
+            height,
+        } => Some(Loop {
+            points: vec![
+                P2::new(*x0, *y0),
+                P2::new(x0 + width, *y0),
+                P2::new(x0 + width, y0 + height),
+                P2::new(*x0, y0 + height),
+            ],
+            groups: outline.edge_names(),
+        }),
+        Outline::Polygon { points, .. } => Some(Loop {
+            points: points.iter().map(|p| p2(*p)).collect(),
+            groups: outline.edge_names(),
+        }),
+        Outline::Edges { edges } => {
+            let mut points = Vec::new();
+            let mut groups = Vec::new();
+            for e in edges {
+                let n = e.points.len();
+                for p in e.points.iter().take(n.saturating_sub(1)) {
+                    points.push(p2(*p));
+                    groups.push(e.name.clone());
+                }
+            }
+            Some(Loop { points, groups })
+        }
+        Outline::Infinite { .. } => None,
+    }
+}
+
+impl SceneGeometry {
+    /// Geometry of a scene (meant for validated scenes; incomplete cracks are skipped).
+    pub fn of(scene: &Scene) -> SceneGeometry {
+        let outline = outline_loop(&scene.body.outline);
+        let holes: Vec<(String, HoleShape)> = scene
+            .body
+            .holes
+            .iter()
+            .enumerate()
+            .map(|(i, h)| (h.name(i), HoleShape::of(h)))
+            .collect();
+        let cracks = scene
+            .cracks
+            .iter()
+            .filter_map(|c| {
+                let points = c.polyline()?;
+                let mouth = outline
+                    .as_ref()
+                    .is_some_and(|o| on_loop(&points[0], &o.points));
+                Some(CrackLine {
+                    name: c.name.clone(),
+                    points,
+                    mouth,
+                })
+            })
+            .collect();
+        SceneGeometry {
+            outline,
+            holes,
+            cracks,
+            remote: scene.body.outline.remote_stress(),
+        }
+    }
+
+    /// Bounding box `(min, max)` of everything drawn (outline, holes, cracks).
+    pub fn bounds(&self) -> (P2, P2) {
+        let mut pts: Vec<P2> = Vec::new();
+        if let Some(o) = &self.outline {
+            pts.extend(o.points.iter().copied());
+        }
+        for (_, h) in &self.holes {
+            pts.extend(h.polygon());
+        }
+        for c in &self.cracks {
+            pts.extend(c.points.iter().copied());
+        }
+        if pts.is_empty() {
+            return (P2::new(-1.0, -1.0), P2::new(1.0, 1.0));
+        }
+        crate::geometry::bounding_box(&pts)
+    }
+
+    /// True when `p` lies in the material: inside the outline (or anywhere for
+    /// an infinite plate) and not inside a hole.
+    pub fn contains(&self, p: &P2) -> bool {
+        let in_outline = self
+            .outline
+            .as_ref()
+            .is_none_or(|o| point_in_polygon(p, &o.points));
+        in_outline && !self.holes.iter().any(|(_, h)| h.contains(p, 0.0))
+    }
+
+    /// All tips `(name, position)` of all cracks.
+    pub fn tips(&self) -> Vec<(String, P2)> {
+        self.cracks.iter().flat_map(|c| c.tips()).collect()
+    }
+}
+
+/// True when `p` lies on the loop within a relative tolerance.
+pub fn on_loop(p: &P2, pts: &[P2]) -> bool {
+    polygon_distance(p, pts) <= 1e-9 * scale_of(pts).max(1.0)
+}

@@ -1,0 +1,116 @@
+//! The one `validate()` of a scene: every rule, each reported with the dotted
+//! field path, the value and the reason (STYLE.md: "one `validate()` whose
+//! messages state the violated constraint").
+//!
+//! Rules by section: [`material`], [`body`] (outline, holes, patches),
+//! [`cracks`], [`boundary`] (conditions, load, "nothing to solve"),
+//! [`sections`] (bem, reference, outputs), [`pd`] (pd, coupling, growth).
+
+mod body;
+mod boundary;
+mod cracks;
+mod material;
+mod pd;
+mod sections;
+
+use super::error::Issue;
+use super::Scene;
+
+/// Collects issues while walking the scene.
+#[derive(Debug, Default)]
+pub struct Checker {
+    /// Issues found so far.
+    pub issues: Vec<Issue>,
+}
+
+impl Checker {
+    /// Records an issue with a value.
+    pub fn fail(
+        &mut self,
+        path: impl Into<String>,
+        value: impl ToString,
+        reason: impl Into<String>,
+    ) {
+        self.issues.push(Issue {
+            path: path.into(),
+            value: Some(value.to_string()),
+            reason: reason.into(),
+        });
+    }
+
+    /// Records an issue without a value.
+    pub fn fail_at(&mut self, path: impl Into<String>, reason: impl Into<String>) {
+        self.issues.push(Issue {
+            path: path.into(),
+            value: None,
+            reason: reason.into(),
+        });
+    }
+
+    /// Requires a finite number; returns whether it was.
+    pub fn finite(&mut self, path: &str, v: f64) -> bool {
+        if v.is_finite() {
+            true
+        } else {
+            self.fail(path, v, "must be a finite number");
+            false
+        }
+    }
+
+    /// Requires a finite number > 0 (`what` names the quantity in the message).
+    pub fn positive(&mut self, path: &str, v: f64, what: &str) -> bool {
+        if !self.finite(path, v) {
+            return false;
+        }
+        if v <= 0.0 {
+            self.fail(path, v, format!("{what} must be > 0"));
+            return false;
+        }
+        true
+    }
+
+    /// Requires an integer >= `min`.
+    pub fn at_least(&mut self, path: &str, v: usize, min: usize, what: &str) -> bool {
+        if v < min {
+            self.fail(path, v, format!("{what} must be at least {min}"));
+            return false;
+        }
+        true
+    }
+}
+
+/// Checks every rule of a scene and returns all violations (empty = valid).
+pub fn check(scene: &Scene) -> Vec<Issue> {
+    let mut c = Checker::default();
+    check_name(&mut c, &scene.name);
+    material::check(&mut c, scene);
+    let body_ok = body::check(&mut c, scene);
+    if body_ok {
+        cracks::check(&mut c, scene);
+    }
+    boundary::check(&mut c, scene);
+    sections::check(&mut c, scene, body_ok);
+    pd::check(&mut c, scene);
+    c.issues
+}
+
+/// The name must be usable as a folder name.
+fn check_name(c: &mut Checker, name: &str) {
+    let ok = !name.is_empty()
+        && name
+            .chars()
+            .all(|ch| ch.is_ascii_alphanumeric() || matches!(ch, '_' | '-' | '.'))
+        && !name.starts_with('.');
+    if !ok {
+        c.fail(
+            "name",
+            format!("{name:?}"),
+            "use letters, digits, '_', '-', '.' only (it names the run folder)",
+        );
+    }
+}
+
+/// Quotes a point for messages.
+pub fn fmt_pt(p: &crate::geometry::P2) -> String {
+    format!("({}, {})", p.x, p.y)
+}

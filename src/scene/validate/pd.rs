@@ -1,0 +1,263 @@
+//! Rules of `pd`, `coupling` and `growth`.
+
+use super::Checker;
+use crate::geometry::{bounding_box, direction, p2, point_in_polygon, P2};
+use crate::scene::shapes::outline_loop;
+use crate::scene::{Failure, GrowthMode, PdSolver, Placement, Relaxation, Scene};
+
+/// Checks the PD, coupling and growth sections.
+pub fn check(c: &mut Checker, scene: &Scene) {
+    if let Some(pd) = &scene.pd {
+        check_pd(c, scene, pd);
+    }
+    if let Some(co) = &scene.coupling {
+        check_coupling(c, scene, co);
+    }
+    if let Some(g) = &scene.growth {
+        check_growth(c, scene, g);
+    }
+}
+
+fn check_pd(c: &mut Checker, scene: &Scene, pd: &crate::scene::PdSettings) {
+    match (pd.dx, pd.nx) {
+        (Some(dx), None) => {
+            c.positive("pd.dx", dx, "grid spacing dx");
+        }
+        (None, Some(nx)) => {
+            c.at_least("pd.nx", nx, 1, "nodes across the body");
+        }
+        (Some(_), Some(_)) => c.fail_at("pd", "give `dx` or `nx`, not both"),
+        (None, None) if scene.coupling.is_none() => c.fail_at(
+            "pd",
+            "give the grid spacing `dx` (m) or the node count `nx`",
+        ),
+        (None, None) => {}
+    }
+    let m = pd.horizon_factor;
+    if c.finite("pd.horizon_factor", m) && m < 1.0 {
+        c.fail(
+            "pd.horizon_factor",
+            m,
+            "horizon smaller than dx: the horizon factor m = delta/dx must be >= 1 (default 3.015)",
+        );
+    }
+    if scene.coupling.is_none() && scene.body.outline.remote_stress().is_some() {
+        c.fail_at(
+            "pd",
+            "stand-alone PD needs a finite body: an Infinite outline has no region to fill",
+        );
+    }
+    check_solver(c, &pd.solver);
+    check_failure(c, scene, &pd.failure);
+    if let Some(names) = &pd.pre_cracks {
+        for (i, n) in names.iter().enumerate() {
+            if !scene.cracks.iter().any(|cr| &cr.name == n) {
+                c.fail(
+                    format!("pd.pre_cracks.{i}"),
+                    format!("{n:?}"),
+                    "no crack of this name in `cracks`",
+                );
+            }
+        }
+    }
+}
+
+fn check_solver(c: &mut Checker, solver: &PdSolver) {
+    match solver {
+        PdSolver::Adr(p) => {
+            c.positive("pd.solver.tolerance", p.tolerance, "tolerance");
+            c.at_least("pd.solver.max_iter", p.max_iter, 1, "iteration cap");
+            c.positive("pd.solver.dt", p.dt, "time step");
+            if c.finite("pd.solver.safety_factor", p.safety_factor) && p.safety_factor < 1.0 {
+                c.fail(
+                    "pd.solver.safety_factor",
+                    p.safety_factor,
+                    "safety factor must be >= 1",
+                );
+            }
+        }
+        PdSolver::Implicit(p) => {
+            c.positive("pd.solver.tolerance", p.tolerance, "tolerance");
+            c.at_least("pd.solver.max_iter", p.max_iter, 1, "iteration cap");
+        }
+        PdSolver::Switching(p) => {
+            c.positive("pd.solver.tolerance", p.tolerance, "tolerance");
+            c.at_least("pd.solver.max_newton", p.max_newton, 1, "iteration cap");
+            c.at_least("pd.solver.max_adr", p.max_adr, 1, "iteration cap");
+            c.at_least(
+                "pd.solver.implicit_steps",
+                p.implicit_steps,
+                1,
+                "loading steps",
+            );
+            c.at_least(
+                "pd.solver.explicit_steps",
+                p.explicit_steps,
+                1,
+                "loading steps",
+            );
+        }
+    }
+}
+
+fn check_failure(c: &mut Checker, scene: &Scene, failure: &Failure) {
+    match failure {
+        Failure::Elastic => {}
+        Failure::CriticalStretch(s0) => {
+            c.positive("pd.failure", *s0, "critical stretch s0");
+        }
+        Failure::FromGc => {
+            let has = scene
+                .material
+                .fracture
+                .as_ref()
+                .and_then(|f| f.g_c)
+                .is_some();
+            if !has {
+                c.fail_at("pd.failure", "FromGc needs material.fracture.g_c");
+            }
+        }
+        Failure::Degradation { s_m, s_c, beta } => {
+            let ok = c.positive("pd.failure.s_m", *s_m, "s_m")
+                & c.positive("pd.failure.s_c", *s_c, "s_c");
+            if ok && s_m >= s_c {
+                c.fail(
+                    "pd.failure.s_m",
+                    s_m,
+                    format!("s_m must be below s_c = {s_c}"),
+                );
+            }
+            c.positive("pd.failure.beta", *beta, "degradation steepness beta");
+        }
+    }
+}
+
+fn check_coupling(c: &mut Checker, scene: &Scene, co: &crate::scene::Coupling) {
+    if scene.pd.is_none() {
+        c.fail_at(
+            "coupling",
+            "a coupled solve needs a `pd` section (material model of the windows)",
+        );
+    }
+    if !c.positive("coupling.side", co.side, "window side") {
+        return;
+    }
+    c.at_least("coupling.n", co.n, 2, "PD nodes per window side");
+    c.positive("coupling.psi", co.psi, "convergence tolerance psi");
+    c.at_least("coupling.max_iter", co.max_iter, 1, "iteration cap");
+    check_relaxation(c, &co.relaxation);
+    let Some(outline) = outline_loop(&scene.body.outline) else {
+        return;
+    };
+    let (lo, hi) = bounding_box(&outline.points);
+    let limit = (hi - lo).min();
+    if co.side >= limit {
+        c.fail("coupling.side", co.side, format!("coupling window larger than the body: side must be below the body's smaller extent {limit} m"));
+        return;
+    }
+    let corners = match &co.placement {
+        Placement::AtTips => return,
+        Placement::Centered { center, angle_deg } => {
+            square_corners(p2(*center), co.side, *angle_deg)
+        }
+        Placement::Region {
+            x0,
+            y0,
+            width,
+            height,
+        } => {
+            c.positive("coupling.placement.width", *width, "region width");
+            c.positive("coupling.placement.height", *height, "region height");
+            vec![
+                P2::new(*x0, *y0),
+                P2::new(x0 + width, *y0),
+                P2::new(x0 + width, y0 + height),
+                P2::new(*x0, y0 + height),
+            ]
+        }
+    };
+    let tol = 1e-9 * (hi - lo).norm();
+    let inside = |p: &P2| {
+        point_in_polygon(p, &outline.points)
+            || crate::geometry::polygon_distance(p, &outline.points) <= tol
+    };
+    if !corners.iter().all(inside) {
+        c.fail_at("coupling.placement", "window reaches outside the body");
+    }
+}
+
+fn square_corners(center: P2, side: f64, angle_deg: f64) -> Vec<P2> {
+    let (e1, e2) = (
+        direction(angle_deg) * side * 0.5,
+        direction(angle_deg + 90.0) * side * 0.5,
+    );
+    vec![
+        center - e1 - e2,
+        center + e1 - e2,
+        center + e1 + e2,
+        center - e1 + e2,
+    ]
+}
+
+fn check_relaxation(c: &mut Checker, r: &Relaxation) {
+    let w = match r {
+        Relaxation::Constant(w) | Relaxation::Aitken(w) => *w,
+        Relaxation::IqnIls { w0, .. } => *w0,
+    };
+    if c.finite("coupling.relaxation", w) && !(w > 0.0 && w <= 1.0) {
+        c.fail(
+            "coupling.relaxation",
+            w,
+            "relaxation factor must lie in (0, 1]",
+        );
+    }
+}
+
+fn check_growth(c: &mut Checker, scene: &Scene, g: &crate::scene::Growth) {
+    let t = g.trigger_ratio;
+    if c.finite("growth.trigger_ratio", t) && !(t > 0.0 && t < 1.0) {
+        c.fail(
+            "growth.trigger_ratio",
+            t,
+            "trigger ratio must lie in (0, 1)",
+        );
+    }
+    c.at_least(
+        "growth.elements_per_extension",
+        g.elements_per_extension,
+        1,
+        "elements per extension",
+    );
+    let d = g.damage_threshold;
+    if c.finite("growth.damage_threshold", d) && !(d > 0.0 && d < 1.0) {
+        c.fail(
+            "growth.damage_threshold",
+            d,
+            "damage threshold must lie in (0, 1)",
+        );
+    }
+    if let Some(da) = g.da {
+        c.positive("growth.da", da, "crack increment da");
+    }
+    match g.mode {
+        GrowthMode::PdBem if scene.coupling.is_none() => {
+            c.fail_at("growth.mode", "PdBem growth needs a `coupling` section")
+        }
+        GrowthMode::FullPd if scene.pd.is_none() => {
+            c.fail_at("growth.mode", "FullPd growth needs a `pd` section")
+        }
+        _ => {}
+    }
+    if scene.cracks.is_empty() {
+        c.fail_at("growth", "growth needs at least one crack");
+    }
+    if let Some(m) = g.move_distance {
+        if c.positive("growth.move_distance", m, "move distance") {
+            if let Some(co) = &scene.coupling {
+                if m > co.side {
+                    c.fail("growth.move_distance", m, format!("move distance larger than the window: must be at most coupling.side = {} m", co.side));
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,236 @@
+//! Rules of `bem`, `reference` and `outputs`.
+
+use super::{fmt_pt, Checker};
+use crate::geometry::{p2, polyline_length};
+use crate::scene::shapes::SceneGeometry;
+use crate::scene::{elements_on, Hole, Reference, Scene};
+
+/// Checks the BEM settings, the reference and the outputs.
+pub fn check(c: &mut Checker, scene: &Scene, body_ok: bool) {
+    check_bem(c, scene, body_ok);
+    if body_ok {
+        check_reference(c, scene);
+    }
+    check_outputs(c, scene, body_ok);
+}
+
+fn check_bem(c: &mut Checker, scene: &Scene, body_ok: bool) {
+    let b = &scene.bem;
+    if let Some(h) = b.element_size {
+        if !c.positive("bem.element_size", h, "element size") {
+            return;
+        }
+    }
+    let groups = scene.edge_groups();
+    for (g, h) in &b.group_sizes {
+        let path = format!("bem.group_sizes.{g}");
+        if !groups.contains(g) {
+            c.fail(
+                path.clone(),
+                format!("{g:?}"),
+                format!("unknown edge group; known groups: {}", groups.join(", ")),
+            );
+        }
+        c.positive(&path, *h, "element size");
+    }
+    if let Some(t) = &b.tip_refinement {
+        c.positive(
+            "bem.tip_refinement.element_size",
+            t.element_size,
+            "tip element size",
+        );
+        c.positive(
+            "bem.tip_refinement.radius",
+            t.radius,
+            "tip refinement radius",
+        );
+    }
+    if let Some(n) = b.elements_per_circle {
+        c.at_least(
+            "bem.elements_per_circle",
+            n,
+            3,
+            "elements per circle (zero elements otherwise)",
+        );
+    }
+    let f = b.cod_fit_fraction;
+    if c.finite("bem.cod_fit_fraction", f) && !(f > 0.0 && f <= 1.0) {
+        c.fail(
+            "bem.cod_fit_fraction",
+            f,
+            "fit range fraction must lie in (0, 1]",
+        );
+    }
+    let r = b.j_contour.radius_fraction;
+    if c.finite("bem.j_contour.radius_fraction", r) && !(r > 0.0 && r < 1.0) {
+        c.fail(
+            "bem.j_contour.radius_fraction",
+            r,
+            "contour radius fraction must lie in (0, 1)",
+        );
+    }
+    c.at_least(
+        "bem.j_contour.points",
+        b.j_contour.points,
+        8,
+        "contour points",
+    );
+    if body_ok && c.issues.is_empty() {
+        check_element_counts(c, scene);
+        let geo = SceneGeometry::of(scene);
+        for (i, p) in b.interior_points.iter().enumerate() {
+            if !geo.contains(&p2(*p)) {
+                c.fail(
+                    format!("bem.interior_points.{i}"),
+                    fmt_pt(&p2(*p)),
+                    "interior point lies outside the body",
+                );
+            }
+        }
+    }
+}
+
+/// Every edge group and crack gets at least one element.
+fn check_element_counts(c: &mut Checker, scene: &Scene) {
+    let h = scene.element_size();
+    let geo = SceneGeometry::of(scene);
+    let size_of = |g: &str| scene.bem.group_sizes.get(g).copied().unwrap_or(h);
+    let path_of = |g: &str| {
+        if scene.bem.group_sizes.contains_key(g) {
+            format!("bem.group_sizes.{g}")
+        } else {
+            "bem.element_size".to_string()
+        }
+    };
+    if let Some(o) = &geo.outline {
+        let n = o.points.len();
+        for k in 0..n {
+            let len = (o.points[(k + 1) % n] - o.points[k]).norm();
+            let g = &o.groups[k];
+            if elements_on(len, size_of(g)) == 0 {
+                c.fail(
+                    path_of(g),
+                    size_of(g),
+                    format!("gives zero elements on edge '{g}' (length {len} m): use at most twice the edge length"),
+                );
+                return;
+            }
+        }
+    }
+    for cr in &geo.cracks {
+        let len = polyline_length(&cr.points);
+        if elements_on(len, size_of(&cr.name)) == 0 {
+            c.fail(
+                path_of(&cr.name),
+                size_of(&cr.name),
+                format!("gives zero elements on crack '{}' (length {len} m): use at most twice the crack length", cr.name),
+            );
+            return;
+        }
+    }
+    for (i, hole) in scene.body.holes.iter().enumerate() {
+        if let Hole::Polygon { points, .. } = hole {
+            let pts: Vec<_> = points.iter().map(|p| p2(*p)).collect();
+            let name = hole.name(i);
+            let mut closed = pts.clone();
+            closed.push(pts[0]);
+            let min_edge = closed
+                .windows(2)
+                .map(|w| (w[1] - w[0]).norm())
+                .fold(f64::INFINITY, f64::min);
+            if elements_on(min_edge, size_of(&name)) == 0 {
+                c.fail(
+                    path_of(&name),
+                    size_of(&name),
+                    format!(
+                        "gives zero elements on an edge of hole '{name}' (length {min_edge} m)"
+                    ),
+                );
+                return;
+            }
+        }
+    }
+}
+
+fn check_reference(c: &mut Checker, scene: &Scene) {
+    let Some(r) = &scene.reference else { return };
+    let geo = SceneGeometry::of(scene);
+    match r {
+        Reference::SentTada { width, sigma } => {
+            c.positive("reference.width", *width, "strip width");
+            c.finite("reference.sigma", *sigma);
+            match geo.cracks.first() {
+                Some(cr) if cr.mouth => {
+                    let a = polyline_length(&cr.points);
+                    if *width > 0.0 && a >= *width {
+                        c.fail(
+                            "reference.width",
+                            width,
+                            format!("crack length {a} m must be below the strip width"),
+                        );
+                    }
+                }
+                _ => c.fail_at(
+                    "reference",
+                    "SentTada needs an edge crack (first point on the outline) as cracks.0",
+                ),
+            }
+        }
+        Reference::InclinedCrackInfinite { sigma, beta_deg } => {
+            c.finite("reference.sigma", *sigma);
+            c.finite("reference.beta_deg", *beta_deg);
+            if geo.cracks.first().is_none_or(|cr| cr.mouth) {
+                c.fail_at(
+                    "reference",
+                    "InclinedCrackInfinite needs an interior crack as cracks.0",
+                );
+            }
+        }
+        Reference::Kirsch { sigma } => {
+            c.finite("reference.sigma", *sigma);
+            if !matches!(scene.body.holes.first(), Some(Hole::Circle { .. })) {
+                c.fail_at("reference", "Kirsch needs a circular hole as body.holes.0");
+            }
+        }
+    }
+}
+
+fn check_outputs(c: &mut Checker, scene: &Scene, body_ok: bool) {
+    let o = &scene.outputs;
+    if o.plots && o.formats.is_empty() {
+        c.fail_at(
+            "outputs.formats",
+            "plots are on but no format is chosen: add Png and/or Svg",
+        );
+    }
+    for (i, g) in o.grids.iter().enumerate() {
+        let path = format!("outputs.grids.{i}");
+        c.at_least(&format!("{path}.nx"), g.nx, 1, "grid points along x");
+        c.at_least(&format!("{path}.ny"), g.ny, 1, "grid points along y");
+        if !(g.to.0 >= g.from.0 && g.to.1 >= g.from.1) {
+            c.fail_at(
+                path,
+                "`to` must be the upper-right corner (to >= from in x and y)",
+            );
+        }
+    }
+    for (i, l) in o.lines.iter().enumerate() {
+        let path = format!("outputs.lines.{i}");
+        c.at_least(&format!("{path}.n"), l.n, 2, "points on a line");
+        if l.from == l.to {
+            c.fail_at(path, "line has zero length");
+        }
+    }
+    if body_ok {
+        let groups = scene.edge_groups();
+        for (i, g) in o.boundary_stress.iter().enumerate() {
+            if !groups.contains(g) {
+                c.fail(
+                    format!("outputs.boundary_stress.{i}"),
+                    format!("{g:?}"),
+                    format!("unknown edge group; known groups: {}", groups.join(", ")),
+                );
+            }
+        }
+    }
+}
