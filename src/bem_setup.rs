@@ -57,8 +57,20 @@ pub fn build(scene: &Scene, factor: f64, refine: f64) -> Result<BemSetup> {
     let geo = SceneGeometry::of(scene);
     let mat = material(scene)?;
     let base = outline_size(scene, &geo) / refine;
-    let per_circle = ((scene.bem.elements_per_circle.unwrap_or(DEFAULT_ELEMENTS_PER_CIRCLE) as f64) * refine).round() as usize;
-    let size_of = |group: &str| scene.bem.group_sizes.get(group).map(|s| s / refine).unwrap_or(base);
+    let per_circle = ((scene
+        .bem
+        .elements_per_circle
+        .unwrap_or(DEFAULT_ELEMENTS_PER_CIRCLE) as f64)
+        * refine)
+        .round() as usize;
+    let size_of = |group: &str| {
+        scene
+            .bem
+            .group_sizes
+            .get(group)
+            .map(|s| s / refine)
+            .unwrap_or(base)
+    };
     let mut b = MeshBuilder::new();
     if let Some(outline) = &geo.outline {
         let (points, groups) = split_at_patches(scene, &outline.points, &outline.groups);
@@ -72,7 +84,9 @@ pub fn build(scene: &Scene, factor: f64, refine: f64) -> Result<BemSetup> {
     }
     for (name, shape) in &geo.holes {
         let points: Vec<P2> = match shape {
-            HoleShape::Circle { center, radius } => circle_polygon(center, *radius, per_circle, true),
+            HoleShape::Circle { center, radius } => {
+                circle_polygon(center, *radius, per_circle, true)
+            }
             HoleShape::Polygon(p) => p.clone(),
         };
         let n = points.len();
@@ -227,7 +241,12 @@ fn on_segment(q: P2, a: P2, b: P2) -> bool {
 }
 
 /// Per-element conditions at load `factor`; traction-free where nothing is said.
-fn conditions(scene: &Scene, mesh: &Mesh, factor: f64, remote: Option<[f64; 3]>) -> Result<Vec<[Bc; 2]>> {
+fn conditions(
+    scene: &Scene,
+    mesh: &Mesh,
+    factor: f64,
+    remote: Option<[f64; 3]>,
+) -> Result<Vec<[Bc; 2]>> {
     let mut bcs = vec![[Bc::Traction(0.0), Bc::Traction(0.0)]; mesh.len()];
     for (k, bc) in scene.boundary.iter().enumerate() {
         let Some(g) = mesh.group(&bc.on) else {

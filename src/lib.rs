@@ -14,6 +14,7 @@
 //! - [`cli`]: the `pdbem` command line.
 
 pub mod analytic;
+pub mod bem_setup;
 pub mod bench;
 pub mod cli;
 pub mod geometry;
