@@ -1,12 +1,468 @@
-//! Stand-alone PD solve of a scene (issue 3): grid the body, cut pre-cracks,
-//! load, solve, and return a [`RunSummary`] (`mode: "pd"`). STUB: the PD
-//! helper replaces the body of [`run`].
+//! Stand-alone PD solve of a scene (issue 3): grid the body, cut the pre-cracks, apply the
+//! scene's conditions (displacements on fictitious layers of depth delta, tractions as body
+//! forces in the boundary layer, seed 000 section 2.3), solve with the scene's solver, and
+//! report (`mode: "pd"`).
+//!
+//! Three kinds of scene:
+//! - elastic (`failure: Elastic`): one equilibrium at the final load factor;
+//! - crack initiation (cracks + `CriticalStretch` / `FromGc`, several load steps): the load
+//!   is ramped from `load.initial` by `load.step` with brittle breaking until the crack runs
+//!   by two horizons ([`pdbem_pd::measure::ramp_to_initiation`]); the initiation load is
+//!   reported in Pa (factor times the largest applied traction) and the kink angle from the
+//!   damage in the annulus delta..4 delta around each tip;
+//! - damage with the tanh degradation (seed 000): the scene's solver drives the load to the
+//!   final factor.
+//!
+//! Pure-traction scenes get two pins (real nodes nearest the body centroid: both components;
+//! a node a quarter width to its right: y) so the implicit tangent is regular; the loads are
+//! self-equilibrated, so the pins carry no reaction.
 
+use crate::output::csv::{num, CsvTable};
+use crate::plot::ScatterField;
+use crate::runner::report::save_plot;
 use crate::runner::{RunContext, RunSummary};
-use crate::scene::Scene;
+use crate::scene::shapes::{HoleShape, SceneGeometry};
+use crate::scene::{Component, Failure, PdSolver, Plane, Scene};
+use anyhow::{bail, Context, Result};
+use pdbem_pd::measure::{crack_tips, kink_angle, ramp_to_initiation, RampParams};
+use pdbem_pd::problem::{BoundaryCondition as PdBc, Hole, Layer, Region, Selection};
+use pdbem_pd::solvers::{adr, implicit, switching, Convergence};
+use pdbem_pd::{PdModel, PdProblem};
+use serde_json::json;
+use std::time::Instant;
+
+type P = [f64; 2];
+
+/// The outline edges (or patch pieces) of a group as polylines.
+fn group_polylines(scene: &Scene, geo: &SceneGeometry, name: &str) -> Vec<Vec<P>> {
+    let mut out = Vec::new();
+    for p in &scene.body.patches {
+        if p.name == name {
+            out.push(vec![[p.from.0, p.from.1], [p.to.0, p.to.1]]);
+        }
+    }
+    if let Some(o) = &geo.outline {
+        let n = o.points.len();
+        for i in 0..n {
+            if o.groups[i] == name || name == "outline" {
+                let (a, b) = (o.points[i], o.points[(i + 1) % n]);
+                out.push(vec![[a.x, a.y], [b.x, b.y]]);
+            }
+        }
+    }
+    for (hn, shape) in &geo.holes {
+        if hn == name {
+            let pts: Vec<P> = match shape {
+                HoleShape::Circle { center, radius } => {
+                    crate::geometry::circle_polygon(center, *radius, 128, false)
+                        .iter()
+                        .map(|p| [p.x, p.y])
+                        .collect()
+                }
+                HoleShape::Polygon(p) => p.iter().map(|q| [q.x, q.y]).collect(),
+            };
+            let mut closed = pts.clone();
+            closed.push(pts[0]);
+            out.push(closed);
+        }
+    }
+    out
+}
+
+/// The PD problem of a scene.
+pub fn problem_from_scene(scene: &Scene) -> Result<PdProblem> {
+    let Some(pd) = &scene.pd else {
+        bail!("{}: no `pd` section", scene.file_label().display())
+    };
+    let geo = SceneGeometry::of(scene);
+    let Some(outline) = &geo.outline else {
+        bail!(
+            "{}: body.outline: stand-alone PD needs a finite body",
+            scene.file_label().display()
+        )
+    };
+    let pts: Vec<P> = outline.points.iter().map(|p| [p.x, p.y]).collect();
+    let (mut lo, mut hi) = (pts[0], pts[0]);
+    for p in &pts {
+        lo = [lo[0].min(p[0]), lo[1].min(p[1])];
+        hi = [hi[0].max(p[0]), hi[1].max(p[1])];
+    }
+    let dx = match (pd.dx, pd.nx) {
+        (Some(dx), _) => dx,
+        (None, Some(nx)) => (hi[0] - lo[0]) / nx as f64,
+        (None, None) => bail!("{}: pd: give `dx` or `nx`", scene.file_label().display()),
+    };
+    let holes = geo
+        .holes
+        .iter()
+        .map(|(_, h)| match h {
+            HoleShape::Circle { center, radius } => Hole::Circle {
+                centre: [center.x, center.y],
+                radius: *radius,
+            },
+            HoleShape::Polygon(p) => Hole::Polygon {
+                points: p.iter().map(|q| [q.x, q.y]).collect(),
+            },
+        })
+        .collect();
+    let failure = match &pd.failure {
+        Failure::Elastic => pdbem_pd::Failure::None,
+        Failure::CriticalStretch(s0) => pdbem_pd::Failure::CriticalStretch { s0: *s0 },
+        Failure::FromGc => {
+            let g_c = scene
+                .material
+                .fracture
+                .as_ref()
+                .and_then(|f| f.g_c)
+                .with_context(|| {
+                    format!(
+                        "{}: pd.failure = FromGc needs material.fracture.g_c",
+                        scene.file_label().display()
+                    )
+                })?;
+            pdbem_pd::Failure::FractureEnergy { g_c }
+        }
+        Failure::Degradation { s_m, s_c, beta } => pdbem_pd::Failure::Degradation {
+            s_m: *s_m,
+            s_c: *s_c,
+            beta: *beta,
+        },
+    };
+    let wanted: Option<&Vec<String>> = pd.pre_cracks.as_ref();
+    let cracks = geo
+        .cracks
+        .iter()
+        .filter(|c| wanted.is_none_or(|w| w.contains(&c.name)))
+        .map(|c| c.points.iter().map(|p| [p.x, p.y]).collect())
+        .collect();
+    let delta = pd.horizon_factor * dx;
+    let mut boundary = Vec::new();
+    let mut has_displacement = false;
+    for (k, bc) in scene.boundary.iter().enumerate() {
+        let lines = group_polylines(scene, &geo, &bc.on);
+        if lines.is_empty() {
+            bail!(
+                "{}: boundary.{k}.on = '{}': no outline edge, patch or hole of that name",
+                scene.file_label().display(),
+                bc.on
+            );
+        }
+        for line in lines {
+            let disp = |c: Component| match c {
+                Component::Displacement(v) => Some(v),
+                _ => None,
+            };
+            let (ux, uy) = (disp(bc.x), disp(bc.y));
+            if ux.is_some() || uy.is_some() {
+                has_displacement = true;
+                boundary.push(PdBc::Displacement {
+                    on: Selection::NearPolyline {
+                        points: line.clone(),
+                        distance: Some(delta),
+                    },
+                    ux,
+                    uy,
+                    layer: Layer::Fictitious,
+                });
+            }
+            let trac = |c: Component| match c {
+                Component::Traction(v) => v,
+                _ => 0.0,
+            };
+            let mut t = [trac(bc.x), trac(bc.y)];
+            if let (Some(tn), [a, b, ..]) = (bc.normal, line.as_slice()) {
+                // Outward normal of a counter-clockwise outline edge: right-hand normal.
+                let (dx_, dy_) = (b[0] - a[0], b[1] - a[1]);
+                let l = dx_.hypot(dy_);
+                t = [t[0] + tn * dy_ / l, t[1] - tn * dx_ / l];
+            }
+            if t != [0.0, 0.0] {
+                boundary.push(PdBc::Traction {
+                    edge: line.clone(),
+                    traction: t,
+                    depth: None,
+                });
+            }
+        }
+    }
+    if !has_displacement {
+        let c = [(lo[0] + hi[0]) * 0.5, (lo[1] + hi[1]) * 0.5];
+        let r = 0.5 * dx;
+        boundary.push(PdBc::Displacement {
+            on: Selection::Circle {
+                centre: c,
+                radius: r,
+            },
+            ux: Some(0.0),
+            uy: Some(0.0),
+            layer: Layer::Real,
+        });
+        boundary.push(PdBc::Displacement {
+            on: Selection::Circle {
+                centre: [c[0] + 0.25 * (hi[0] - lo[0]), c[1]],
+                radius: r,
+            },
+            ux: None,
+            uy: Some(0.0),
+            layer: Layer::Real,
+        });
+    }
+    Ok(PdProblem {
+        region: Region {
+            outline: pts,
+            holes,
+        },
+        dx,
+        horizon_factor: pd.horizon_factor,
+        thickness: scene.material.thickness,
+        youngs_modulus: scene.material.e,
+        plane: match scene.material.plane {
+            Plane::Stress => pdbem_pd::Plane::Stress,
+            Plane::Strain => pdbem_pd::Plane::Strain,
+        },
+        failure,
+        cracks,
+        boundary,
+        surface_correction: pd.surface_correction,
+        ..Default::default()
+    })
+}
+
+/// Largest applied traction magnitude (Pa) at load factor 1.
+fn traction_scale(scene: &Scene) -> Option<f64> {
+    scene
+        .boundary
+        .iter()
+        .flat_map(|b| [b.x, b.y])
+        .filter_map(|c| match c {
+            Component::Traction(v) => Some(v.abs()),
+            _ => None,
+        })
+        .chain(scene.boundary.iter().filter_map(|b| b.normal.map(f64::abs)))
+        .fold(None, |m: Option<f64>, v| Some(m.map_or(v, |m| m.max(v))))
+}
 
 /// Solves `scene` with peridynamics over the whole body.
-pub fn run(scene: &Scene, ctx: &RunContext) -> anyhow::Result<RunSummary> {
-    let _ = ctx;
-    anyhow::bail!("{}: the PD solver is not wired yet", scene.name)
+pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
+    let t0 = Instant::now();
+    let file = scene.file_label();
+    let problem = problem_from_scene(scene)?;
+    let mut model = PdModel::new(&problem).with_context(|| format!("{}: pd", file.display()))?;
+    ctx.log(&format!(
+        "{}: PD model with {} real nodes, {} bonds",
+        scene.name,
+        model.n_real(),
+        model.n_bonds()
+    ));
+    let pd = scene.pd.as_ref().context("no pd section")?;
+    let factors = scene.load.factors();
+    let last = factors.last().copied().unwrap_or(1.0);
+    let mut summary = RunSummary {
+        scene: scene.name.clone(),
+        mode: "pd".into(),
+        ..Default::default()
+    };
+    let geo = SceneGeometry::of(scene);
+    let brittle = matches!(pd.failure, Failure::CriticalStretch(_) | Failure::FromGc);
+    let info = if brittle && !problem.cracks.is_empty() && factors.len() > 1 {
+        let tips: Vec<_> = geo
+            .cracks
+            .iter()
+            .flat_map(|c| {
+                crack_tips(
+                    &c.points.iter().map(|p| [p.x, p.y]).collect::<Vec<_>>(),
+                    c.mouth,
+                )
+            })
+            .collect();
+        let delta = problem.horizon();
+        let ramp = RampParams {
+            start: scene.load.initial,
+            step: if scene.load.step > 0.0 {
+                scene.load.step
+            } else {
+                0.05 * scene.load.initial
+            },
+            max_load: last,
+            run_length: 2.0 * delta,
+            grow_to: 5.0 * delta,
+            max_rounds: 200,
+        };
+        let init = ramp_to_initiation(&mut model, &tips, &ramp)
+            .with_context(|| format!("{}: load ramp", file.display()))?;
+        let scale = traction_scale(scene).unwrap_or(1.0);
+        summary.extra.insert(
+            "first_break_load".into(),
+            json!(init.first_break_load.map(|f| f * scale)),
+        );
+        summary.extra.insert(
+            "initiation_load".into(),
+            json!(init.initiation_load.map(|f| f * scale)),
+        );
+        summary
+            .extra
+            .insert("initiation_load_factor".into(), json!(init.initiation_load));
+        let kinks: Vec<Option<f64>> = tips
+            .iter()
+            .map(|t| kink_angle(&model, *t, delta, 4.0 * delta))
+            .collect();
+        summary.extra.insert(
+            "kink_deg".into(),
+            json!(kinks.iter().flatten().copied().next()),
+        );
+        summary
+            .extra
+            .insert("kink_deg_per_tip".into(), json!(kinks));
+        init.info
+    } else {
+        let conv = |tol: f64| Convergence::Displacement { e0: tol };
+        match &pd.solver {
+            PdSolver::Implicit(p) => implicit::solve(
+                &mut model,
+                &implicit::ImplicitParams {
+                    target_load: last,
+                    steps: factors.len().max(1),
+                    convergence: conv(p.tolerance),
+                    max_iters: p.max_iter,
+                    ..Default::default()
+                },
+            ),
+            PdSolver::Adr(p) => adr::solve(
+                &mut model,
+                &adr::AdrParams {
+                    target_load: last,
+                    steps: factors.len().max(1),
+                    convergence: conv(p.tolerance),
+                    max_iters: p.max_iter,
+                    safety: p.safety_factor.max(1.0),
+                    ..Default::default()
+                },
+            ),
+            PdSolver::Switching(p) => switching::solve(
+                &mut model,
+                &switching::SwitchingParams {
+                    target_load: last,
+                    implicit_steps: p.implicit_steps,
+                    explicit_steps: p.explicit_steps,
+                    convergence: conv(p.tolerance),
+                    max_newton_iters: p.max_newton,
+                    max_adr_iters: p.max_adr,
+                    ..Default::default()
+                },
+            ),
+        }
+        .with_context(|| format!("{}: PD solve", file.display()))?
+    };
+    let first_break = info
+        .steps
+        .iter()
+        .find(|s| s.broken_bonds > 0)
+        .map(|s| s.load);
+    if !summary.extra.contains_key("first_break_load") {
+        let scale = traction_scale(scene).unwrap_or(1.0);
+        summary.extra.insert(
+            "first_break_load".into(),
+            json!(first_break.map(|f| f * scale)),
+        );
+    }
+    summary.extra.insert("nodes".into(), json!(model.n_real()));
+    summary
+        .extra
+        .insert("bonds".into(), json!(model.n_bonds() / 2));
+    summary
+        .extra
+        .insert("broken_bonds".into(), json!(model.broken_bonds()));
+    summary
+        .extra
+        .insert("iterations".into(), json!(info.iterations));
+    summary.extra.insert("phases".into(), json!(info.phases));
+    summary
+        .extra
+        .insert("switch_points".into(), json!(info.switch_points));
+    summary.extra.insert(
+        "time_s".into(),
+        json!({"implicit": info.time_implicit_s, "explicit": info.time_explicit_s,
+               "assembly": info.time_assembly_s, "factorization": info.time_factorization_s}),
+    );
+    write_fields(scene, ctx, &model, &mut summary)?;
+    summary.wall_time_s = t0.elapsed().as_secs_f64();
+    Ok(summary)
+}
+
+/// Node CSV and damage / displacement plots.
+fn write_fields(
+    scene: &Scene,
+    ctx: &RunContext,
+    model: &PdModel,
+    summary: &mut RunSummary,
+) -> Result<()> {
+    let n = model.n_real();
+    let (x, u, phi) = (model.positions(), model.displacements(), model.damage());
+    let mut t = CsvTable::new(&["x", "y", "ux", "uy", "damage"]);
+    for i in 0..n {
+        t.push(vec![
+            num(x[i][0]),
+            num(x[i][1]),
+            num(u[i][0]),
+            num(u[i][1]),
+            num(phi[i]),
+        ]);
+    }
+    ctx.writer.write_csv("nodes.csv", &t)?;
+    if !scene.outputs.plots {
+        return Ok(());
+    }
+    let geo = SceneGeometry::of(scene);
+    let mut loops = Vec::new();
+    if let Some(o) = &geo.outline {
+        let mut l: Vec<(f64, f64)> = o.points.iter().map(|p| (p.x, p.y)).collect();
+        l.push(l[0]);
+        loops.push(l);
+    }
+    let points: Vec<(f64, f64)> = (0..n).map(|i| (x[i][0], x[i][1])).collect();
+    let damage = ScatterField {
+        title: format!("{}: damage", scene.name),
+        unit: "m".into(),
+        value_label: "damage phi (-)".into(),
+        points: points.clone(),
+        values: phi[..n].to_vec(),
+        range: Some((0.0, 1.0)),
+        loops: loops.clone(),
+        marker_px: 0,
+    };
+    save_plot(
+        &ctx.writer,
+        "damage",
+        &damage,
+        &scene.outputs.formats,
+        summary,
+    )?;
+    let umag = ScatterField {
+        title: format!("{}: displacement magnitude", scene.name),
+        unit: "m".into(),
+        value_label: "|u| (m)".into(),
+        points,
+        values: (0..n).map(|i| u[i][0].hypot(u[i][1])).collect(),
+        range: None,
+        loops,
+        marker_px: 0,
+    };
+    save_plot(
+        &ctx.writer,
+        "displacement",
+        &umag,
+        &scene.outputs.formats,
+        summary,
+    )?;
+    Ok(())
+}
+
+/// `pdbem bench pd`: the PD crate's benchmark written as a table and `bench.json`.
+pub fn bench(out: &std::path::Path, quick: bool) -> Result<()> {
+    let report = pdbem_pd::bench::run_bench(pdbem_pd::bench::BenchOptions { quick });
+    let text = serde_json::to_string_pretty(&report)?;
+    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    crate::output::atomic::write_atomic(&out.join("bench.json"), text.as_bytes())?;
+    println!("{text}");
+    Ok(())
 }
