@@ -1,6 +1,6 @@
 //! Stand-alone PD solve of a scene (issue 3): grid the body, cut the pre-cracks, apply the
 //! scene's conditions (displacements on fictitious layers of depth delta, tractions as body
-//! forces in the boundary layer, seed 000 section 2.3), solve with the scene's solver, and
+//! forces in a boundary layer one node column deep, seed 000 section 2.3), solve with the scene's solver, and
 //! report (`mode: "pd"`).
 //!
 //! Three kinds of scene:
@@ -67,6 +67,40 @@ fn group_polylines(scene: &Scene, geo: &SceneGeometry, name: &str) -> Vec<Vec<P>
         }
     }
     out
+}
+
+/// Fictitious-node selection for a displacement condition on `line`: for an axis-aligned
+/// edge the strip of depth `delta` outside it (with the corner squares), so no fictitious
+/// node sits over the neighbouring free surface (that would clamp it too: a cantilever
+/// came out 5 % stiff); otherwise every node within `delta` of the polyline.
+fn outward_strip(line: &[P], delta: f64) -> Selection {
+    if let [a, b] = line {
+        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+        let l = dx.hypot(dy);
+        // Outward normal of a counter-clockwise outline edge: (dy, -dx)/l.
+        let n = [dy / l, -dx / l];
+        let axis = n[0].abs() > 1.0 - 1e-12 || n[1].abs() > 1.0 - 1e-12;
+        if axis {
+            let lo = [a[0].min(b[0]), a[1].min(b[1])];
+            let hi = [a[0].max(b[0]), a[1].max(b[1])];
+            let (mut min, mut max) = (lo, hi);
+            for k in 0..2 {
+                if n[k] > 0.5 {
+                    max[k] += delta;
+                } else if n[k] < -0.5 {
+                    min[k] -= delta;
+                } else {
+                    min[k] -= delta;
+                    max[k] += delta;
+                }
+            }
+            return Selection::Box { min, max };
+        }
+    }
+    Selection::NearPolyline {
+        points: line.to_vec(),
+        distance: Some(delta),
+    }
 }
 
 /// The PD problem of a scene.
@@ -156,10 +190,7 @@ pub fn problem_from_scene(scene: &Scene) -> Result<PdProblem> {
             if ux.is_some() || uy.is_some() {
                 has_displacement = true;
                 boundary.push(PdBc::Displacement {
-                    on: Selection::NearPolyline {
-                        points: line.clone(),
-                        distance: Some(delta),
-                    },
+                    on: outward_strip(&line, delta),
                     ux,
                     uy,
                     layer: Layer::Fictitious,
@@ -177,10 +208,12 @@ pub fn problem_from_scene(scene: &Scene) -> Result<PdProblem> {
                 t = [t[0] + tn * dy_ / l, t[1] - tn * dx_ / l];
             }
             if t != [0.0, 0.0] {
+                // One node column deep (seed 000 section 2.3): a deeper layer moves the
+                // resultant inward (a cantilever tip load over delta deflects ~4 % less).
                 boundary.push(PdBc::Traction {
                     edge: line.clone(),
                     traction: t,
-                    depth: None,
+                    depth: Some(dx),
                 });
             }
         }
@@ -466,3 +499,4 @@ pub fn bench(out: &std::path::Path, quick: bool) -> Result<()> {
     println!("{text}");
     Ok(())
 }
+
