@@ -56,7 +56,8 @@ pub fn material(scene: &Scene) -> Result<Material> {
 pub fn build(scene: &Scene, factor: f64, refine: f64) -> Result<BemSetup> {
     let geo = SceneGeometry::of(scene);
     let mat = material(scene)?;
-    let base = outline_size(scene, &geo) / refine;
+    let base0 = outline_size(scene, &geo);
+    let base = base0 / refine;
     let per_circle = ((scene
         .bem
         .elements_per_circle
@@ -110,7 +111,7 @@ pub fn build(scene: &Scene, factor: f64, refine: f64) -> Result<BemSetup> {
             .group_sizes
             .get(&c.name)
             .copied()
-            .unwrap_or_else(|| base.min(l * DEFAULT_CRACK_FRACTION) * refine)
+            .unwrap_or_else(|| base0.min(l * DEFAULT_CRACK_FRACTION))
             / refine;
         b.add_crack(CrackSpec {
             name: c.name.clone(),

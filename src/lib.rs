@@ -6,7 +6,7 @@
 //! - [`analytic`]: reference solutions of REFERENCES.md (Tada SENT, CMOD, Kirsch, ...);
 //! - [`runner`]: [`runner::RunContext`], [`runner::RunSummary`], dispatch to the solvers,
 //!   summary/CSV/plot writing, reference errors;
-//! - [`run_bem`], [`run_pd`]: the solver entry points the runner calls;
+//! - [`run_bem`], [`run_pd`], [`run_coupled`]: the solver entry points the runner calls;
 //! - [`output`]: atomic files, CSV tables, `summary.json`;
 //! - [`plot`]: report plots (geometry, value vs parameter, error vs time, scatter fields);
 //! - [`sweep`]: `pdbem sweep` (grid of dotted-path overrides);
@@ -21,6 +21,7 @@ pub mod geometry;
 pub mod output;
 pub mod plot;
 pub mod run_bem;
+pub mod run_coupled;
 pub mod run_pd;
 pub mod runner;
 pub mod scene;

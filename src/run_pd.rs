@@ -13,8 +13,8 @@
 //! - damage with the tanh degradation (seed 000): the scene's solver drives the load to the
 //!   final factor.
 //!
-//! Pure-traction scenes get two pins (real nodes nearest the body centroid: both components;
-//! a node a quarter width to its right: y) so the implicit tangent is regular; the loads are
+//! Pure-traction scenes get two pins (the real node at the bottom middle: both components;
+//! the one at the top middle: x) so the implicit tangent is regular; the loads are
 //! self-equilibrated, so the pins carry no reaction.
 
 use crate::output::csv::{num, CsvTable};
@@ -219,11 +219,15 @@ pub fn problem_from_scene(scene: &Scene) -> Result<PdProblem> {
         }
     }
     if !has_displacement {
-        let c = [(lo[0] + hi[0]) * 0.5, (lo[1] + hi[1]) * 0.5];
-        let r = 0.5 * dx;
+        // One real node each (nodes sit at lo + (i + 1/2) dx): bottom middle (x, y) and top
+        // middle (x), away from mid-height cracks; the loads are self-equilibrated.
+        let snap = |v: f64, l: f64| l + (((v - l) / dx - 0.5).round() + 0.5) * dx;
+        let xc = snap(0.5 * (lo[0] + hi[0]), lo[0]);
+        let (yb, yt) = (snap(lo[1] + 0.5 * dx, lo[1]), snap(hi[1] - 0.5 * dx, lo[1]));
+        let r = 0.25 * dx;
         boundary.push(PdBc::Displacement {
             on: Selection::Circle {
-                centre: c,
+                centre: [xc, yb],
                 radius: r,
             },
             ux: Some(0.0),
@@ -232,11 +236,11 @@ pub fn problem_from_scene(scene: &Scene) -> Result<PdProblem> {
         });
         boundary.push(PdBc::Displacement {
             on: Selection::Circle {
-                centre: [c[0] + 0.25 * (hi[0] - lo[0]), c[1]],
+                centre: [xc, yt],
                 radius: r,
             },
-            ux: None,
-            uy: Some(0.0),
+            ux: Some(0.0),
+            uy: None,
             layer: Layer::Real,
         });
     }
@@ -499,4 +503,3 @@ pub fn bench(out: &std::path::Path, quick: bool) -> Result<()> {
     println!("{text}");
     Ok(())
 }
-

@@ -197,6 +197,7 @@ pub fn run_scene(scene: &Scene, out_dir: &Path, quiet: bool) -> anyhow::Result<R
     let start = Instant::now();
     let mut summary = match mode {
         Mode::Pd => crate::run_pd::run(scene, &ctx)?,
+        Mode::Coupled => crate::run_coupled::run(scene, &ctx)?,
         _ => crate::run_bem::run(scene, &ctx)?,
     };
     if summary.wall_time_s == 0.0 {
@@ -218,10 +219,6 @@ pub fn run_scene(scene: &Scene, out_dir: &Path, quiet: bool) -> anyhow::Result<R
 fn refuse_unavailable(scene: &Scene, mode: Mode) -> anyhow::Result<()> {
     let file = scene.file_label();
     match mode {
-        Mode::Coupled => anyhow::bail!(
-            "{}: coupled mode arrives with issue 4 (remove `coupling` to run BEM or PD alone)",
-            file.display()
-        ),
         Mode::Growth => {
             let which = match scene.growth.as_ref().map(|g| g.mode) {
                 Some(GrowthMode::BemOnly) => "BEM-only growth",
@@ -230,6 +227,6 @@ fn refuse_unavailable(scene: &Scene, mode: Mode) -> anyhow::Result<()> {
             };
             anyhow::bail!("{}: {which} arrives with issue 5", file.display())
         }
-        Mode::Bem | Mode::Pd => Ok(()),
+        Mode::Bem | Mode::Pd | Mode::Coupled => Ok(()),
     }
 }

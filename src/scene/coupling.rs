@@ -104,6 +104,9 @@ pub enum DisplacementMap {
     Copy,
     /// Evaluate the BEM displacement at each virtual node (interior points).
     Interior,
+    /// First-order expansion from the element value, its tangential derivative and
+    /// traction (exact for uniform strain; as cheap as `Copy`).
+    Taylor,
 }
 
 /// Crack growth (seed 002 Algorithm 2).
