@@ -6,8 +6,15 @@ use pdbem_bem::{Bc, Material, Mesh, MeshBuilder, Plane, V2};
 
 pub fn rect_loop(x0: f64, y0: f64, w: f64, h: f64, size: f64) -> LoopSpec {
     LoopSpec {
-        points: vec![V2::new(x0, y0), V2::new(x0 + w, y0), V2::new(x0 + w, y0 + h), V2::new(x0, y0 + h)],
-        edge_groups: ["bottom", "right", "top", "left"].map(String::from).to_vec(),
+        points: vec![
+            V2::new(x0, y0),
+            V2::new(x0 + w, y0),
+            V2::new(x0 + w, y0 + h),
+            V2::new(x0, y0 + h),
+        ],
+        edge_groups: ["bottom", "right", "top", "left"]
+            .map(String::from)
+            .to_vec(),
         edge_sizes: vec![size; 4],
         is_hole: false,
     }

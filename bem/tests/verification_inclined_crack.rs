@@ -16,7 +16,16 @@ fn solve(faces: FaceMode, n_per_face: usize) -> Vec<pdbem_bem::post::TipResult> 
     let d = V2::new(beta.cos(), beta.sin());
     // Load along y; crack line at 45 degrees to it.
     let remote = [0.0, 1.0, 0.0];
-    let mesh = build(vec![], vec![crack("c", -a * d, a * d, 2.0 * a / n_per_face as f64, faces)]);
+    let mesh = build(
+        vec![],
+        vec![crack(
+            "c",
+            -a * d,
+            a * d,
+            2.0 * a / n_per_face as f64,
+            faces,
+        )],
+    );
     let bcs = traction_from_stress(&mesh, remote, -1.0);
     let params = SolveParams {
         infinite: true,
@@ -39,6 +48,10 @@ fn inclined_crack_45_sif_and_kink() {
             assert!((k1 - k1e).abs() / k1e < 0.005, "k1 {k1} vs {k1e}");
             assert!((k2.abs() - k2e).abs() / k2e < 0.005, "k2 {k2} vs {k2e}");
         }
-        assert!((t.kink_deg.abs() - 53.13).abs() < 0.2, "kink {}", t.kink_deg);
+        assert!(
+            (t.kink_deg.abs() - 53.13).abs() < 0.2,
+            "kink {}",
+            t.kink_deg
+        );
     }
 }

@@ -28,7 +28,10 @@ fn kirsch_hole_peak_stress() {
         worst = worst.max((s - exact).abs());
         peak = peak.max(*s);
     }
-    println!("peak hoop {peak:.5} (exact 3), max abs error {worst:.3e}, cond {:.1}", sys.info().condition);
+    println!(
+        "peak hoop {peak:.5} (exact 3), max abs error {worst:.3e}, cond {:.1}",
+        sys.info().condition
+    );
     // Issue bound: 1 %. Measured: peak 2.99999, worst 5.9e-4 (2.9984 and 4.8e-3 with plain
     // constant elements on the circle).
     assert!((peak - 3.0).abs() < 3e-3);

@@ -35,10 +35,17 @@ fn patch_errors(h: f64, reconstruct: bool) -> (f64, f64, f64) {
     let mut err: f64 = 0.0;
     for (e, u) in mesh.elements.iter().zip(&sol.u) {
         let ex = exact(e.mid);
-        let d = [(u[0] - u0[0]) - (ex[0] - e0[0]), (u[1] - u0[1]) - (ex[1] - e0[1])];
+        let d = [
+            (u[0] - u0[0]) - (ex[0] - e0[0]),
+            (u[1] - u0[1]) - (ex[1] - e0[1]),
+        ];
         err = err.max(d[0].hypot(d[1]));
     }
-    (err / (sigma / mat.e), sys.info().condition, sys.info().rigid_modes as f64)
+    (
+        err / (sigma / mat.e),
+        sys.info().condition,
+        sys.info().rigid_modes as f64,
+    )
 }
 
 /// Plain constant elements: O(h). Measured: 1.232e-2, 6.317e-3, 3.233e-3 (rates 0.963,
@@ -82,7 +89,11 @@ fn wrong_beta_sign_degrades_conditioning() {
         ..Default::default()
     };
     let bad = BemSystem::new(&mesh, &steel(), &bcs, &bad_params).unwrap();
-    println!("cond good {:.1} bad {:.1}", good.info().condition, bad.info().condition);
+    println!(
+        "cond good {:.1} bad {:.1}",
+        good.info().condition,
+        bad.info().condition
+    );
     assert!(bad.info().condition > 10.0 * good.info().condition);
 }
 
@@ -98,7 +109,12 @@ fn rigid_rotation_gives_zero_traction_only_with_reconstruction() {
         let bcs: Vec<[Bc; 2]> = mesh
             .elements
             .iter()
-            .map(|e| [Bc::Displacement(-w * e.mid.y), Bc::Displacement(w * e.mid.x)])
+            .map(|e| {
+                [
+                    Bc::Displacement(-w * e.mid.y),
+                    Bc::Displacement(w * e.mid.x),
+                ]
+            })
             .collect();
         let params = SolveParams {
             reconstruct,
@@ -108,9 +124,13 @@ fn rigid_rotation_gives_zero_traction_only_with_reconstruction() {
         let sol = sys.solve().unwrap();
         let mu = steel().mu();
         let tmax = sol.t.iter().flatten().fold(0.0_f64, |m, v| m.max(v.abs()));
-        let trms = (sol.t.iter().flatten().map(|v| v * v).sum::<f64>() / (2 * mesh.len()) as f64).sqrt();
+        let trms =
+            (sol.t.iter().flatten().map(|v| v * v).sum::<f64>() / (2 * mesh.len()) as f64).sqrt();
         let rel = tmax / (mu * w);
-        println!("reconstruct {reconstruct} h={h}: max |t|/(mu w) = {rel:.3e}, rms {:.3e}", trms / (mu * w));
+        println!(
+            "reconstruct {reconstruct} h={h}: max |t|/(mu w) = {rel:.3e}, rms {:.3e}",
+            trms / (mu * w)
+        );
         if reconstruct {
             assert!(rel < 1e-10);
         } else {
@@ -129,9 +149,15 @@ fn further_rhs_matches_fresh_assembly() {
         ..Default::default()
     };
     let sys = BemSystem::new(&mesh, &mat, &bcs, &params).unwrap();
-    let new: Vec<[Bc; 2]> = bcs.iter().map(|b| [Bc::Traction(b[0].value() * 2.5), b[1]]).collect();
+    let new: Vec<[Bc; 2]> = bcs
+        .iter()
+        .map(|b| [Bc::Traction(b[0].value() * 2.5), b[1]])
+        .collect();
     let again = sys.solve_with(&new).unwrap();
-    let fresh = BemSystem::new(&mesh, &mat, &new, &SolveParams::default()).unwrap().solve().unwrap();
+    let fresh = BemSystem::new(&mesh, &mat, &new, &SolveParams::default())
+        .unwrap()
+        .solve()
+        .unwrap();
     let c = pdbem_bem::post::sif::cmod(&mesh, &again, 0).unwrap();
     let cf = pdbem_bem::post::sif::cmod(&mesh, &fresh, 0).unwrap();
     assert!((c - cf).abs() < 1e-10 * cf.abs(), "{c} vs {cf}");
