@@ -11,7 +11,9 @@
 
 use crate::bem_setup::{self, BemSetup};
 use crate::output::csv::{num, CsvTable};
+use crate::runner::report::save_plot;
 use crate::runner::{CrackResult, RunContext, RunSummary, TipResult};
+use crate::scene::shapes::SceneGeometry;
 use crate::scene::Scene;
 use anyhow::{Context, Result};
 use pdbem_bem::post::sif::{analyze_tips, cmod, SifOptions};
@@ -240,6 +242,11 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
             summary.extra.insert("hoop_peak".into(), json!(peak));
         }
     }
+    write_samples(scene, ctx, &ev, &mut summary)?;
+    if scene.outputs.vtk {
+        ctx.writer
+            .write_bytes("boundary.vtk", boundary_vtk(&level).as_bytes())?;
+    }
     if !scene.bem.interior_points.is_empty() {
         let pts: Vec<V2> = scene
             .bem
@@ -264,6 +271,145 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
         ctx.writer.write_csv("interior.csv", &t)?;
     }
     Ok(summary)
+}
+
+/// Field table at sample points (points outside the body are skipped).
+fn field_table(ev: &FieldEvaluator, pts: &[V2]) -> (CsvTable, Vec<[f64; 2]>, Vec<[f64; 3]>) {
+    let u = ev.displacements(pts);
+    let s = ev.stresses(pts);
+    let mut t = CsvTable::new(&["x", "y", "ux", "uy", "sxx", "syy", "sxy"]);
+    for ((p, u), s) in pts.iter().zip(&u).zip(&s) {
+        t.push(vec![
+            num(p.x),
+            num(p.y),
+            num(u[0]),
+            num(u[1]),
+            num(s[0]),
+            num(s[1]),
+            num(s[2]),
+        ]);
+    }
+    (t, u, s)
+}
+
+/// `outputs.lines` and `outputs.grids`: interior fields as CSV, grids also as plots of the
+/// displacement magnitude and the von Mises stress (plane form).
+fn write_samples(
+    scene: &Scene,
+    ctx: &RunContext,
+    ev: &FieldEvaluator,
+    summary: &mut RunSummary,
+) -> Result<()> {
+    let geo = SceneGeometry::of(scene);
+    // Interior points only: inside the body and not on the boundary itself (the integrals
+    // are exact arbitrarily close to an element, but undefined on it).
+    let mesh = ev.mesh();
+    let off_boundary = |p: &V2| {
+        mesh.elements.iter().all(|e| {
+            let d = e.b - e.a;
+            let t = ((p - e.a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0);
+            (e.a + t * d - p).norm() > 1e-3 * e.h
+        })
+    };
+    let inside = |p: &V2| geo.contains(p) && off_boundary(p);
+    for l in &scene.outputs.lines {
+        let n = l.n.max(2);
+        let pts: Vec<V2> = (0..n)
+            .map(|i| {
+                let t = i as f64 / (n - 1) as f64;
+                V2::new(
+                    l.from.0 + t * (l.to.0 - l.from.0),
+                    l.from.1 + t * (l.to.1 - l.from.1),
+                )
+            })
+            .filter(|p| inside(p))
+            .collect();
+        let (t, _, _) = field_table(ev, &pts);
+        ctx.writer.write_csv(&format!("line_{}.csv", l.name), &t)?;
+    }
+    for g in &scene.outputs.grids {
+        let (nx, ny) = (g.nx.max(2), g.ny.max(2));
+        let pts: Vec<V2> = (0..nx * ny)
+            .map(|k| {
+                let (i, j) = (k % nx, k / nx);
+                V2::new(
+                    g.from.0 + (g.to.0 - g.from.0) * i as f64 / (nx - 1) as f64,
+                    g.from.1 + (g.to.1 - g.from.1) * j as f64 / (ny - 1) as f64,
+                )
+            })
+            .filter(|p| inside(p))
+            .collect();
+        let (t, u, s) = field_table(ev, &pts);
+        ctx.writer.write_csv(&format!("grid_{}.csv", g.name), &t)?;
+        if scene.outputs.plots && !pts.is_empty() {
+            let points: Vec<(f64, f64)> = pts.iter().map(|p| (p.x, p.y)).collect();
+            let gp = crate::runner::report::geometry_plot(scene, None);
+            let mut loops = gp.loops.clone();
+            loops.extend(gp.cracks.iter().map(|(_, c)| c.clone()));
+            let fig = |title: &str, label: &str, values: Vec<f64>| crate::plot::ScatterField {
+                title: format!("{}: {title} ({})", scene.name, g.name),
+                unit: "m".into(),
+                value_label: label.into(),
+                points: points.clone(),
+                values,
+                range: None,
+                loops: loops.clone(),
+                marker_px: 0,
+            };
+            let umag = fig(
+                "displacement magnitude",
+                "|u| (m)",
+                u.iter().map(|v| v[0].hypot(v[1])).collect(),
+            );
+            save_plot(
+                &ctx.writer,
+                &format!("grid_{}_u", g.name),
+                &umag,
+                &scene.outputs.formats,
+                summary,
+            )?;
+            let vm = s
+                .iter()
+                .map(|v| (v[0] * v[0] - v[0] * v[1] + v[1] * v[1] + 3.0 * v[2] * v[2]).sqrt())
+                .collect();
+            let svm = fig("von Mises stress", "sigma_vm (Pa)", vm);
+            save_plot(
+                &ctx.writer,
+                &format!("grid_{}_vm", g.name),
+                &svm,
+                &scene.outputs.formats,
+                summary,
+            )?;
+        }
+    }
+    Ok(())
+}
+
+/// Legacy VTK poly data of the boundary elements with displacement and traction (ParaView).
+fn boundary_vtk(level: &Level) -> String {
+    use std::fmt::Write as _;
+    let mesh = &level.setup.mesh;
+    let n = mesh.len();
+    let mut s = String::from(
+        "# vtk DataFile Version 3.0\npdbem boundary elements\nASCII\nDATASET POLYDATA\n",
+    );
+    let _ = writeln!(s, "POINTS {} double", 2 * n);
+    for e in &mesh.elements {
+        let _ = writeln!(s, "{} {} 0\n{} {} 0", e.a.x, e.a.y, e.b.x, e.b.y);
+    }
+    let _ = writeln!(s, "LINES {n} {}", 3 * n);
+    for i in 0..n {
+        let _ = writeln!(s, "2 {} {}", 2 * i, 2 * i + 1);
+    }
+    let _ = writeln!(s, "CELL_DATA {n}\nVECTORS displacement double");
+    for u in &level.solution.u {
+        let _ = writeln!(s, "{} {} 0", u[0], u[1]);
+    }
+    let _ = writeln!(s, "VECTORS traction double");
+    for t in &level.solution.t {
+        let _ = writeln!(s, "{} {} 0", t[0], t[1]);
+    }
+    s
 }
 
 fn boundary_table(level: &Level) -> CsvTable {

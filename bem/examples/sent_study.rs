@@ -9,13 +9,20 @@ use std::f64::consts::PI;
 fn tada(a: f64, w: f64) -> f64 {
     let x = a / w;
     let t = PI * x / 2.0;
-    (2.0 / (PI * x) * t.tan()).sqrt() * (0.752 + 2.02 * x + 0.37 * (1.0 - t.sin()).powi(3)) / t.cos()
+    (2.0 / (PI * x) * t.tan()).sqrt() * (0.752 + 2.02 * x + 0.37 * (1.0 - t.sin()).powi(3))
+        / t.cos()
 }
 
 fn main() {
-    let args: Vec<f64> = std::env::args().skip(1).map(|s| s.parse().unwrap()).collect();
+    let args: Vec<f64> = std::env::args()
+        .skip(1)
+        .map(|s| s.parse().unwrap())
+        .collect();
     let (len, w, a, ho, hc) = (args[0], args[1], args[2], args[3], args[4]);
-    let tip = (args.len() > 6).then(|| TipRefinement { size: args[5], radius: args[6] });
+    let tip = (args.len() > 6).then(|| TipRefinement {
+        size: args[5],
+        radius: args[6],
+    });
     let mat = Material::new(1e4, 1.0 / 3.0, Plane::Stress).unwrap();
     let sigma = 0.5;
     let mut b = MeshBuilder::new();
@@ -24,11 +31,18 @@ fn main() {
         let g: f64 = g.parse().unwrap();
         let hsize = |x: f64, y: f64| {
             let d = ((x - len / 2.0).powi(2) + (y - w).powi(2).min((y - 0.0).powi(2))).sqrt();
-            let d = d.min((x - len / 2.0).abs().max(0.0).hypot(0.0)).max((x - len / 2.0).abs());
+            let d = d
+                .min((x - len / 2.0).abs().max(0.0).hypot(0.0))
+                .max((x - len / 2.0).abs());
             (hc + g * d).min(ho)
         };
         let mut pts = Vec::new();
-        let corners = [V2::new(0.0, 0.0), V2::new(len, 0.0), V2::new(len, w), V2::new(0.0, w)];
+        let corners = [
+            V2::new(0.0, 0.0),
+            V2::new(len, 0.0),
+            V2::new(len, w),
+            V2::new(0.0, w),
+        ];
         for k in 0..4 {
             let (p, q) = (corners[k], corners[(k + 1) % 4]);
             let l = (q - p).norm();
@@ -37,20 +51,36 @@ fn main() {
                 pts.push(p + (q - p) * (s / l));
                 let x = p + (q - p) * (s / l);
                 let mut hh = hsize(x.x, x.y);
-                if l - s < 1.5 * hh { hh = l - s; }
+                if l - s < 1.5 * hh {
+                    hh = l - s;
+                }
                 s += hh;
             }
         }
         // Insert the crack mouth as a vertex.
         let n = pts.len();
-        b.add_loop(LoopSpec { points: pts, edge_groups: vec!["edge".into(); n], edge_sizes: vec![f64::INFINITY; n], is_hole: false });
+        b.add_loop(LoopSpec {
+            points: pts,
+            edge_groups: vec!["edge".into(); n],
+            edge_sizes: vec![f64::INFINITY; n],
+            is_hole: false,
+        });
     } else {
-    b.add_loop(LoopSpec {
-        points: vec![V2::new(0.0, 0.0), V2::new(len, 0.0), V2::new(len, w), V2::new(0.0, w)],
-        edge_groups: ["bottom", "right", "top", "left"].map(String::from).to_vec(),
-        edge_sizes: std::env::var("EDGES").map(|v| v.split(',').map(|x| x.parse().unwrap()).collect()).unwrap_or(vec![ho; 4]),
-        is_hole: false,
-    });
+        b.add_loop(LoopSpec {
+            points: vec![
+                V2::new(0.0, 0.0),
+                V2::new(len, 0.0),
+                V2::new(len, w),
+                V2::new(0.0, w),
+            ],
+            edge_groups: ["bottom", "right", "top", "left"]
+                .map(String::from)
+                .to_vec(),
+            edge_sizes: std::env::var("EDGES")
+                .map(|v| v.split(',').map(|x| x.parse().unwrap()).collect())
+                .unwrap_or(vec![ho; 4]),
+            is_hole: false,
+        });
     }
     b.add_crack(CrackSpec {
         name: "c".into(),
@@ -66,12 +96,23 @@ fn main() {
         .map(|e| {
             let gname = mesh.groups[e.group].as_str();
             let tx = if ["edge", "left", "right", "top", "bottom"].contains(&gname) {
-                if e.normal.x < -0.9 { -sigma } else if e.normal.x > 0.9 { sigma } else { 0.0 }
-            } else { 0.0 };
+                if e.normal.x < -0.9 {
+                    -sigma
+                } else if e.normal.x > 0.9 {
+                    sigma
+                } else {
+                    0.0
+                }
+            } else {
+                0.0
+            };
             [Bc::Traction(tx), Bc::Traction(0.0)]
         })
         .collect();
-    let params = SolveParams { reconstruct: std::env::var("NORECON").is_err(), ..Default::default() };
+    let params = SolveParams {
+        reconstruct: std::env::var("NORECON").is_err(),
+        ..Default::default()
+    };
     let sys = BemSystem::new(&mesh, &mat, &bcs, &params).unwrap();
     let sol = sys.solve().unwrap();
     let ev = FieldEvaluator::new(&mesh, &mat, &sol, Background::default());

@@ -33,8 +33,15 @@ pub fn sent_plate(target: usize) -> Result<(crate::Mesh, Vec<[Bc; 2]>, Vec<usize
     let h = 76.0 / target as f64;
     let mut b = MeshBuilder::new();
     b.add_loop(LoopSpec {
-        points: vec![V2::new(0.0, 0.0), V2::new(20.0, 0.0), V2::new(20.0, 10.0), V2::new(0.0, 10.0)],
-        edge_groups: ["bottom", "right", "top", "left"].map(String::from).to_vec(),
+        points: vec![
+            V2::new(0.0, 0.0),
+            V2::new(20.0, 0.0),
+            V2::new(20.0, 10.0),
+            V2::new(0.0, 10.0),
+        ],
+        edge_groups: ["bottom", "right", "top", "left"]
+            .map(String::from)
+            .to_vec(),
         edge_sizes: vec![h; 4],
         is_hole: false,
     });
@@ -46,7 +53,10 @@ pub fn sent_plate(target: usize) -> Result<(crate::Mesh, Vec<[Bc; 2]>, Vec<usize
         tip: None,
     });
     let mesh = b.build()?;
-    let (left, right) = (mesh.group("left").unwrap_or(usize::MAX), mesh.group("right").unwrap_or(usize::MAX));
+    let (left, right) = (
+        mesh.group("left").unwrap_or(usize::MAX),
+        mesh.group("right").unwrap_or(usize::MAX),
+    );
     let bcs = mesh
         .elements
         .iter()
@@ -115,9 +125,9 @@ pub fn fit_exponent(points: &[(f64, f64)]) -> Option<f64> {
     let k = pts.len() as f64;
     let (sx, sy) = pts.iter().fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y));
     let (mx, my) = (sx / k, sy / k);
-    let (num, den) = pts
-        .iter()
-        .fold((0.0, 0.0), |(a, b), (x, y)| (a + (x - mx) * (y - my), b + (x - mx) * (x - mx)));
+    let (num, den) = pts.iter().fold((0.0, 0.0), |(a, b), (x, y)| {
+        (a + (x - mx) * (y - my), b + (x - mx) * (x - mx))
+    });
     (den > 0.0).then(|| num / den)
 }
 
@@ -127,7 +137,10 @@ mod tests {
 
     #[test]
     fn exponent_fit_recovers_a_power_law() {
-        let pts: Vec<(f64, f64)> = [500.0, 1000.0, 2000.0].iter().map(|n: &f64| (*n, 3e-9 * n.powf(2.7))).collect();
+        let pts: Vec<(f64, f64)> = [500.0, 1000.0, 2000.0]
+            .iter()
+            .map(|n: &f64| (*n, 3e-9 * n.powf(2.7)))
+            .collect();
         assert!((fit_exponent(&pts).unwrap() - 2.7).abs() < 1e-12);
     }
 

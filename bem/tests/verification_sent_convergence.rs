@@ -13,14 +13,26 @@ use std::f64::consts::PI;
 fn k1_error(h: f64, reconstruct: bool) -> f64 {
     let mesh = build(
         vec![rect_loop(0.0, 0.0, 20.0, 10.0, h)],
-        vec![crack("c", V2::new(10.0, 10.0), V2::new(10.0, 5.0), h, FaceMode::Coincident)],
+        vec![crack(
+            "c",
+            V2::new(10.0, 10.0),
+            V2::new(10.0, 5.0),
+            h,
+            FaceMode::Coincident,
+        )],
     );
     let (l, r) = (mesh.group("left").unwrap(), mesh.group("right").unwrap());
     let bcs: Vec<[Bc; 2]> = mesh
         .elements
         .iter()
         .map(|e| {
-            let tx = if e.group == l { -0.5 } else if e.group == r { 0.5 } else { 0.0 };
+            let tx = if e.group == l {
+                -0.5
+            } else if e.group == r {
+                0.5
+            } else {
+                0.0
+            };
             [Bc::Traction(tx), Bc::Traction(0.0)]
         })
         .collect();
@@ -29,7 +41,10 @@ fn k1_error(h: f64, reconstruct: bool) -> f64 {
         ..Default::default()
     };
     let mat = steel();
-    let sol = BemSystem::new(&mesh, &mat, &bcs, &params).unwrap().solve().unwrap();
+    let sol = BemSystem::new(&mesh, &mat, &bcs, &params)
+        .unwrap()
+        .solve()
+        .unwrap();
     let ev = FieldEvaluator::new(&mesh, &mat, &sol, Background::default());
     let t = &analyze_tips(&mesh, &ev, &sol, &SifOptions::default()).unwrap()[0];
     let exact = 0.5 * (PI * 5.0_f64).sqrt() * 2.8239;
@@ -45,11 +60,18 @@ fn sent_k1_converges_at_order_one_with_constant_elements() {
     let plain: Vec<f64> = hs.iter().map(|&h| k1_error(h, false)).collect();
     let recon: Vec<f64> = hs.iter().map(|&h| k1_error(h, true)).collect();
     for (h, (p, r)) in hs.iter().zip(plain.iter().zip(&recon)) {
-        println!("h = {h}: plain {:+.3} %, reconstructed {:+.3} %", 100.0 * p, 100.0 * r);
+        println!(
+            "h = {h}: plain {:+.3} %, reconstructed {:+.3} %",
+            100.0 * p,
+            100.0 * r
+        );
         assert!(r.abs() < p.abs());
         assert!(r.abs() < 0.004);
     }
-    let rates: Vec<f64> = plain.windows(2).map(|w| (w[0] / w[1]).abs().ln() / 2f64.ln()).collect();
+    let rates: Vec<f64> = plain
+        .windows(2)
+        .map(|w| (w[0] / w[1]).abs().ln() / 2f64.ln())
+        .collect();
     println!("observed rates {rates:?}");
     for r in rates {
         assert!(r > 0.7 && r < 1.4, "rate {r}");

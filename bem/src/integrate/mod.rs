@@ -57,7 +57,12 @@ pub fn integrate_element(
 ) -> PairIntegrals {
     let geo = moments::PairGeometry::new(x, el);
     let mom = moments::element_moments(&geo);
-    with_jumps(tensors::kernel_integrals(&el.tangent, &el.normal, &m, &mom, kc), &mom, &m, el)
+    with_jumps(
+        tensors::kernel_integrals(&el.tangent, &el.normal, &m, &mom, kc),
+        &mom,
+        &m,
+        el,
+    )
 }
 
 /// The integrals of [`integrate_element`] and the first-moment integrals
@@ -71,13 +76,23 @@ pub fn integrate_element_linear(
 ) -> (PairIntegrals, PairIntegrals) {
     let geo = moments::PairGeometry::new(x, el);
     let mom = moments::element_moments(&geo);
-    let zeroth = with_jumps(tensors::kernel_integrals(&el.tangent, &el.normal, &m, &mom, kc), &mom, &m, el);
+    let zeroth = with_jumps(
+        tensors::kernel_integrals(&el.tangent, &el.normal, &m, &mom, kc),
+        &mom,
+        &m,
+        el,
+    );
     let first_mom = mom.first_moment(0.5 * (geo.s1 + geo.s2));
     let first = tensors::kernel_integrals(&el.tangent, &el.normal, &m, &first_mom, kc);
     (zeroth, first)
 }
 
-fn with_jumps(mut out: PairIntegrals, mom: &moments::Moments, m: &Vector2<f64>, el: &Element) -> PairIntegrals {
+fn with_jumps(
+    mut out: PairIntegrals,
+    mom: &moments::Moments,
+    m: &Vector2<f64>,
+    el: &Element,
+) -> PairIntegrals {
     if mom.on_element {
         let s = if m.dot(&el.normal) > 0.0 { 1.0 } else { -1.0 };
         for i in 0..2 {

@@ -133,7 +133,13 @@ fn coplanar(g: &PairGeometry) -> Moments {
     }
     let f = |s: f64| if s == 0.0 { 0.0 } else { s * s.abs().ln() - s };
     mo.l = f(g.s2) - f(g.s1);
-    let f1 = |s: f64| if s == 0.0 { 0.0 } else { 0.5 * s * s * s.abs().ln() - 0.25 * s * s };
+    let f1 = |s: f64| {
+        if s == 0.0 {
+            0.0
+        } else {
+            0.5 * s * s * s.abs().ln() - 0.25 * s * s
+        }
+    };
     mo.l1 = f1(g.s2) - f1(g.s1);
     mo
 }
@@ -279,8 +285,17 @@ mod tests {
             let r = reference(&g);
             for a in 0..5 {
                 for k in 1..4 {
-                    let e = rel(c.m[a][k], r.m[a][k], r.m[0][k].abs() * (h + sx.abs()).powi(a as i32));
-                    assert!(e < 1e-9, "sx={sx} eta={eta} a={a} k={k}: {} vs {}", c.m[a][k], r.m[a][k]);
+                    let e = rel(
+                        c.m[a][k],
+                        r.m[a][k],
+                        r.m[0][k].abs() * (h + sx.abs()).powi(a as i32),
+                    );
+                    assert!(
+                        e < 1e-9,
+                        "sx={sx} eta={eta} a={a} k={k}: {} vs {}",
+                        c.m[a][k],
+                        r.m[a][k]
+                    );
                 }
             }
             assert!(rel(c.l, r.l, h) < 1e-11);
@@ -291,7 +306,14 @@ mod tests {
     #[test]
     fn dispatch_is_accurate_for_all_regimes() {
         let h = 0.1;
-        for &(sx, eta) in &[(0.5, 0.01), (-0.06, 1e-4), (0.3, 0.3), (2.0, 0.5), (0.05, 0.2), (0.16, 0.005)] {
+        for &(sx, eta) in &[
+            (0.5, 0.01),
+            (-0.06, 1e-4),
+            (0.3, 0.3),
+            (2.0, 0.5),
+            (0.05, 0.2),
+            (0.16, 0.005),
+        ] {
             let g = PairGeometry {
                 s1: -sx,
                 s2: h - sx,
@@ -302,8 +324,17 @@ mod tests {
             let r = reference(&g);
             for a in 0..5 {
                 for k in 1..4 {
-                    let e = rel(c.m[a][k], r.m[a][k], r.m[0][k].abs() * (h + sx.abs()).powi(a as i32));
-                    assert!(e < 2e-8, "sx={sx} eta={eta} a={a} k={k}: {} vs {} ({e})", c.m[a][k], r.m[a][k]);
+                    let e = rel(
+                        c.m[a][k],
+                        r.m[a][k],
+                        r.m[0][k].abs() * (h + sx.abs()).powi(a as i32),
+                    );
+                    assert!(
+                        e < 2e-8,
+                        "sx={sx} eta={eta} a={a} k={k}: {} vs {} ({e})",
+                        c.m[a][k],
+                        r.m[a][k]
+                    );
                 }
             }
         }

@@ -63,7 +63,11 @@ mod tests {
             let r = gauss_legendre(n);
             for deg in 0..(2 * n) {
                 let q: f64 = r.iter().map(|(x, w)| w * x.powi(deg as i32)).sum();
-                let exact = if deg % 2 == 1 { 0.0 } else { 2.0 / (deg as f64 + 1.0) };
+                let exact = if deg % 2 == 1 {
+                    0.0
+                } else {
+                    2.0 / (deg as f64 + 1.0)
+                };
                 assert!((q - exact).abs() < 1e-13, "n={n} deg={deg} q={q}");
             }
         }

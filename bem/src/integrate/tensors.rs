@@ -93,13 +93,18 @@ pub fn kernel_integrals(
             // K_jk with (j, k) = (i, j) here.
             let (jj, kk) = (i, j);
             lk[jj][kk] = ct
-                * (a * (v1m * delta(kk, jj) + v1[jj] * ml[kk] - v1[kk] * ml[jj]) + 2.0 * w2m[jj][kk]);
+                * (a * (v1m * delta(kk, jj) + v1[jj] * ml[kk] - v1[kk] * ml[jj])
+                    + 2.0 * w2m[jj][kk]);
             lh[jj][kk] = cs
-                * (2.0 * eta * (a * ml[jj] * v2[kk] + nu * (v2m * delta(jj, kk) + v2[jj] * ml[kk]))
+                * (2.0
+                    * eta
+                    * (a * ml[jj] * v2[kk] + nu * (v2m * delta(jj, kk) + v2[jj] * ml[kk]))
                     - 8.0 * eta * w3m[jj][kk]
                     + 2.0 * nu * (nm * q2[jj][kk] + nloc[jj] * q2m[kk])
                     + 2.0 * a * nloc[kk] * q2m[jj]
-                    + (a * (nloc[jj] * ml[kk] + nm * delta(jj, kk)) - (1.0 - 4.0 * nu) * nloc[kk] * ml[jj]) * s0);
+                    + (a * (nloc[jj] * ml[kk] + nm * delta(jj, kk))
+                        - (1.0 - 4.0 * nu) * nloc[kk] * ml[jj])
+                        * s0);
         }
     }
     let r = [[e[0], n[0]], [e[1], n[1]]];
@@ -201,7 +206,8 @@ mod reference {
                 let mut sk = 0.0;
                 for i in 0..2 {
                     let d = ct
-                        * (a * (r1.v[i] * delta(k, j) + r1.v[j] * delta(k, i) - r1.v[k] * delta(i, j))
+                        * (a * (r1.v[i] * delta(k, j) + r1.v[j] * delta(k, i)
+                            - r1.v[k] * delta(i, j))
                             + 2.0 * r2.w[i][j][k]);
                     let s = cs
                         * (2.0
@@ -222,7 +228,8 @@ mod reference {
             }
         }
         out
-    }}
+    }
+}
 
 #[cfg(test)]
 mod tests {
@@ -231,10 +238,15 @@ mod tests {
 
     #[test]
     fn local_frame_matches_global_formulas() {
-        let kc = KernelConsts { mu: 3750.0, nu: 0.25 };
+        let kc = KernelConsts {
+            mu: 3750.0,
+            nu: 0.25,
+        };
         let mut seed = 12345u64;
         let mut rnd = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             ((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5
         };
         for _ in 0..200 {
@@ -243,11 +255,21 @@ mod tests {
             let n = Vector2::new(e.y, -e.x);
             let phi = 7.0 * rnd();
             let m = Vector2::new(phi.cos(), phi.sin());
-            let g = PairGeometry { s1: -0.05 + rnd() * 0.3, s2: 0.05 + rnd() * 0.3 + 0.1, eta: rnd() * 0.4, h: 0.1 };
+            let g = PairGeometry {
+                s1: -0.05 + rnd() * 0.3,
+                s2: 0.05 + rnd() * 0.3 + 0.1,
+                eta: rnd() * 0.4,
+                h: 0.1,
+            };
             let mo = element_moments(&g);
             let fast = kernel_integrals(&e, &n, &m, &mo, &kc);
             let slow = reference::kernel_integrals_global(&e, &n, &m, &mo, &kc);
-            for (x, y) in [(fast.u, slow.u), (fast.t, slow.t), (fast.k, slow.k), (fast.h, slow.h)] {
+            for (x, y) in [
+                (fast.u, slow.u),
+                (fast.t, slow.t),
+                (fast.k, slow.k),
+                (fast.h, slow.h),
+            ] {
                 let scale = y.iter().flatten().fold(1e-30_f64, |s, v| s.max(v.abs()));
                 for i in 0..2 {
                     for j in 0..2 {

@@ -96,11 +96,7 @@ impl MeshBuilder {
     /// Builds the mesh.
     pub fn build(&self) -> Result<Mesh, BemError> {
         let mut mesh = Mesh::default();
-        let loops: Vec<LoopSpec> = self
-            .loops
-            .iter()
-            .map(oriented)
-            .collect::<Result<_, _>>()?;
+        let loops: Vec<LoopSpec> = self.loops.iter().map(oriented).collect::<Result<_, _>>()?;
         let tol = self.tolerance();
         // Mouths: (loop, edge, parameter interval removed) per crack end on a loop.
         let mut cuts: Vec<Vec<Vec<(f64, f64, f64)>>> = loops
@@ -201,7 +197,9 @@ fn oriented(l: &LoopSpec) -> Result<LoopSpec, BemError> {
     let mut sizes = l.edge_sizes.clone();
     // Reversed points q_k = p_{n-1-k}; edge k runs q_k -> q_{k+1} = p_{n-1-k} -> p_{n-2-k},
     // which is old edge n-2-k (mod n).
-    groups = (0..n).map(|k| groups[(2 * n - 2 - k) % n].clone()).collect();
+    groups = (0..n)
+        .map(|k| groups[(2 * n - 2 - k) % n].clone())
+        .collect();
     sizes = (0..n).map(|k| sizes[(2 * n - 2 - k) % n]).collect();
     Ok(LoopSpec {
         points,
@@ -213,10 +211,16 @@ fn oriented(l: &LoopSpec) -> Result<LoopSpec, BemError> {
 
 fn check_crack(c: &CrackSpec) -> Result<(), BemError> {
     if c.points.len() < 2 {
-        return Err(BemError::Mesh(format!("crack '{}' needs at least 2 points", c.name)));
+        return Err(BemError::Mesh(format!(
+            "crack '{}' needs at least 2 points",
+            c.name
+        )));
     }
     if c.points.windows(2).any(|w| (w[1] - w[0]).norm() == 0.0) {
-        return Err(BemError::Mesh(format!("crack '{}' has a zero-length segment", c.name)));
+        return Err(BemError::Mesh(format!(
+            "crack '{}' has a zero-length segment",
+            c.name
+        )));
     }
     if !(c.element_size > 0.0) {
         return Err(BemError::Mesh(format!(
@@ -226,7 +230,10 @@ fn check_crack(c: &CrackSpec) -> Result<(), BemError> {
     }
     if let FaceMode::Gap(g) = c.faces {
         if !(g > 0.0) {
-            return Err(BemError::Mesh(format!("crack '{}': gap {g} must be positive", c.name)));
+            return Err(BemError::Mesh(format!(
+                "crack '{}': gap {g} must be positive",
+                c.name
+            )));
         }
     }
     Ok(())
@@ -384,8 +391,15 @@ mod tests {
 
     fn rect(w: f64, h: f64, size: f64) -> LoopSpec {
         LoopSpec {
-            points: vec![V2::new(0.0, 0.0), V2::new(w, 0.0), V2::new(w, h), V2::new(0.0, h)],
-            edge_groups: ["bottom", "right", "top", "left"].map(String::from).to_vec(),
+            points: vec![
+                V2::new(0.0, 0.0),
+                V2::new(w, 0.0),
+                V2::new(w, h),
+                V2::new(0.0, h),
+            ],
+            edge_groups: ["bottom", "right", "top", "left"]
+                .map(String::from)
+                .to_vec(),
             edge_sizes: vec![size; 4],
             is_hole: false,
         }
@@ -407,7 +421,9 @@ mod tests {
     fn reversed_loop_keeps_edge_names() {
         let mut l = rect(2.0, 1.0, 0.5);
         l.points.reverse();
-        l.edge_groups = ["top", "right", "bottom", "left"].map(String::from).to_vec();
+        l.edge_groups = ["top", "right", "bottom", "left"]
+            .map(String::from)
+            .to_vec();
         let mut b = MeshBuilder::new();
         b.add_loop(l);
         let m = b.build().unwrap();
@@ -433,7 +449,12 @@ mod tests {
         assert!(!c.start_is_tip && c.end_is_tip);
         assert_eq!(c.upper.len(), 10);
         let top = m.group("top").unwrap();
-        let total: f64 = m.elements.iter().filter(|e| e.group == top).map(|e| e.h).sum();
+        let total: f64 = m
+            .elements
+            .iter()
+            .filter(|e| e.group == top)
+            .map(|e| e.h)
+            .sum();
         assert!((total - (2.0 - 1e-4)).abs() < 1e-12);
         // Upper face (left of downward direction = +x side) has normal pointing to -x.
         let u = &m.elements[c.upper[3]];

@@ -47,16 +47,20 @@ pub fn tangential_stencil(mesh: &Mesh) -> Stencil {
     let n = mesh.len();
     let mut prev: Vec<Option<usize>> = vec![None; n];
     let mut next: Vec<Option<usize>> = vec![None; n];
-    let mouths: Vec<V2> = mesh.cracks.iter().flat_map(|c| {
-        let mut v = Vec::new();
-        if !c.start_is_tip {
-            v.push(c.points[0]);
-        }
-        if !c.end_is_tip {
-            v.push(*c.points.last().unwrap());
-        }
-        v
-    }).collect();
+    let mouths: Vec<V2> = mesh
+        .cracks
+        .iter()
+        .flat_map(|c| {
+            let mut v = Vec::new();
+            if !c.start_is_tip {
+                v.push(c.points[0]);
+            }
+            if !c.end_is_tip {
+                v.push(*c.points.last().unwrap());
+            }
+            v
+        })
+        .collect();
     let joined = |a: usize, b: usize| {
         // b follows a: contiguous, collinear, and not at a crack mouth.
         let (ea, eb) = (&mesh.elements[a], &mesh.elements[b]);
@@ -81,7 +85,9 @@ pub fn tangential_stencil(mesh: &Mesh) -> Stencil {
     }
     (0..n)
         .map(|j| {
-            let sj = |k: usize| (mesh.elements[k].mid - mesh.elements[j].mid).dot(&mesh.elements[j].tangent);
+            let sj = |k: usize| {
+                (mesh.elements[k].mid - mesh.elements[j].mid).dot(&mesh.elements[j].tangent)
+            };
             match (prev[j], next[j]) {
                 (Some(p), Some(q)) => {
                     let d = sj(q) - sj(p);
@@ -112,12 +118,24 @@ fn link_faces(
     next: &mut [Option<usize>],
 ) {
     let total = c.length();
-    let ci = mesh.cracks.iter().position(|x| std::ptr::eq(x, c)).unwrap_or(0);
-    let tips: Vec<(f64, f64)> = [(c.start_is_tip, 0.0, c.points[0]), (c.end_is_tip, total, *c.points.last().unwrap())]
+    let ci = mesh
+        .cracks
         .iter()
-        .filter(|t| t.0)
-        .map(|t| (t.1, zone * crate::post::sif::tip_length_scale(mesh, ci, t.2)))
-        .collect();
+        .position(|x| std::ptr::eq(x, c))
+        .unwrap_or(0);
+    let tips: Vec<(f64, f64)> = [
+        (c.start_is_tip, 0.0, c.points[0]),
+        (c.end_is_tip, total, *c.points.last().unwrap()),
+    ]
+    .iter()
+    .filter(|t| t.0)
+    .map(|t| {
+        (
+            t.1,
+            zone * crate::post::sif::tip_length_scale(mesh, ci, t.2),
+        )
+    })
+    .collect();
     let free = |i: usize| tips.iter().all(|(s, r)| (c.stations[i] - s).abs() > *r);
     let m = c.stations.len();
     for i in 0..m.saturating_sub(1) {
@@ -162,7 +180,12 @@ mod tests {
     fn stencil_differentiates_linear_fields_exactly_on_each_side() {
         let mut b = MeshBuilder::new();
         b.add_loop(LoopSpec {
-            points: vec![V2::new(0.0, 0.0), V2::new(2.0, 0.0), V2::new(2.0, 1.0), V2::new(0.0, 1.0)],
+            points: vec![
+                V2::new(0.0, 0.0),
+                V2::new(2.0, 0.0),
+                V2::new(2.0, 1.0),
+                V2::new(0.0, 1.0),
+            ],
             edge_groups: vec!["e".into(); 4],
             edge_sizes: vec![0.25; 4],
             is_hole: false,

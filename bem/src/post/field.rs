@@ -26,7 +26,12 @@ pub struct FieldEvaluator<'a> {
 
 impl<'a> FieldEvaluator<'a> {
     /// Evaluator of `sol` on `mesh`, plus a uniform `background` field.
-    pub fn new(mesh: &'a Mesh, material: &Material, sol: &'a Solution, background: Background) -> Self {
+    pub fn new(
+        mesh: &'a Mesh,
+        material: &Material,
+        sol: &'a Solution,
+        background: Background,
+    ) -> Self {
         Self {
             mesh,
             material: *material,
@@ -34,6 +39,11 @@ impl<'a> FieldEvaluator<'a> {
             background,
             kc: KernelConsts::from(material),
         }
+    }
+
+    /// The mesh.
+    pub fn mesh(&self) -> &Mesh {
+        self.mesh
     }
 
     /// The material.
@@ -93,7 +103,11 @@ impl<'a> FieldEvaluator<'a> {
             }
         }
         let b = self.background.stress;
-        [s[0][0] + b[0], s[1][1] + b[1], 0.5 * (s[0][1] + s[1][0]) + b[2]]
+        [
+            s[0][0] + b[0],
+            s[1][1] + b[1],
+            0.5 * (s[0][1] + s[1][0]) + b[2],
+        ]
     }
 
     /// Displacements at many points (parallel).
@@ -121,7 +135,10 @@ impl<'a> FieldEvaluator<'a> {
             let el = &self.mesh.elements[i];
             let (ep, en) = (&self.mesh.elements[ip], &self.mesh.elements[inx]);
             let ds = 0.5 * ep.h + el.h + 0.5 * en.h;
-            let du = V2::new(self.sol.u[inx][0] - self.sol.u[ip][0], self.sol.u[inx][1] - self.sol.u[ip][1]);
+            let du = V2::new(
+                self.sol.u[inx][0] - self.sol.u[ip][0],
+                self.sol.u[inx][1] - self.sol.u[ip][1],
+            );
             let ett = du.dot(&el.tangent) / ds;
             let tn = V2::new(self.sol.t[i][0], self.sol.t[i][1]).dot(&el.normal);
             let stt = 2.0 * mu / (1.0 - nu) * ett + nu / (1.0 - nu) * tn;

@@ -169,7 +169,11 @@ pub fn cod_sif(
         let nrm = V2::new(-d.y, d.x);
         let du = jump(sol, c, i);
         // r K_app = coef sqrt(r) du
-        rows.push((r, coef * r.sqrt() * du.dot(&nrm), coef * r.sqrt() * du.dot(&d)));
+        rows.push((
+            r,
+            coef * r.sqrt() * du.dot(&nrm),
+            coef * r.sqrt() * du.dot(&d),
+        ));
     }
     let npts = rows.len();
     let terms = match npts {
@@ -186,7 +190,12 @@ pub fn cod_sif(
 
 /// Least-squares fit of y(r) = d0 + K r + d2 r^2 + d3 r^3 (first `terms` terms; with one
 /// term, y = K r); returns K.
-fn fit_slope(rows: &[(f64, f64, f64)], y: impl Fn(&(f64, f64, f64)) -> f64, terms: usize, scale: f64) -> f64 {
+fn fit_slope(
+    rows: &[(f64, f64, f64)],
+    y: impl Fn(&(f64, f64, f64)) -> f64,
+    terms: usize,
+    scale: f64,
+) -> f64 {
     if terms == 1 {
         return y(&rows[0]) / rows[0].0;
     }
@@ -217,7 +226,10 @@ fn williams(mode: u8, r: f64, th: f64, mu: f64, kappa: f64) -> ([f64; 2], [f64; 
     let g = (r / (2.0 * PI)).sqrt() / (2.0 * mu);
     if mode == 1 {
         (
-            [g * c * (kappa - 1.0 + 2.0 * s * s), g * s * (kappa + 1.0 - 2.0 * c * c)],
+            [
+                g * c * (kappa - 1.0 + 2.0 * s * s),
+                g * s * (kappa + 1.0 - 2.0 * c * c),
+            ],
             [
                 f * c * (1.0 - s * t3.sin()),
                 f * c * (1.0 + s * t3.sin()),
@@ -226,7 +238,10 @@ fn williams(mode: u8, r: f64, th: f64, mu: f64, kappa: f64) -> ([f64; 2], [f64; 
         )
     } else {
         (
-            [g * s * (kappa + 1.0 + 2.0 * c * c), -g * c * (kappa - 1.0 - 2.0 * s * s)],
+            [
+                g * s * (kappa + 1.0 + 2.0 * c * c),
+                -g * c * (kappa - 1.0 - 2.0 * s * s),
+            ],
             [
                 -f * s * (2.0 + c * t3.cos()),
                 f * s * c * t3.cos(),
@@ -274,7 +289,10 @@ fn contour_integrand(ev: &FieldEvaluator, tip: V2, dir: V2, radius: f64, th: f64
             williams(mode, xx.hypot(yy), yy.atan2(xx), mu, kappa).0
         };
         let (ap, am) = (ua(delta), ua(-delta));
-        let dua = [(ap[0] - am[0]) / (2.0 * delta), (ap[1] - am[1]) / (2.0 * delta)];
+        let dua = [
+            (ap[0] - am[0]) / (2.0 * delta),
+            (ap[1] - am[1]) / (2.0 * delta),
+        ];
         let siga = [[sa[0], sa[2]], [sa[2], sa[1]]];
         let w12 = s11 * ea[0] + s22 * ea[1] + 2.0 * s12 * ea[2];
         let mut v = w12 * n[0];
@@ -324,11 +342,14 @@ pub fn interaction_integral(
         for side in [-1.0, 1.0] {
             // Samples at distance theta_c, 2 theta_c, 3 theta_c from the face; the quadratic
             // through them (in the distance d from the face) integrated over d in [0, theta_c].
-            let s: Vec<[f64; 3]> = (1..=3).map(|k| f(side * (PI - k as f64 * theta_c))).collect();
+            let s: Vec<[f64; 3]> = (1..=3)
+                .map(|k| f(side * (PI - k as f64 * theta_c)))
+                .collect();
             // Weights of the quadratic through d = 1, 2, 3 (units of theta_c) integrated on [0, 1].
             let wts = [23.0 / 12.0, -16.0 / 12.0, 5.0 / 12.0];
             for k in 0..3 {
-                acc[k] += radius * theta_c * (wts[0] * s[0][k] + wts[1] * s[1][k] + wts[2] * s[2][k]);
+                acc[k] +=
+                    radius * theta_c * (wts[0] * s[0][k] + wts[1] * s[1][k] + wts[2] * s[2][k]);
             }
         }
     }

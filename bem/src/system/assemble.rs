@@ -59,7 +59,11 @@ pub(super) fn assemble(
         .collect();
 
     // First-moment (reconstruction) coefficients of u, column (j, c) = H^c_1[:, (j, c)].
-    let mut first = if stencil.is_some() { vec![0.0; ndof * ndof] } else { Vec::new() };
+    let mut first = if stencil.is_some() {
+        vec![0.0; ndof * ndof]
+    } else {
+        Vec::new()
+    };
     let mut first_cols: Vec<Option<&mut [f64]>> = if stencil.is_some() {
         first.chunks_mut(2 * ndof).map(Some).collect()
     } else {
@@ -87,7 +91,8 @@ pub(super) fn assemble(
                         let (p, p1) = integrate_element_linear(ei.mid, ei.normal, ej, &kc);
                         for r in 0..2 {
                             for c in 0..2 {
-                                f[c * ndof + 2 * i + r] = params.alpha * p1.t[r][c] + beta * p1.h[r][c];
+                                f[c * ndof + 2 * i + r] =
+                                    params.alpha * p1.t[r][c] + beta * p1.h[r][c];
                             }
                         }
                         p
@@ -123,7 +128,8 @@ pub(super) fn assemble(
                     *b += k * v;
                 }
                 if variable_el[j] {
-                    acc.variable.push((2 * j + c, std::mem::take(&mut known[c])));
+                    acc.variable
+                        .push((2 * j + c, std::mem::take(&mut known[c])));
                 }
             }
             // Rigid-mode multiplier rows: R^T x = 0 (entries on u-unknown columns).
@@ -150,7 +156,11 @@ pub(super) fn assemble(
             x.variable.extend(y.variable);
             x
         });
-    let mut rhs = if acc.rhs.is_empty() { vec![0.0; n] } else { acc.rhs };
+    let mut rhs = if acc.rhs.is_empty() {
+        vec![0.0; n]
+    } else {
+        acc.rhs
+    };
     let mut variable = acc.variable;
     variable.sort_by_key(|(d, _)| *d);
     drop(first_cols);

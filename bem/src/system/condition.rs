@@ -12,12 +12,16 @@ pub(super) fn estimate_cond1(sys: &BemSystem, norm1: f64) -> f64 {
         let mut y = x.clone();
         sys.substitute(&mut y, false);
         let new_est: f64 = y.iter().map(|v| v.abs()).sum();
-        let mut z: Vec<f64> = y.iter().map(|v| if *v >= 0.0 { 1.0 } else { -1.0 }).collect();
-        sys.substitute(&mut z, true);
-        let (jmax, zmax) = z
+        let mut z: Vec<f64> = y
             .iter()
-            .enumerate()
-            .fold((0, 0.0), |(bj, bv), (j, v)| if v.abs() > bv { (j, v.abs()) } else { (bj, bv) });
+            .map(|v| if *v >= 0.0 { 1.0 } else { -1.0 })
+            .collect();
+        sys.substitute(&mut z, true);
+        let (jmax, zmax) =
+            z.iter().enumerate().fold(
+                (0, 0.0),
+                |(bj, bv), (j, v)| if v.abs() > bv { (j, v.abs()) } else { (bj, bv) },
+            );
         let ztx: f64 = z.iter().zip(&x).map(|(a, b)| a * b).sum();
         if new_est <= est || zmax <= ztx {
             est = est.max(new_est);

@@ -165,7 +165,9 @@ impl BemSystem {
         } else {
             rigid::free_modes(mesh, bcs)
         };
-        let stencil = params.reconstruct.then(|| crate::mesh::stencil::tangential_stencil(mesh));
+        let stencil = params
+            .reconstruct
+            .then(|| crate::mesh::stencil::tangential_stencil(mesh));
         let asm = assemble::assemble(mesh, material, bcs, params, &modes, stencil.as_ref());
         let assembly_s = t0.elapsed().as_secs_f64();
         let n = asm.n;
@@ -198,7 +200,12 @@ impl BemSystem {
         } else {
             f64::NAN
         };
-        if sys.lu.iter().step_by(n + 1).any(|d| *d == 0.0 || !d.is_finite()) {
+        if sys
+            .lu
+            .iter()
+            .step_by(n + 1)
+            .any(|d| *d == 0.0 || !d.is_finite())
+        {
             return Err(BemError::Singular {
                 reason: "zero or non-finite pivot in the LU factorization".into(),
                 unknowns: n,
@@ -217,8 +224,12 @@ impl BemSystem {
         let n = self.n;
         let par = Par::rayon(0);
         let mat = MatMut::from_column_major_slice_mut(&mut self.lu, n, n);
-        let mut mem =
-            MemBuffer::new(factor::lu_in_place_scratch::<usize, f64>(n, n, par, Default::default()));
+        let mut mem = MemBuffer::new(factor::lu_in_place_scratch::<usize, f64>(
+            n,
+            n,
+            par,
+            Default::default(),
+        ));
         factor::lu_in_place(
             mat,
             &mut self.perm,
@@ -239,7 +250,15 @@ impl BemSystem {
         let mut mem = MemBuffer::new(solve::solve_in_place_scratch::<usize, f64>(n, 1, par));
         let stack = MemStack::new(&mut mem);
         if transpose {
-            solve::solve_transpose_in_place_with_conj(lu, lu, perm, faer::Conj::No, rhs, par, stack);
+            solve::solve_transpose_in_place_with_conj(
+                lu,
+                lu,
+                perm,
+                faer::Conj::No,
+                rhs,
+                par,
+                stack,
+            );
         } else {
             solve::solve_in_place_with_conj(lu, lu, perm, faer::Conj::No, rhs, par, stack);
         }

@@ -21,8 +21,12 @@ pub(super) fn free_modes(mesh: &Mesh, bcs: &[[Bc; 2]]) -> Vec<Vec<f64>> {
         .fold(0.0, f64::max)
         .max(1e-300);
     let basis: [Vec<f64>; 3] = [
-        (0..2 * nel).map(|d| if d % 2 == 0 { 1.0 } else { 0.0 }).collect(),
-        (0..2 * nel).map(|d| if d % 2 == 1 { 1.0 } else { 0.0 }).collect(),
+        (0..2 * nel)
+            .map(|d| if d % 2 == 0 { 1.0 } else { 0.0 })
+            .collect(),
+        (0..2 * nel)
+            .map(|d| if d % 2 == 1 { 1.0 } else { 0.0 })
+            .collect(),
         (0..2 * nel)
             .map(|d| {
                 let p = (mesh.elements[d / 2].mid - c) / scale;
