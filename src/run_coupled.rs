@@ -387,7 +387,8 @@ fn pd_settings(scene: &Scene, pd: &ScenePd) -> PdSettings {
         plane,
         failure,
         surface_correction: pd.surface_correction,
-        bulk_correction: true,
+        // The surface correction already includes the bulk factor.
+        bulk_correction: !pd.surface_correction,
     }
 }
 

@@ -27,8 +27,11 @@ pub struct BenchEntry {
     pub memory_bytes: usize,
 }
 
+/// A mesh, its per-element conditions and the groups whose values may change.
+pub type LoadedMesh = (crate::Mesh, Vec<[Bc; 2]>, Vec<usize>);
+
 /// The plate mesh with about `target` elements and its loaded-edge conditions.
-pub fn sent_plate(target: usize) -> Result<(crate::Mesh, Vec<[Bc; 2]>, Vec<usize>), BemError> {
+pub fn sent_plate(target: usize) -> Result<LoadedMesh, BemError> {
     // Perimeter 60 m plus two faces of 8 m: 76 m of boundary.
     let h = 76.0 / target as f64;
     let mut b = MeshBuilder::new();

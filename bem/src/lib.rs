@@ -2,8 +2,7 @@
 //!
 //! The macro body of pdbem (seed 002 section 2.2). At every collocation point (element
 //! midpoint) the solver writes $\alpha\,$CBIE $+ \beta\,$HBIE (seed 002 Eqs. 21-22):
-//! $$\alpha\Big[u(x) + \sum_e \hat T u_e - \sum_e \hat U t_e\Big]
-//!   + \beta\Big[t(x) + \sum_e \hat H u_e - \sum_e \hat K t_e\Big] = 0,$$
+//! $$\alpha\Big[u(x) + \sum_e \hat T u_e - \sum_e \hat U t_e\Big] + \beta\Big[t(x) + \sum_e \hat H u_e - \sum_e \hat K t_e\Big] = 0,$$
 //! with $\alpha = 1$ and $\beta = -h(x)/E$, the sign that makes $\beta \hat H_{ii}$
 //! reinforce the diagonal (REFERENCES.md: the other sign makes the operator nearly singular).
 //!

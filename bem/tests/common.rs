@@ -4,6 +4,7 @@
 use pdbem_bem::mesh::{CrackSpec, FaceMode, LoopSpec};
 use pdbem_bem::{Bc, Material, Mesh, MeshBuilder, Plane, V2};
 
+/// Axis-aligned rectangle loop with edges bottom, right, top, left.
 pub fn rect_loop(x0: f64, y0: f64, w: f64, h: f64, size: f64) -> LoopSpec {
     LoopSpec {
         points: vec![
@@ -20,6 +21,7 @@ pub fn rect_loop(x0: f64, y0: f64, w: f64, h: f64, size: f64) -> LoopSpec {
     }
 }
 
+/// Circle as n single-element sides (a hole when `hole`).
 pub fn circle_loop(c: V2, r: f64, n: usize, hole: bool) -> LoopSpec {
     let pts: Vec<V2> = (0..n)
         .map(|i| {
@@ -35,6 +37,7 @@ pub fn circle_loop(c: V2, r: f64, n: usize, hole: bool) -> LoopSpec {
     }
 }
 
+/// The seed-002 plate material: E = 1e4 Pa, nu = 1/3, plane stress.
 pub fn steel() -> Material {
     Material::new(1e4, 1.0 / 3.0, Plane::Stress).unwrap()
 }
@@ -64,6 +67,7 @@ pub fn crack(name: &str, a: V2, b: V2, size: f64, faces: FaceMode) -> CrackSpec 
     }
 }
 
+/// Builds a mesh from loops and cracks.
 pub fn build(loops: Vec<LoopSpec>, cracks: Vec<CrackSpec>) -> Mesh {
     let mut b = MeshBuilder::new();
     for l in loops {

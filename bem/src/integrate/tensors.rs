@@ -6,8 +6,8 @@
 //! $$T_{ij} = -C_T[(1-2\nu)\delta_{ij}\eta/r^2 + 2\eta R_iR_j/r^4 - (1-2\nu)(R_in_j - R_jn_i)/r^2]$$
 //! $$D_{kij} = C_T[(1-2\nu)(R_i\delta_{kj} + R_j\delta_{ki} - R_k\delta_{ij})/r^2 + 2R_iR_jR_k/r^4]$$
 //! $$S_{kij} = C_S[2\eta((1-2\nu)\delta_{ij}R_k + \nu(R_i\delta_{jk} + R_j\delta_{ik}))/r^4
-//!   - 8\eta R_iR_jR_k/r^6 + 2\nu(n_iR_jR_k + n_jR_iR_k)/r^4 + 2(1-2\nu)n_kR_iR_j/r^4
-//!   + ((1-2\nu)(n_j\delta_{ik} + n_i\delta_{jk}) - (1-4\nu)n_k\delta_{ij})/r^2]$$
+//! \; - 8\eta R_iR_jR_k/r^6 + 2\nu(n_iR_jR_k + n_jR_iR_k)/r^4 + 2(1-2\nu)n_kR_iR_j/r^4
+//! \; + ((1-2\nu)(n_j\delta_{ik} + n_i\delta_{jk}) - (1-4\nu)n_k\delta_{ij})/r^2]$$
 //! with $C_U = 1/(8\pi\mu(1-\nu))$, $C_T = 1/(4\pi(1-\nu))$, $C_S = \mu/(2\pi(1-\nu))$,
 //! $K_{jk} = D_{kij} m_i$, $H_{jk} = S_{kij} m_i$.
 

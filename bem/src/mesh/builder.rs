@@ -179,7 +179,7 @@ fn oriented(l: &LoopSpec) -> Result<LoopSpec, BemError> {
             l.edge_sizes.len()
         )));
     }
-    if let Some(s) = l.edge_sizes.iter().find(|s| !(**s > 0.0)) {
+    if let Some(s) = l.edge_sizes.iter().find(|s| s.is_nan() || **s <= 0.0) {
         return Err(BemError::Mesh(format!("element size {s} must be positive")));
     }
     let area = signed_area(&l.points);
@@ -222,14 +222,14 @@ fn check_crack(c: &CrackSpec) -> Result<(), BemError> {
             c.name
         )));
     }
-    if !(c.element_size > 0.0) {
+    if c.element_size.is_nan() || c.element_size <= 0.0 {
         return Err(BemError::Mesh(format!(
             "crack '{}': element size {} must be positive",
             c.name, c.element_size
         )));
     }
     if let FaceMode::Gap(g) = c.faces {
-        if !(g > 0.0) {
+        if g.is_nan() || g <= 0.0 {
             return Err(BemError::Mesh(format!(
                 "crack '{}': gap {g} must be positive",
                 c.name

@@ -8,8 +8,8 @@
 //! cracks, or the ligament ahead of the tip if shorter).
 //!
 //! **Interaction integral**: on a circle of radius $\rho$ around the tip (tip frame),
-//! $M = \oint [\sigma_{ij}\varepsilon^{aux}_{ij} n_1 - \sigma_{ij} u^{aux}_{i,1} n_j
-//! - \sigma^{aux}_{ij} u_{i,1} n_j]\,ds$ with the Williams fields of unit $K^{aux}$, and
+//! $M = \oint [\sigma_{ij}\varepsilon^{aux}_{ij} n_1 - \sigma_{ij} u^{aux}_{i,1} n_j - \sigma^{aux}_{ij} u_{i,1} n_j]\,ds$
+//! with the Williams fields of unit $K^{aux}$, and
 //! $K = E' M / 2$. $J = \oint (W n_1 - \sigma_{ij} u_{i,1} n_j) ds = (K_I^2 + K_{II}^2)/E'$.
 //!
 //! **Kink angle** (Erdogan & Sih): $\theta = 2\arctan[(K_I - \sqrt{K_I^2 + 8K_{II}^2})/(4K_{II})]$,
@@ -374,7 +374,7 @@ pub fn analyze_tips(
     let mut out = Vec::new();
     for (ci, at_end, pos, dir) in mesh.tips() {
         let l = tip_length_scale(mesh, ci, pos);
-        if !(l > 0.0) {
+        if l.is_nan() || l <= 0.0 {
             return Err(BemError::Post(format!(
                 "crack '{}': tip touches another boundary",
                 mesh.cracks[ci].name
