@@ -264,79 +264,60 @@ mod tests {
         (a - b).abs() / scale.max(b.abs())
     }
 
+    /// Worst scaled error of the moments of `method` against the reference over the pairs
+    /// (sx, eta) of an element of length 0.1; also checks L and L1 to `log_tol`.
+    fn worst_error(
+        method: fn(&PairGeometry) -> Moments,
+        pairs: &[(f64, f64)],
+        log_tol: f64,
+    ) -> f64 {
+        let h = 0.1;
+        let mut worst: f64 = 0.0;
+        for &(sx, eta) in pairs {
+            let g = PairGeometry {
+                s1: -sx,
+                s2: h - sx,
+                eta,
+                h,
+            };
+            let (c, r) = (method(&g), reference(&g));
+            for a in 0..5 {
+                for k in 1..4 {
+                    let scale = r.m[0][k].abs() * (h + sx.abs()).powi(a as i32);
+                    worst = worst.max(rel(c.m[a][k], r.m[a][k], scale));
+                }
+            }
+            assert!(rel(c.l, r.l, h) < log_tol, "L at sx={sx} eta={eta}");
+            assert!(rel(c.l1, r.l1, h * h) < log_tol, "L1 at sx={sx} eta={eta}");
+        }
+        worst
+    }
+
     #[test]
     fn closed_form_matches_fine_quadrature() {
-        let h = 0.1;
-        for &(sx, eta) in &[
+        let pairs = [
             (0.05, 0.02),
             (0.05, 1e-3),
             (0.0, 0.05),
             (-0.03, 0.01),
             (0.13, 0.04),
             (0.05, -0.3),
-        ] {
-            let g = PairGeometry {
-                s1: -sx,
-                s2: h - sx,
-                eta,
-                h,
-            };
-            let c = closed_form(&g);
-            let r = reference(&g);
-            for a in 0..5 {
-                for k in 1..4 {
-                    let e = rel(
-                        c.m[a][k],
-                        r.m[a][k],
-                        r.m[0][k].abs() * (h + sx.abs()).powi(a as i32),
-                    );
-                    assert!(
-                        e < 1e-9,
-                        "sx={sx} eta={eta} a={a} k={k}: {} vs {}",
-                        c.m[a][k],
-                        r.m[a][k]
-                    );
-                }
-            }
-            assert!(rel(c.l, r.l, h) < 1e-11);
-            assert!(rel(c.l1, r.l1, h * h) < 1e-10, "l1 {} vs {}", c.l1, r.l1);
-        }
+        ];
+        let e = worst_error(closed_form, &pairs, 1e-10);
+        assert!(e < 1e-9, "worst {e}");
     }
 
     #[test]
     fn dispatch_is_accurate_for_all_regimes() {
-        let h = 0.1;
-        for &(sx, eta) in &[
+        let pairs = [
             (0.5, 0.01),
             (-0.06, 1e-4),
             (0.3, 0.3),
             (2.0, 0.5),
             (0.05, 0.2),
             (0.16, 0.005),
-        ] {
-            let g = PairGeometry {
-                s1: -sx,
-                s2: h - sx,
-                eta,
-                h,
-            };
-            let c = element_moments(&g);
-            let r = reference(&g);
-            for a in 0..5 {
-                for k in 1..4 {
-                    let e = rel(
-                        c.m[a][k],
-                        r.m[a][k],
-                        r.m[0][k].abs() * (h + sx.abs()).powi(a as i32),
-                    );
-                    assert!(
-                        e < 2e-8,
-                        "sx={sx} eta={eta} a={a} k={k}: {} vs {} ({e})",
-                        c.m[a][k],
-                        r.m[a][k]
-                    );
-                }
-            }
-        }
+        ];
+        let e = worst_error(element_moments, &pairs, 1e-8);
+        assert!(e < 2e-8, "worst {e}");
     }
 }
