@@ -1,9 +1,40 @@
 //! # pdbem-coupling: PD windows iterated against the BEM body (seed 002 section 2.3)
 //!
+//! The crack-tip regions are PD windows (square, n x n real nodes of spacing dx, possibly
+//! rotated or against the outline); the rest of the body is BEM with the windows cut out,
+//! one interface element of length dx per PD node row. Algorithm 1 (seed 002 section
+//! 2.3.1) iterates: PD takes interface displacements on its virtual layers (Eq. 23), its
+//! virtual-on-real forces become BEM tractions (Eq. 24), BEM returns new displacements by
+//! one substitution, and an accelerator (Eqs. 25-28 or IQN-ILS) relaxes them.
+//!
 //! Map of the crate:
+//! - [`window`]: window geometry, placement rules, BEM hole / outline cut, crack split.
+//! - [`pd_window`]: the PD problem of a window (virtual layers, outer conditions, bulk
+//!   stiffness calibration).
+//! - [`interface`]: element <-> virtual node <-> bond matching of one window.
+//! - [`maps`]: BEM -> PD displacement maps (copy, interior, Taylor) and PD -> BEM tractions.
+//! - [`setup`]: from a macro layout to mesh + windows ([`setup::build`]).
+//! - [`iteration`]: Algorithm 1 ([`iteration::solve`]: params in, `Result<(solution, info), CouplingError>` out).
 //! - [`relaxation`]: interface acceleration behind one trait: constant, Aitken (seed 002
 //!   Eqs. 25-28) and IQN-ILS.
+//! - [`error`]: the crate's error type, [`CouplingError`].
 //!
-//! Windows, interface maps, Algorithm 1 and Algorithm 2 arrive with issues 4 and 5.
+//! Algorithm 2 (moving windows, crack growth) arrives with issue 5.
 
+pub mod error;
+pub mod interface;
+pub mod iteration;
+pub mod maps;
+pub mod pd_window;
 pub mod relaxation;
+pub mod setup;
+pub mod window;
+
+pub use error::CouplingError;
+pub use iteration::{
+    solve, Acceleration, CoupledProblem, CoupledSolution, CouplingInfo, CouplingParams, PdSolve,
+    Timings,
+};
+pub use maps::{DisplacementMap, TractionMap};
+pub use setup::{build, Built, Layout, MacroCrack, WindowModel};
+pub use window::{Body, SideKind, Window, WindowSpec};

@@ -161,8 +161,16 @@ impl Relaxation for IqnIls {
         let mut cols: Vec<(Vec<f64>, Vec<f64>)> = (first..k - 1)
             .rev()
             .map(|i| {
-                let dv: Vec<f64> = r.iter().zip(&self.residuals[i]).map(|(a, b)| a - b).collect();
-                let dw: Vec<f64> = xt.iter().zip(&self.outputs[i]).map(|(a, b)| a - b).collect();
+                let dv: Vec<f64> = r
+                    .iter()
+                    .zip(&self.residuals[i])
+                    .map(|(a, b)| a - b)
+                    .collect();
+                let dw: Vec<f64> = xt
+                    .iter()
+                    .zip(&self.outputs[i])
+                    .map(|(a, b)| a - b)
+                    .collect();
                 (dv, dw)
             })
             .collect();
@@ -174,7 +182,10 @@ impl Relaxation for IqnIls {
             let qr = v.clone().qr();
             let rdiag: Vec<f64> = qr.r().diagonal().iter().map(|d| d.abs()).collect();
             let rmax = rdiag.iter().fold(0.0_f64, |a, b| a.max(*b));
-            match rdiag.iter().rposition(|d| *d < self.filter * rmax.max(1e-300)) {
+            match rdiag
+                .iter()
+                .rposition(|d| *d < self.filter * rmax.max(1e-300))
+            {
                 Some(j) if cols.len() > 1 => {
                     cols.remove(j);
                 }
@@ -223,7 +234,12 @@ mod tests {
         let lam = [-1.6, -0.9, 0.3, 0.7];
         let c = std::f64::consts::FRAC_1_SQRT_2;
         // Orthogonal Q built from two plane rotations by 45 degrees.
-        let q = [[c, -c, 0.0, 0.0], [c, c, 0.0, 0.0], [0.0, 0.0, c, -c], [0.0, 0.0, c, c]];
+        let q = [
+            [c, -c, 0.0, 0.0],
+            [c, c, 0.0, 0.0],
+            [0.0, 0.0, c, -c],
+            [0.0, 0.0, c, c],
+        ];
         let b = [1.0, -2.0, 0.5, 3.0];
         let mut out = b.to_vec();
         for i in 0..4 {
@@ -243,12 +259,25 @@ mod tests {
         for k in 1..=500 {
             let xt = map(&x);
             let xn = r.next(&x, &xt);
-            let change = xn.iter().zip(&x).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt();
+            let change = xn
+                .iter()
+                .zip(&x)
+                .map(|(a, b)| (a - b).powi(2))
+                .sum::<f64>()
+                .sqrt();
             let size = xn.iter().map(|a| a * a).sum::<f64>().sqrt();
             x = xn;
             if change < tol * size {
-                let res = map(&x).iter().zip(&x).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-                assert!(res < 1e-6, "{} converged to a non-fixed point ({res})", r.name());
+                let res = map(&x)
+                    .iter()
+                    .zip(&x)
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max);
+                assert!(
+                    res < 1e-6,
+                    "{} converged to a non-fixed point ({res})",
+                    r.name()
+                );
                 return k;
             }
         }

@@ -151,7 +151,9 @@ fn check_coupling(c: &mut Checker, scene: &Scene, co: &crate::scene::Coupling) {
     };
     let (lo, hi) = bounding_box(&outline.points);
     let limit = (hi - lo).min();
-    if co.side >= limit {
+    // A `Region` window takes its size from the region; `side` is not used there.
+    let region = matches!(co.placement, crate::scene::Placement::Region { .. });
+    if co.side >= limit && !region {
         c.fail("coupling.side", co.side, format!("coupling window larger than the body: side must be below the body's smaller extent {limit} m"));
         return;
     }

@@ -1,0 +1,123 @@
+//! The one error type of the crate: [`CouplingError`]. Every variant carries the numbers
+//! that explain it and says what to change.
+
+use pdbem_bem::{BemError, V2};
+use pdbem_pd::PdError;
+
+/// What can go wrong when placing windows or iterating PD against BEM.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum CouplingError {
+    /// A window parameter is out of range (side, dx, node count, angle).
+    #[error("window {window}: {message}")]
+    InvalidWindow {
+        /// Window index.
+        window: usize,
+        /// What is wrong and what to change.
+        message: String,
+    },
+    /// A window corner lies outside the body.
+    #[error("window {window}: corner ({:.6}, {:.6}) lies outside the body; move or shrink the window", corner.x, corner.y)]
+    OutsideBody {
+        /// Window index.
+        window: usize,
+        /// The offending corner (m).
+        corner: V2,
+    },
+    /// The outer boundary crosses the window (only whole window sides may lie on it).
+    #[error("window {window}: the outer boundary crosses the window{}; only axis-aligned windows may touch the outline, and then with whole sides", if *rotated { " (rotated window)" } else { "" })]
+    CrossesBoundary {
+        /// Window index.
+        window: usize,
+        /// The window is rotated (not a multiple of 90 degrees).
+        rotated: bool,
+    },
+    /// A hole of the body overlaps the window.
+    #[error("window {window}: overlaps hole {hole}; PD windows must lie in material (move the window off the hole)")]
+    OverHole {
+        /// Window index.
+        window: usize,
+        /// Hole index.
+        hole: usize,
+    },
+    /// Fewer than 2 horizons of real nodes across the window.
+    #[error("window {window}: {nodes} real nodes across a side give {width:.4e} m, less than 2 delta = {min:.4e} m; use at least {needed} nodes per side")]
+    TooFewNodes {
+        /// Window index.
+        window: usize,
+        /// Nodes across the narrower side.
+        nodes: usize,
+        /// Narrower side length (m).
+        width: f64,
+        /// Two horizons (m).
+        min: f64,
+        /// Smallest admissible node count.
+        needed: usize,
+    },
+    /// Two windows overlap (their virtual layers would share material).
+    #[error("windows {a} and {b} overlap (including their horizon layers); move them apart or shrink them")]
+    WindowsOverlap {
+        /// First window.
+        a: usize,
+        /// Second window.
+        b: usize,
+    },
+    /// A crack cannot be split between BEM and a window.
+    #[error("crack {crack}: {message}")]
+    Crack {
+        /// Crack index.
+        crack: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// The BEM mesh does not match the window rows.
+    #[error("window {window}: interface mismatch: {message}")]
+    Interface {
+        /// Window index.
+        window: usize,
+        /// What does not match.
+        message: String,
+    },
+    /// Error from the BEM solver.
+    #[error("BEM: {0}")]
+    Bem(#[from] BemError),
+    /// Error from the PD solver of a window.
+    #[error("PD window {window}: {source}")]
+    Pd {
+        /// Window index.
+        window: usize,
+        /// The PD error.
+        source: PdError,
+    },
+    /// The iteration diverged or stagnated after every back-off of the relaxation.
+    #[error("coupling diverged ({reason}) after {iterations} iterations and {backoffs} relaxation back-offs; residual history {residuals:?}; lower the relaxation weight or refine the interface")]
+    Diverged {
+        /// Why (growing residual, NaN, stagnation).
+        reason: String,
+        /// Iterations done.
+        iterations: usize,
+        /// Back-offs done.
+        backoffs: usize,
+        /// Residual of every iteration.
+        residuals: Vec<f64>,
+    },
+    /// The iteration cap was reached before the residual fell below psi.
+    #[error("coupling did not converge in {iterations} iterations: residual {last:.3e} > psi = {psi:.1e}; history {residuals:?}; raise max_iter or use IQN-ILS")]
+    NoConvergence {
+        /// Iterations done.
+        iterations: usize,
+        /// Last residual.
+        last: f64,
+        /// Tolerance.
+        psi: f64,
+        /// Residual of every iteration.
+        residuals: Vec<f64>,
+    },
+}
+
+impl CouplingError {
+    /// Wraps a PD error of window `window`.
+    pub fn pd(window: usize, source: PdError) -> Self {
+        CouplingError::Pd { window, source }
+    }
+}
