@@ -67,7 +67,8 @@ pub fn integrate_element(
 
 /// The integrals of [`integrate_element`] and the first-moment integrals
 /// $\int K\,(s - s_{mid})\,ds$ about the element midpoint, which multiply the tangential
-/// derivative of a linearly reconstructed density (see [`crate::mesh::stencil`]).
+/// derivative of a linearly reconstructed density (see [`crate::mesh::stencil`]); only
+/// their T and H blocks are computed (the traction is not reconstructed).
 pub fn integrate_element_linear(
     x: Vector2<f64>,
     m: Vector2<f64>,
@@ -83,7 +84,8 @@ pub fn integrate_element_linear(
         el,
     );
     let first_mom = mom.first_moment(0.5 * (geo.s1 + geo.s2));
-    let first = tensors::kernel_integrals(&el.tangent, &el.normal, &m, &first_mom, kc);
+    let first =
+        tensors::kernel_integrals_selected(&el.tangent, &el.normal, &m, &first_mom, kc, false);
     (zeroth, first)
 }
 

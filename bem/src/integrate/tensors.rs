@@ -51,6 +51,19 @@ pub fn kernel_integrals(
     mo: &Moments,
     kc: &KernelConsts,
 ) -> PairIntegrals {
+    kernel_integrals_selected(e, n, m, mo, kc, true)
+}
+
+/// As [`kernel_integrals`]; with `all = false` only T and H are computed (U and K stay
+/// zero): the first-moment integrals multiply the reconstructed displacement only.
+pub fn kernel_integrals_selected(
+    e: &Vector2<f64>,
+    n: &Vector2<f64>,
+    m: &Vector2<f64>,
+    mo: &Moments,
+    kc: &KernelConsts,
+    all: bool,
+) -> PairIntegrals {
     let (mu, nu) = (kc.mu, kc.nu);
     let cu = 1.0 / (8.0 * PI * mu * (1.0 - nu));
     let ct = 1.0 / (4.0 * PI * (1.0 - nu));
@@ -86,15 +99,16 @@ pub fn kernel_integrals(
     for i in 0..2 {
         for j in 0..2 {
             let d = delta(i, j);
-            lu[i][j] = cu * (-(3.0 - 4.0 * nu) * d * mo.l + q1[i][j]);
+            let (jj, kk) = (i, j);
+            if all {
+                lu[i][j] = cu * (-(3.0 - 4.0 * nu) * d * mo.l + q1[i][j]);
+                lk[jj][kk] = ct
+                    * (a * (v1m * delta(kk, jj) + v1[jj] * ml[kk] - v1[kk] * ml[jj])
+                        + 2.0 * w2m[jj][kk]);
+            }
             lt[i][j] = -ct
                 * (a * d * eta * s0 + 2.0 * eta * q2[i][j]
                     - a * (v1[i] * nloc[j] - v1[j] * nloc[i]));
-            // K_jk with (j, k) = (i, j) here.
-            let (jj, kk) = (i, j);
-            lk[jj][kk] = ct
-                * (a * (v1m * delta(kk, jj) + v1[jj] * ml[kk] - v1[kk] * ml[jj])
-                    + 2.0 * w2m[jj][kk]);
             lh[jj][kk] = cs
                 * (2.0
                     * eta
@@ -118,11 +132,19 @@ pub fn kernel_integrals(
         }
         out
     };
-    PairIntegrals {
-        u: rot(&lu),
-        t: rot(&lt),
-        k: rot(&lk),
-        h: rot(&lh),
+    if all {
+        PairIntegrals {
+            u: rot(&lu),
+            t: rot(&lt),
+            k: rot(&lk),
+            h: rot(&lh),
+        }
+    } else {
+        PairIntegrals {
+            t: rot(&lt),
+            h: rot(&lh),
+            ..Default::default()
+        }
     }
 }
 

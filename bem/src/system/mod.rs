@@ -136,7 +136,10 @@ pub struct BemSystem {
     col_scale: Vec<f64>,
     bcs: Vec<[Bc; 2]>,
     rhs: Vec<f64>,
-    variable: Vec<(usize, Vec<f64>)>,
+    /// Degrees of freedom whose prescribed values may change, and their right-hand-side
+    /// columns as one column-major n x m matrix (applied with one parallel product).
+    variable_dofs: Vec<usize>,
+    variable_cols: Vec<f64>,
     stencil: Option<crate::mesh::stencil::Stencil>,
     info: SolveInfo,
 }
@@ -180,7 +183,8 @@ impl BemSystem {
             col_scale: asm.col_scale,
             bcs: bcs.to_vec(),
             rhs: asm.rhs,
-            variable: asm.variable,
+            variable_dofs: asm.variable.iter().map(|(d, _)| *d).collect(),
+            variable_cols: asm.variable.into_iter().flat_map(|(_, c)| c).collect(),
             stencil,
             info: SolveInfo {
                 elements: mesh.len(),
@@ -193,7 +197,7 @@ impl BemSystem {
         let t1 = Instant::now();
         sys.factor();
         sys.info.factor_s = t1.elapsed().as_secs_f64();
-        let vmem: usize = sys.variable.iter().map(|(_, c)| c.len() * 8).sum();
+        let vmem = sys.variable_cols.len() * 8;
         sys.info.memory_bytes = n * n * 8 + vmem + n * 8 * 4;
         sys.info.condition = if params.estimate_condition {
             condition::estimate_cond1(&sys, asm.norm1)
@@ -246,7 +250,8 @@ impl BemSystem {
         let lu = MatRef::from_column_major_slice(&self.lu, n, n);
         let perm = PermRef::new_checked(&self.perm, &self.perm_inv, n);
         let rhs = MatMut::from_column_major_slice_mut(b, n, 1);
-        let par = Par::Seq;
+        // The substitution is memory bound: both cores read the factor faster than one.
+        let par = if n > 2000 { Par::rayon(0) } else { Par::Seq };
         let mut mem = MemBuffer::new(solve::solve_in_place_scratch::<usize, f64>(n, 1, par));
         let stack = MemStack::new(&mut mem);
         if transpose {
@@ -282,15 +287,26 @@ impl BemSystem {
         }
         let mut b = self.rhs.clone();
         let mut is_var = vec![false; 2 * self.n_el];
-        for (dof, col) in &self.variable {
-            is_var[*dof] = true;
-            let (el, c) = (dof / 2, dof % 2);
-            let dv = bcs[el][c].value() - self.bcs[el][c].value();
-            if dv != 0.0 {
-                for (bi, ci) in b.iter_mut().zip(col) {
-                    *bi += ci * dv;
-                }
-            }
+        let dv: Vec<f64> = self
+            .variable_dofs
+            .iter()
+            .map(|&dof| {
+                is_var[dof] = true;
+                let (el, c) = (dof / 2, dof % 2);
+                bcs[el][c].value() - self.bcs[el][c].value()
+            })
+            .collect();
+        if dv.iter().any(|v| *v != 0.0) {
+            let m = dv.len();
+            let cols = MatRef::from_column_major_slice(&self.variable_cols, self.n, m);
+            let x = MatRef::from_column_major_slice(&dv, m, 1);
+            let out = MatMut::from_column_major_slice_mut(&mut b, self.n, 1);
+            let par = if self.n * m > 1 << 20 {
+                Par::rayon(0)
+            } else {
+                Par::Seq
+            };
+            faer::linalg::matmul::matmul(out, faer::Accum::Add, cols, x, 1.0, par);
         }
         for (el, (new, old)) in bcs.iter().zip(&self.bcs).enumerate() {
             for c in 0..2 {
