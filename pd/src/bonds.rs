@@ -8,6 +8,19 @@
 //! $v_j = (\delta + \Delta x/2 - |\xi|)/\Delta x$ beyond. Bonds whose segment
 //! passes through a hole are dropped; bonds crossing a pre-crack polyline are
 //! kept but marked broken, so the damage of Eq. 8 sees them.
+//!
+//! Exact mirror symmetry: the reference bond vector is the lattice vector
+//! $\xi = R(\theta)\,(a\,\Delta x, b\,\Delta x)$ with integer $a, b$ (not
+//! the difference of two rounded positions), and each row is ordered by
+//! the key $(|b|, |a|, \operatorname{sign} b, \operatorname{sign} a)$. Bonds
+//! with the same $(|a|, |b|)$ form a group of at most four mirror images;
+//! [`Bonds::meta`] holds each bond's slot in its group (bit 0: $a<0$, bit
+//! 1: $b<0$) and marks the group's last bond (bit 2). Sums over a row are
+//! taken group by group as $((t_0+t_1)+(t_2+t_3))$ ([`group_sum`]), so the
+//! sum at a node and at its mirror image about a lattice line are bitwise
+//! mirror images (IEEE addition is commutative and negation is exact). On
+//! a mirror-symmetric body and load the discrete solution then stays
+//! exactly symmetric instead of drifting off through round-off.
 
 use rayon::prelude::*;
 
@@ -32,6 +45,34 @@ pub struct Bonds {
     pub surface: Vec<f64>,
     /// Force coefficient `c v_j V_j G_ij` (N/m^3 per unit stretch).
     pub k: Vec<f64>,
+    /// Mirror-group data of each bond: slot (bits 0-1) and end of group
+    /// (bit 2), see the module docs.
+    pub meta: Vec<u8>,
+}
+
+/// Bit of [`Bonds::meta`] marking the last bond of a mirror group.
+pub const GROUP_END: u8 = 4;
+
+/// Sum `f(b)` over the bonds `range` of one row, group by group in the
+/// mirror-symmetric order of the module docs.
+#[inline]
+pub fn group_sum(meta: &[u8], range: std::ops::Range<usize>, mut f: impl FnMut(usize) -> P2) -> P2 {
+    let mut g = [[0.0f64; 2]; 4];
+    let mut tot = [0.0f64; 2];
+    for b in range {
+        let m = meta[b];
+        let v = f(b);
+        let s = (m & 3) as usize;
+        g[s][0] += v[0];
+        g[s][1] += v[1];
+        if m & GROUP_END != 0 {
+            for c in 0..2 {
+                tot[c] += (g[0][c] + g[1][c]) + (g[2][c] + g[3][c]);
+            }
+            g = [[0.0; 2]; 4];
+        }
+    }
+    tot
 }
 
 impl Bonds {
@@ -137,6 +178,41 @@ pub fn build_bonds(grid: &Grid, region: &Region) -> Bonds {
             row
         })
         .collect();
+    // Integer lattice offsets, the exact bond vectors and the group order.
+    let (sa, ca) = grid.angle.sin_cos();
+    let lattice = |v: P2| -> (i32, i32) {
+        let l = if grid.angle == 0.0 {
+            v
+        } else {
+            [ca * v[0] + sa * v[1], -sa * v[0] + ca * v[1]]
+        };
+        ((l[0] / dx).round() as i32, (l[1] / dx).round() as i32)
+    };
+    let exact = |a: i32, b: i32| -> P2 {
+        let l = [a as f64 * dx, b as f64 * dx];
+        if grid.angle == 0.0 {
+            l
+        } else {
+            [ca * l[0] - sa * l[1], sa * l[0] + ca * l[1]]
+        }
+    };
+    let rows: Vec<Vec<(u32, i32, i32)>> = rows
+        .into_par_iter()
+        .enumerate()
+        .map(|(i, r)| {
+            let xi = grid.pos[i];
+            let mut v: Vec<(u32, i32, i32)> = r
+                .into_iter()
+                .map(|j| {
+                    let xj = grid.pos[j as usize];
+                    let (a, b) = lattice([xj[0] - xi[0], xj[1] - xi[1]]);
+                    (j, a, b)
+                })
+                .collect();
+            v.sort_unstable_by_key(|&(_, a, b)| (b.abs(), a.abs(), b < 0, a < 0));
+            v
+        })
+        .collect();
     let mut offsets = Vec::with_capacity(n + 1);
     offsets.push(0);
     for r in &rows {
@@ -151,17 +227,22 @@ pub fn build_bonds(grid: &Grid, region: &Region) -> Bonds {
         vol_factor: Vec::with_capacity(nb),
         surface: vec![1.0; nb],
         k: vec![0.0; nb],
+        meta: Vec::with_capacity(nb),
     };
-    for (i, r) in rows.iter().enumerate() {
-        let xi = grid.pos[i];
-        for &j in r {
-            let xj = grid.pos[j as usize];
-            let v = [xj[0] - xi[0], xj[1] - xi[1]];
+    for r in &rows {
+        for (m, &(j, a, bb)) in r.iter().enumerate() {
+            let v = exact(a, bb);
             let len = v[0].hypot(v[1]);
             b.nbr.push(j);
             b.xi.push(v);
             b.inv_len.push(1.0 / len);
             b.vol_factor.push(partial_volume(len, delta, dx));
+            let last = match r.get(m + 1) {
+                Some(&(_, a2, b2)) => (a2.abs(), b2.abs()) != (a.abs(), bb.abs()),
+                None => true,
+            };
+            let slot = (a < 0) as u8 | (((bb < 0) as u8) << 1);
+            b.meta.push(slot | if last { GROUP_END } else { 0 });
         }
     }
     b

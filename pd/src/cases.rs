@@ -19,7 +19,8 @@ pub struct PdCase {
     pub target_load: f64,
     /// Implicit steps `N_i` of the seed (switching solver).
     pub implicit_steps: usize,
-    /// Explicit steps `N_e` of the seed (switching solver).
+    /// Explicit increments `N_e` of the seed (switching solver; counted
+    /// over the whole load there, see [`crate::solvers::switching`]).
     pub explicit_steps: usize,
     /// Steps of pure ADR with one iteration each (the seed's loading rate).
     pub adr_rate_steps: usize,
@@ -118,10 +119,19 @@ pub const CANTILEVER_LOAD: f64 = 125.0;
 /// Square plate with a central hole, seed 000 section 5.2: side 0.05 m,
 /// `n x n` grid (seed 50), hole radius 0.005 m, E = 192 GPa, degradation
 /// `s_m = 0.015, s_c = 0.02, beta = 3`, top and bottom fictitious layers
-/// moved outward by 0.275 mm each (the seed's "magnitude"; 0.1375 mm each
-/// breaks no bond at all), both components prescribed (clamped
+/// moved outward by 0.275 mm each, both components prescribed (clamped
 /// grips, which also removes the rigid modes). Seed schedule: `N_i = 3`,
 /// `N_e = 180`; pure ADR at 2.75e-7 m per iteration (1000 steps).
+///
+/// Loading per end, not total: seed 000 section 5.2 says "The upper and
+/// lower ends of the plate are subjected to the outward vertical
+/// displacement loadings with a magnitude of 0.275 mm", and its schedule
+/// reads "the loading rate for deformation computation is
+/// 2.75e-4/3 m/iteration" and "for the explicit-ADR scheme, the loading
+/// rate is set to be 2.75e-7 m/iteration": the rate applies to each
+/// loaded end and sums to 2.75e-4 m = 0.275 mm over the schedule, so each
+/// end moves 0.275 mm (section 3.3, by contrast, states "a total magnitude
+/// of 1.6 mm"). With 0.1375 mm per end no bond would break at all.
 pub fn plate_hole(n: usize) -> PdCase {
     let l = 0.05;
     let dx = l / n as f64;
@@ -217,8 +227,12 @@ pub enum CrackKind {
     Central,
     /// Central crack at 45 degrees, 10 mm (seed: 15.9 MPa, kink 56 degrees).
     Inclined,
-    /// Horizontal edge crack from the left side (seed: 8.5 MPa). The seed's
-    /// text gives no length; 10 mm is assumed.
+    /// Horizontal edge crack from the left side (seed: 8.5 MPa). Seed 001
+    /// section 6.1 says only "The plate preset an edge crack is shown in
+    /// Fig. 10. Under the tension of 8.5 MPa, the crack propagates in a
+    /// straight line"; no length is given, so 10 mm is assumed (the length
+    /// of the central and inclined cracks of the same section; LEFM gives
+    /// 7.5 MPa for it, and 8.5 MPa would correspond to about 8.2 mm).
     Edge,
 }
 

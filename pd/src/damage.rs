@@ -5,7 +5,7 @@
 
 use rayon::prelude::*;
 
-use crate::bonds::Bonds;
+use crate::bonds::{group_sum, Bonds};
 
 /// Damage threshold of a macro crack (seed 002 section 2.1).
 pub const MACRO_CRACK_DAMAGE: f64 = 0.38;
@@ -15,13 +15,11 @@ pub fn damage(bonds: &Bonds, intact: &[u8]) -> Vec<f64> {
     (0..bonds.offsets.len() - 1)
         .into_par_iter()
         .map(|i| {
-            let (mut all, mut alive) = (0.0, 0.0);
-            for b in bonds.row(i) {
-                all += bonds.vol_factor[b];
-                if intact[b] != 0 {
-                    alive += bonds.vol_factor[b];
-                }
-            }
+            // Group-ordered sum: mirror nodes get bitwise equal damage.
+            let [all, alive] = group_sum(&bonds.meta, bonds.row(i), |b| {
+                let v = bonds.vol_factor[b];
+                [v, if intact[b] != 0 { v } else { 0.0 }]
+            });
             if all > 0.0 {
                 1.0 - alive / all
             } else {

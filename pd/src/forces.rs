@@ -4,15 +4,23 @@
 //! $$F_i = \sum_j c\, v_j V_j G_{ij}\, T(s_{ij})\, s_{ij}\, \frac{\xi+\eta}{|\xi+\eta|},\qquad
 //!   s = \frac{|\xi+\eta|-|\xi|}{|\xi|}$$
 //! with the fully nonlinear stretch. `T` is 1 (elastic or intact brittle)
-//! or the tanh degradation evaluated at `max(s, s_hist)` (irreversible).
+//! or the tanh degradation evaluated at `max(s, s_hist)` (irreversible;
+//! at `s_hist` alone in the [`History::Secant`] pass of the ADR re-commit
+//! loop).
 //! Each bond is stored in both directions, so row `i` alone determines
 //! `F_i`; the two directions see bitwise identical stretches, hence they
-//! break together. The bond energy (for tests) is
+//! break together. Row sums run group by group in the mirror-symmetric
+//! order of [`crate::bonds`], so mirror-image nodes get bitwise mirrored
+//! forces. The loop is monomorphised per bond law (no per-bond `match`),
+//! reads 38 bytes per bond (neighbour `u32`, `xi`, `1/|xi|`, `k`, group
+//! byte, intact byte; plus `s_hist` for degrading bonds) and skips bounds
+//! checks; rayon splits the nodes with a minimum chunk of 64. The bond
+//! energy (for tests) is
 //! $\Pi = \sum_{i\to j} \tfrac14 V k |\xi| s^2$ for elastic bonds.
 
 use rayon::prelude::*;
 
-use crate::bonds::Bonds;
+use crate::bonds::{Bonds, GROUP_END};
 use crate::geometry::P2;
 use crate::material::{degradation, BondLaw};
 
@@ -23,6 +31,11 @@ pub enum History {
     Frozen,
     /// Update `s_hist` and break bonds (explicit ADR, or committing a state).
     Update,
+    /// Read only, and every bond acts with its committed secant factor
+    /// `T(s_hist)` (no softening inside the pass): an equilibrium search in
+    /// this mode has a unique, stable solution; committing it and repeating
+    /// reaches the softening equilibrium as a monotone fixed point.
+    Secant,
 }
 
 /// Per-pass statistics, reduced over all bonds (directed counts).
@@ -35,6 +48,9 @@ pub struct ForceStats {
     pub growing: usize,
     /// Directed bonds newly broken in this pass (`Update` only).
     pub newly_broken: usize,
+    /// Largest stretch increase past the damage onset and the history,
+    /// `max(s - max(s_hist, s_m))` over growing bonds (0 if none).
+    pub max_growth: f64,
 }
 
 impl ForceStats {
@@ -43,6 +59,7 @@ impl ForceStats {
             max_stretch: a.max_stretch.max(b.max_stretch),
             growing: a.growing + b.growing,
             newly_broken: a.newly_broken + b.newly_broken,
+            max_growth: a.max_growth.max(b.max_growth),
         }
     }
 }
@@ -88,6 +105,8 @@ pub fn internal_forces(
 }
 
 /// Force on one node; `intact` and `s_hist` are written only in row `i`.
+/// The bond sum is taken group by group in the mirror-symmetric order of
+/// [`crate::bonds`] (`((t0 + t1) + (t2 + t3))` per group).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 unsafe fn node_force(
@@ -100,59 +119,94 @@ unsafe fn node_force(
     out: &mut P2,
     history: History,
 ) -> ForceStats {
-    let r = bonds.row(i);
+    match (law, history) {
+        (BondLaw::Elastic, _) => row_force(bonds, intact, s_hist, u, i, out, |_, s, _, _| (1.0, s)),
+        (BondLaw::Brittle { s0 }, h) => {
+            row_force(bonds, intact, s_hist, u, i, out, |st, s, ip, _| {
+                if s >= s0 {
+                    st.growing += 1;
+                    if h == History::Update {
+                        *ip = 0;
+                        st.newly_broken += 1;
+                        return (0.0, s);
+                    }
+                }
+                (1.0, s)
+            })
+        }
+        (BondLaw::Degrading { s_m, s_c, beta }, h) => {
+            row_force(bonds, intact, s_hist, u, i, out, |st, s, ip, hp| {
+                let hv = *hp;
+                if s > s_m && s > hv {
+                    st.growing += 1;
+                    st.max_growth = st.max_growth.max(s - hv.max(s_m));
+                    if h == History::Update {
+                        *hp = s;
+                        if s >= s_c {
+                            *ip = 0;
+                            st.newly_broken += 1;
+                            return (0.0, s);
+                        }
+                    }
+                }
+                let arg = if h == History::Secant { hv } else { s.max(hv) };
+                (degradation(arg, s_m, s_c, beta).0, s)
+            })
+        }
+    }
+}
+
+/// The bond loop of [`node_force`], monomorphised per bond law. `law`
+/// returns the factor `T` for a bond of stretch `s` (0 once it breaks).
+#[inline(always)]
+unsafe fn row_force(
+    bonds: &Bonds,
+    intact: *mut u8,
+    s_hist: *mut f64,
+    u: &[P2],
+    i: usize,
+    out: &mut P2,
+    mut law: impl FnMut(&mut ForceStats, f64, &mut u8, &mut f64) -> (f64, f64),
+) -> ForceStats {
+    let r = bonds.offsets[i]..bonds.offsets[i + 1];
     let nbr = &bonds.nbr[r.clone()];
     let xi = &bonds.xi[r.clone()];
     let inv = &bonds.inv_len[r.clone()];
     let k = &bonds.k[r.clone()];
+    let meta = &bonds.meta[r.clone()];
     let base = r.start;
     let ui = u[i];
-    let (mut fx, mut fy) = (0.0, 0.0);
     let mut st = ForceStats::default();
+    let mut g = [[0.0f64; 2]; 4];
+    let (mut fx, mut fy) = (0.0, 0.0);
+    let mut smax = f64::NEG_INFINITY;
     for m in 0..nbr.len() {
         let b = base + m;
-        if *intact.add(b) == 0 {
-            continue;
+        let mt = *meta.get_unchecked(m);
+        let ip = &mut *intact.add(b);
+        if *ip != 0 {
+            let uj = *u.get_unchecked(*nbr.get_unchecked(m) as usize);
+            let x = *xi.get_unchecked(m);
+            let yx = x[0] + (uj[0] - ui[0]);
+            let yy = x[1] + (uj[1] - ui[1]);
+            let l = (yx * yx + yy * yy).sqrt();
+            let s = l * *inv.get_unchecked(m) - 1.0;
+            let (t, s) = law(&mut st, s, ip, &mut *s_hist.add(b));
+            if t != 0.0 || *ip != 0 {
+                smax = smax.max(s);
+            }
+            let f = *k.get_unchecked(m) * t * s / l;
+            let sl = (mt & 3) as usize;
+            g[sl][0] += f * yx;
+            g[sl][1] += f * yy;
         }
-        let uj = u[nbr[m] as usize];
-        let yx = xi[m][0] + (uj[0] - ui[0]);
-        let yy = xi[m][1] + (uj[1] - ui[1]);
-        let l = (yx * yx + yy * yy).sqrt();
-        let s = l * inv[m] - 1.0;
-        let t = match law {
-            BondLaw::Elastic => 1.0,
-            BondLaw::Brittle { s0 } => {
-                if s >= s0 {
-                    st.growing += 1;
-                    if history == History::Update {
-                        *intact.add(b) = 0;
-                        st.newly_broken += 1;
-                        continue;
-                    }
-                }
-                1.0
-            }
-            BondLaw::Degrading { s_m, s_c, beta } => {
-                let h = &mut *s_hist.add(b);
-                if s > s_m && s > *h {
-                    st.growing += 1;
-                    if history == History::Update {
-                        *h = s;
-                        if s >= s_c {
-                            *intact.add(b) = 0;
-                            st.newly_broken += 1;
-                            continue;
-                        }
-                    }
-                }
-                degradation(s.max(*h), s_m, s_c, beta).0
-            }
-        };
-        st.max_stretch = st.max_stretch.max(s);
-        let f = k[m] * t * s / l;
-        fx += f * yx;
-        fy += f * yy;
+        if mt & GROUP_END != 0 {
+            fx += (g[0][0] + g[1][0]) + (g[2][0] + g[3][0]);
+            fy += (g[0][1] + g[1][1]) + (g[2][1] + g[3][1]);
+            g = [[0.0; 2]; 4];
+        }
     }
+    st.max_stretch = smax.max(0.0);
     *out = [fx, fy];
     st
 }

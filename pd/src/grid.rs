@@ -24,6 +24,9 @@ pub struct Grid {
     pub volume: f64,
     /// Horizon (m).
     pub delta: f64,
+    /// Grid angle (radians): the lattice directions are `R(angle) e_x`,
+    /// `R(angle) e_y`.
+    pub angle: f64,
 }
 
 impl Grid {
@@ -127,6 +130,7 @@ pub fn build_grid(p: &PdProblem) -> Result<Grid, PdError> {
         dx,
         volume: dx * dx * p.thickness,
         delta,
+        angle,
     })
 }
 

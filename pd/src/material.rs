@@ -80,6 +80,15 @@ impl BondLaw {
         }
     }
 
+    /// Width `s_c - s_m` of the softening range (0 for brittle and elastic
+    /// bonds).
+    pub fn softening_range(&self) -> f64 {
+        match *self {
+            BondLaw::Degrading { s_m, s_c, .. } => s_c - s_m,
+            _ => 0.0,
+        }
+    }
+
     /// The stretch at which a bond counts as broken (`s0` or `s_c`).
     pub fn break_stretch(&self) -> f64 {
         match *self {

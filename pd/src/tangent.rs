@@ -44,8 +44,14 @@ pub struct Tangent {
     symbolic: SymbolicSparseColMat<usize>,
     /// Start of node `i`'s columns in the value array.
     node_start: Vec<usize>,
+    /// Per bond `i -> j` with `j > i`: offset of its entries in node i's
+    /// off-diagonal list (sorted by `j`).
+    col_off: Vec<u32>,
     values: Vec<f64>,
     llt_symbolic: Option<SymbolicLlt<usize>>,
+    /// Fall back to sparse LU when Cholesky finds a non-positive pivot
+    /// (default); otherwise that is a [`PdError::LinearSolve`] error.
+    pub allow_lu: bool,
 }
 
 impl Tangent {
@@ -68,12 +74,30 @@ impl Tangent {
                 reason: "every DOF is prescribed".into(),
             });
         }
+        // Off-diagonal entries of node i's columns: the free DOFs of its
+        // neighbours j > i in increasing j (CSC rows sorted). `col_off[b]`
+        // is the position of bond b's first entry within that list.
+        let mut col_off = vec![u32::MAX; bonds.len()];
         let mut col_ptr = Vec::with_capacity(n_free + 1);
         let mut row_idx = Vec::new();
         let mut node_start = Vec::with_capacity(n + 1);
         col_ptr.push(0);
+        let mut upper: Vec<(usize, usize)> = Vec::new();
         for i in 0..n {
             node_start.push(row_idx.len());
+            upper.clear();
+            upper.extend(
+                bonds
+                    .row(i)
+                    .filter(|&b| bonds.nbr[b] as usize > i)
+                    .map(|b| (bonds.nbr[b] as usize, b)),
+            );
+            upper.sort_unstable();
+            let mut off = 0u32;
+            for &(j, b) in &upper {
+                col_off[b] = off;
+                off += (dof[2 * j] != NONE) as u32 + (dof[2 * j + 1] != NONE) as u32;
+            }
             for q in 0..2 {
                 if dof[2 * i + q] == NONE {
                     continue;
@@ -83,13 +107,10 @@ impl Tangent {
                         row_idx.push(dof[2 * i + p]);
                     }
                 }
-                for b in bonds.row(i) {
-                    let j = bonds.nbr[b] as usize;
-                    if j > i {
-                        for p in 0..2 {
-                            if dof[2 * j + p] != NONE {
-                                row_idx.push(dof[2 * j + p]);
-                            }
+                for &(j, _) in &upper {
+                    for p in 0..2 {
+                        if dof[2 * j + p] != NONE {
+                            row_idx.push(dof[2 * j + p]);
                         }
                     }
                 }
@@ -104,8 +125,10 @@ impl Tangent {
             n_free,
             symbolic,
             node_start,
+            col_off,
             values: vec![0.0; nnz],
             llt_symbolic: None,
+            allow_lu: true,
         })
     }
 
@@ -126,6 +149,7 @@ impl Tangent {
         let vals = RowPtr(self.values.as_mut_ptr());
         let dof = &self.dof;
         let node_start = &self.node_start;
+        let col_off = &self.col_off;
         (0..u.len()).into_par_iter().with_min_len(64).for_each(|i| {
             let vp = vals;
             let f0 = dof[2 * i] != NONE;
@@ -133,20 +157,16 @@ impl Tangent {
             if !f0 && !f1 {
                 return;
             }
-            // Layout of node i: col 0 = [diag (1 or 2), off-diag...], col 1 = [diag, off-diag...].
+            // Layout of node i: col 0 = [diag (1 or 2), off-diag...],
+            // col 1 = [diag, off-diag...]; both off-diagonal lists have
+            // `n_off` entries.
             let start = node_start[i];
-            let mut off0 = 0usize; // number of off-diagonal entries of column 0
-            if f0 && f1 {
-                for b in bonds.row(i) {
-                    let j = bonds.nbr[b] as usize;
-                    if j > i {
-                        off0 += (dof[2 * j] != NONE) as usize + (dof[2 * j + 1] != NONE) as usize;
-                    }
-                }
-            }
-            let col0_len = if f0 { (1 + f1 as usize) + off0 } else { 0 };
-            let mut p0 = start + if f0 { 1 + f1 as usize } else { 0 };
-            let mut p1 = start + col0_len + 1;
+            let n_off =
+                (node_start[i + 1] - start - (f0 && f1) as usize - f0 as usize - f1 as usize)
+                    / (f0 as usize + f1 as usize);
+            let col0_len = if f0 { (1 + f1 as usize) + n_off } else { 0 };
+            let off0 = start + if f0 { 1 + f1 as usize } else { 0 };
+            let off1 = start + col0_len + 1;
             let mut d = [[0.0; 2]; 2];
             // Tiny diagonal shift (1e-10 of the node's intact stiffness) so an
             // isolated node or a one-directional bond star stays solvable.
@@ -173,6 +193,7 @@ impl Tangent {
                     }
                 }
                 if j > i {
+                    let mut o = col_off[b] as usize;
                     for p in 0..2 {
                         if dof[2 * j + p] == NONE {
                             continue;
@@ -180,14 +201,13 @@ impl Tangent {
                         // SAFETY: positions lie in node i's own column range.
                         unsafe {
                             if f0 {
-                                *vp.0.add(p0) = -m[p][0];
-                                p0 += 1;
+                                *vp.0.add(off0 + o) = -m[p][0];
                             }
                             if f1 {
-                                *vp.0.add(p1) = -m[p][1];
-                                p1 += 1;
+                                *vp.0.add(off1 + o) = -m[p][1];
                             }
                         }
+                        o += 1;
                     }
                 }
             }
@@ -226,6 +246,10 @@ impl Tangent {
                 llt.solve_in_place(MatMut::from_column_major_slice_mut(rhs, n, 1));
                 Ok(Factorization::Cholesky)
             }
+            Err(e) if !self.allow_lu => Err(PdError::LinearSolve {
+                dofs: n,
+                reason: format!("tangent not positive definite (Cholesky: {e:?})"),
+            }),
             Err(_) => {
                 self.solve_lu(rhs)?;
                 Ok(Factorization::Lu)

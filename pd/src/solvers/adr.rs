@@ -10,13 +10,33 @@
 //! (REFERENCES.md), and the damping comes from the local Rayleigh quotient
 //! $c_n = 2\sqrt{u^T K^n u / u^T u}$ with the diagonal
 //! $K^n_{ii} = -(F^n_i - F^{n-1}_i)/(\Lambda_{ii}\Delta t\,\dot u_i^{n-1/2})$
-//! (Eqs. 13-14). Bonds break during the iterations (history `Update`).
+//! (Eqs. 13-14).
+//!
+//! Bond history: by default (`break_during_iterations = false`) the bonds
+//! act with their committed secant factor $T(s_{hist})$ during the
+//! iterations of a load step ([`History::Secant`]), so each equilibrium
+//! search is a stable elastic problem with a unique solution. At the
+//! converged state the history is committed (every bond past `s0`/`s_c`
+//! breaks at once, Jacobi-style; $s_{hist}$ rises to the converged
+//! stretch), and the step is re-converged until no bond broke and no
+//! stretch exceeds its history by more than `growth_tol (s_c - s_m)`: a
+//! monotone fixed-point iteration whose limit satisfies $s = s_{hist}$ for
+//! every loading bond, i.e. the softening equilibrium of seed 000 Eq. 12.
+//! The damage then depends only on the sequence of load steps, not on the
+//! transient overshoot of the fictitious dynamics (seed 000 section 3.3
+//! shows how that overshoot makes explicit results rate dependent), so ADR
+//! and the switching solver agree bond for bond. With
+//! `break_during_iterations = true` (and in the rate mode
+//! `iters_per_step = Some(_)`) bonds break inside the iterations, the
+//! classical explicit PD practice (seed 002 section 2.2).
 
 use std::time::Instant;
 
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::{residual_norms, Convergence, PhaseKind, SolveInfo, StepRecord};
+use crate::bonds::group_sum;
 use crate::error::PdError;
 use crate::forces::{ForceStats, History};
 use crate::geometry::P2;
@@ -42,6 +62,15 @@ pub struct AdrParams {
     pub max_iters: usize,
     /// Safety factor on the Gershgorin density (1 = the bound itself).
     pub safety: f64,
+    /// Break bonds and raise the history inside the iterations instead of
+    /// at converged states (always the case in the rate mode
+    /// `iters_per_step = Some(_)`).
+    pub break_during_iterations: bool,
+    /// Degrading bonds: an equilibrium is settled once no stretch exceeds
+    /// its committed history by more than `growth_tol (s_c - s_m)`.
+    pub growth_tol: f64,
+    /// Re-convergence rounds per load step after bonds broke.
+    pub max_break_rounds: usize,
 }
 
 impl Default for AdrParams {
@@ -54,6 +83,9 @@ impl Default for AdrParams {
             min_iters: 10,
             max_iters: 200_000,
             safety: 1.5,
+            break_during_iterations: false,
+            growth_tol: 1e-3,
+            max_break_rounds: 100,
         }
     }
 }
@@ -68,9 +100,20 @@ pub struct Adr {
     pub since_growth: usize,
     /// Total steps taken with these buffers.
     pub total_iters: usize,
-    /// Bond pairs broken (directed count / 2) with these buffers.
+    /// Directed bonds broken with these buffers.
     pub broken_directed: usize,
+    /// Whether [`Adr::step`] updates the bond history ([`History::Update`],
+    /// the default of [`Adr::new`]) or leaves it to [`Adr::equilibrate`].
+    pub history: History,
+    c_last: f64,
+    rref_max: f64,
+    /// [`History::Secant`]: the equilibrium is settled once no bond's
+    /// stretch exceeds its committed history by more than this.
+    pub growth_tol: f64,
 }
+
+/// Nodes per parallel chunk of the per-DOF loops.
+const CHUNK: usize = 1024;
 
 /// Outcome of one ADR step.
 #[derive(Clone, Copy, Debug)]
@@ -100,14 +143,16 @@ impl Adr {
         let b = &model.bonds;
         let mass = (0..n)
             .map(|i| {
-                let (mut rx, mut ry) = (0.0, 0.0);
-                for bb in b.row(i) {
+                // Group-ordered sum: mirror nodes get bitwise equal masses.
+                let [rx, ry] = group_sum(&b.meta, b.row(i), |bb| {
                     let kl = b.k[bb] * b.inv_len[bb];
                     let ex = b.xi[bb][0] * b.inv_len[bb];
                     let ey = b.xi[bb][1] * b.inv_len[bb];
-                    rx += 2.0 * kl * (ex * ex + (ex * ey).abs());
-                    ry += 2.0 * kl * (ey * ey + (ex * ey).abs());
-                }
+                    [
+                        2.0 * kl * (ex * ex + (ex * ey).abs()),
+                        2.0 * kl * (ey * ey + (ex * ey).abs()),
+                    ]
+                });
                 (0.25 * safety * rx.max(ry)).max(f64::MIN_POSITIVE)
             })
             .collect();
@@ -119,18 +164,27 @@ impl Adr {
             since_growth: 0,
             total_iters: 0,
             broken_directed: 0,
+            history: History::Update,
+            c_last: 0.0,
+            rref_max: 0.0,
+            growth_tol: 0.0,
         }
     }
 
     /// Restart from rest (zero velocity) at the current state.
     pub fn reset(&mut self) {
         self.fresh = true;
+        self.c_last = 0.0;
         self.vel.iter_mut().for_each(|v| *v = [0.0; 2]);
     }
 
-    /// One ADR step at the model's current load factor.
+    /// One ADR step at the model's current load factor. The bond history
+    /// is updated in this pass only in [`History::Update`] mode
+    /// ([`Adr::history`]). The per-DOF loops run in parallel over fixed
+    /// chunks whose partial sums are added in chunk order, so a run is
+    /// bitwise reproducible for any number of threads.
     pub fn step(&mut self, model: &mut PdModel) -> StepOut {
-        let stats = model.compute_forces(History::Update);
+        let stats = model.compute_forces(self.history);
         self.total_iters += 1;
         self.broken_directed += stats.newly_broken;
         if stats.growing > 0 {
@@ -140,57 +194,92 @@ impl Adr {
         }
         let (r, rref) = residual_norms(model);
         let lam = model.load;
-        let fixed = &model.bc.fixed;
-        let body = &model.bc.body;
+        let fixed = &model.bc.fixed[..];
+        let body = &model.bc.body[..];
+        let force = &model.force[..];
+        let mass = &self.mass[..];
         // Damping from the local Rayleigh quotient (Eqs. 13-14).
         let mut c = 0.0;
         if !self.fresh {
-            let (mut num, mut den) = (0.0, 0.0);
-            for i in 0..self.vel.len() {
-                for d in 0..2 {
-                    if fixed[i][d] {
-                        continue;
+            let (vel, f_prev, u) = (&self.vel[..], &self.f_prev[..], &model.u[..]);
+            let parts: Vec<(f64, f64)> = (0..u.len().div_ceil(CHUNK))
+                .into_par_iter()
+                .map(|ch| {
+                    let (mut num, mut den) = (0.0, 0.0);
+                    for i in ch * CHUNK..((ch + 1) * CHUNK).min(u.len()) {
+                        for d in 0..2 {
+                            if fixed[i][d] {
+                                continue;
+                            }
+                            let v = vel[i][d];
+                            let ui = u[i][d];
+                            den += ui * ui;
+                            if v != 0.0 {
+                                let f = force[i][d] + lam * body[i][d];
+                                let kii = -(f - f_prev[i][d]) / (mass[i] * v);
+                                num += ui * kii * ui;
+                            }
+                        }
                     }
-                    let v = self.vel[i][d];
-                    let ui = model.u[i][d];
-                    den += ui * ui;
-                    if v != 0.0 {
-                        let f = model.force[i][d] + lam * body[i][d];
-                        let kii = -(f - self.f_prev[i][d]) / (self.mass[i] * v);
-                        num += ui * kii * ui;
-                    }
-                }
-            }
+                    (num, den)
+                })
+                .collect();
+            let (num, den) = parts.iter().fold((0.0, 0.0), |a, p| (a.0 + p.0, a.1 + p.1));
             if num > 0.0 && den > 0.0 {
                 c = (2.0 * (num / den).sqrt()).min(1.9);
+            } else if self.history == History::Frozen {
+                // Softening bonds make the Rayleigh quotient negative; with
+                // a frozen history nothing else dissipates, so keep the last
+                // damping instead of running undamped.
+                c = self.c_last;
             }
+            self.c_last = c;
         }
-        let (mut du2, mut u2) = (0.0, 0.0);
-        for i in 0..self.vel.len() {
-            for d in 0..2 {
-                if fixed[i][d] {
-                    continue;
+        let fresh = self.fresh;
+        let parts: Vec<(f64, f64)> = self
+            .vel
+            .par_chunks_mut(CHUNK)
+            .zip(self.f_prev.par_chunks_mut(CHUNK))
+            .zip(model.u.par_chunks_mut(CHUNK))
+            .enumerate()
+            .map(|(ch, ((vel, f_prev), u))| {
+                let (mut du2, mut u2) = (0.0, 0.0);
+                let base = ch * CHUNK;
+                for k in 0..vel.len() {
+                    let i = base + k;
+                    for d in 0..2 {
+                        if fixed[i][d] {
+                            continue;
+                        }
+                        let f = force[i][d] + lam * body[i][d];
+                        let a = f / mass[i];
+                        let v = if fresh {
+                            0.5 * a
+                        } else {
+                            ((2.0 - c) * vel[k][d] + 2.0 * a) / (2.0 + c)
+                        };
+                        vel[k][d] = v;
+                        f_prev[k][d] = f;
+                        u2 += u[k][d] * u[k][d];
+                        u[k][d] += v;
+                        du2 += v * v;
+                    }
                 }
-                let f = model.force[i][d] + lam * body[i][d];
-                let a = f / self.mass[i];
-                let v = if self.fresh {
-                    0.5 * a
-                } else {
-                    ((2.0 - c) * self.vel[i][d] + 2.0 * a) / (2.0 + c)
-                };
-                self.vel[i][d] = v;
-                self.f_prev[i][d] = f;
-                u2 += model.u[i][d] * model.u[i][d];
-                model.u[i][d] += v;
-                du2 += v * v;
-            }
-        }
+                (du2, u2)
+            })
+            .collect();
+        let (du2, u2) = parts.iter().fold((0.0, 0.0), |a, p| (a.0 + p.0, a.1 + p.1));
         self.fresh = false;
         let du_rel = if u2 > 0.0 {
             (du2 / u2).sqrt()
         } else {
             f64::INFINITY
         };
+        // Reference: the largest applied force or reaction seen by these
+        // buffers, so a body that separates from its supports (reaction
+        // near zero) does not inflate the relative residual.
+        self.rref_max = self.rref_max.max(rref);
+        let rref = self.rref_max;
         let res_rel = if rref > 0.0 {
             r / rref
         } else if r == 0.0 {
@@ -203,6 +292,59 @@ impl Adr {
             res_rel,
             stats,
         }
+    }
+
+    /// Equilibrium at the current load with the bond history of
+    /// [`Adr::history`]: in [`History::Update`] mode one [`Self::converge`];
+    /// otherwise converge with the history frozen (or secant), commit
+    /// it at the converged state (every bond past its limit breaks at once,
+    /// Jacobi-style), and converge again while bonds broke, up to
+    /// `max_rounds` rounds. Returns (steps, measure, statistics of the last
+    /// pass, whether any bond was damaged).
+    pub fn equilibrate(
+        &mut self,
+        model: &mut PdModel,
+        conv: Convergence,
+        min_iters: usize,
+        max_iters: usize,
+        max_rounds: usize,
+        history: &mut Vec<f64>,
+    ) -> Result<(usize, f64, ForceStats, bool), PdError> {
+        let it0 = self.total_iters;
+        if self.history == History::Update {
+            let (it, m, st) = self.converge(model, conv, min_iters, max_iters, history)?;
+            let grew = self.since_growth < self.total_iters - it0;
+            return Ok((it, m, st, grew));
+        }
+        let mut grew = false;
+        let mut iters = 0;
+        for round in 0..max_rounds.max(1) {
+            // Every increment starts at rest, so the result depends on the
+            // start state only (not on the velocity a previous increment
+            // left behind).
+            if round == 0 || self.history != History::Secant {
+                self.reset();
+            }
+            let (it, m, _) = self.converge(model, conv, min_iters, max_iters, history)?;
+            iters += it;
+            let st = model.commit_history();
+            self.broken_directed += st.newly_broken;
+            grew |= st.growing > 0;
+            let settled = match self.history {
+                History::Secant => st.max_growth <= self.growth_tol,
+                _ => true,
+            };
+            if st.newly_broken == 0 && settled {
+                return Ok((iters, m, st, grew));
+            }
+        }
+        Err(PdError::NoConvergence {
+            solver: "adr (bond breaking)",
+            iterations: max_rounds,
+            load: model.load,
+            measure: f64::NAN,
+            tolerance: 0.0,
+        })
     }
 
     /// Iterate at the current load until `conv` is met (after `min_iters`),
@@ -278,6 +420,10 @@ pub fn solve(model: &mut PdModel, params: &AdrParams) -> Result<SolveInfo, PdErr
     let t0 = Instant::now();
     let mut info = SolveInfo::default();
     let mut adr = Adr::new(model, params.safety);
+    if params.iters_per_step.is_none() && !params.break_during_iterations {
+        adr.history = History::Secant;
+        adr.growth_tol = params.growth_tol * model.law().softening_range();
+    }
     let lam0 = model.load;
     let steps = params.steps.max(1);
     let broken0 = model.broken_bonds();
@@ -306,13 +452,17 @@ pub fn solve(model: &mut PdModel, params: &AdrParams) -> Result<SolveInfo, PdErr
                 )?;
                 (it + n.max(1), m, st)
             }
-            None => adr.converge(
-                model,
-                params.convergence,
-                params.min_iters,
-                params.max_iters,
-                &mut info.residual_history,
-            )?,
+            None => {
+                let (it, m, st, _) = adr.equilibrate(
+                    model,
+                    params.convergence,
+                    params.min_iters,
+                    params.max_iters,
+                    params.max_break_rounds,
+                    &mut info.residual_history,
+                )?;
+                (it, m, st)
+            }
         };
         info.iterations += iters;
         if params.iters_per_step.is_none() || k == steps {
