@@ -129,7 +129,7 @@ pub fn build(scene: &Scene, factor: f64, refine: f64) -> Result<BemSetup> {
     }
     let mesh = b.build().context("meshing")?;
     let remote = geo.remote.map(|s| s.map(|v| v * factor));
-    let bcs = conditions(scene, &mesh, factor, remote)?;
+    let bcs = conditions(scene, &mesh, factor, remote, MissingGroup::Error)?;
     let params = SolveParams {
         infinite: geo.outline.is_none(),
         estimate_condition: scene.bem.condition_estimate,
@@ -241,16 +241,30 @@ fn on_segment(q: P2, a: P2, b: P2) -> bool {
     (0.0..=1.0).contains(&t) && (a + t * d - q).norm() <= 1e-9 * d.norm()
 }
 
-/// Per-element conditions at load `factor`; traction-free where nothing is said.
-fn conditions(
+/// What to do with a boundary condition whose group has no element in the mesh.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MissingGroup {
+    /// A scene error (BEM alone: every named group is meshed).
+    Error,
+    /// Skip it (coupled runs: a group wholly inside a PD window is carried by PD).
+    Skip,
+}
+
+/// Per-element conditions at load `factor`; traction-free where nothing is said; infinite
+/// bodies (`remote`) add minus the remote traction on every element.
+pub fn conditions(
     scene: &Scene,
     mesh: &Mesh,
     factor: f64,
     remote: Option<[f64; 3]>,
+    missing: MissingGroup,
 ) -> Result<Vec<[Bc; 2]>> {
     let mut bcs = vec![[Bc::Traction(0.0), Bc::Traction(0.0)]; mesh.len()];
     for (k, bc) in scene.boundary.iter().enumerate() {
         let Some(g) = mesh.group(&bc.on) else {
+            if missing == MissingGroup::Skip {
+                continue;
+            }
             bail!("boundary.{k}.on = '{}': no such group in the mesh", bc.on);
         };
         for i in mesh.group_elements(g) {

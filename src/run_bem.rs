@@ -57,28 +57,7 @@ pub fn solve_level(scene: &Scene, factor: f64, refine: f64) -> Result<Level> {
     };
     let raw = analyze_tips(&setup.mesh, &ev, &solution, &opts)
         .with_context(|| format!("{}: crack-tip post-processing", file.display()))?;
-    let tips = raw
-        .iter()
-        .map(|t| {
-            let name = format!(
-                "{}.{}",
-                setup.mesh.cracks[t.crack].name,
-                if t.at_end { "end" } else { "start" }
-            );
-            TipResult {
-                name,
-                position: t.position,
-                k1: t.k1_cod,
-                k2: t.k2_cod,
-                kink_deg: pdbem_bem::post::kink_angle(t.k1_cod, t.k2_cod).to_degrees(),
-                k1_cod: Some(t.k1_cod),
-                k2_cod: Some(t.k2_cod),
-                k1_j: Some(t.k1_m),
-                k2_j: Some(t.k2_m),
-                ..Default::default()
-            }
-        })
-        .collect();
+    let tips = raw.iter().map(|t| tip_result(&setup.mesh, t)).collect();
     let cracks = setup
         .mesh
         .cracks
@@ -98,6 +77,24 @@ pub fn solve_level(scene: &Scene, factor: f64, refine: f64) -> Result<Level> {
         cracks,
         solve_s,
     })
+}
+
+/// The runner's tip record of a BEM tip analysis (name `<crack>.end` / `<crack>.start`;
+/// primary K from the crack-opening fit).
+pub fn tip_result(mesh: &pdbem_bem::Mesh, t: &pdbem_bem::post::TipResult) -> TipResult {
+    let end = if t.at_end { "end" } else { "start" };
+    TipResult {
+        name: format!("{}.{end}", mesh.cracks[t.crack].name),
+        position: t.position,
+        k1: t.k1_cod,
+        k2: t.k2_cod,
+        kink_deg: pdbem_bem::post::kink_angle(t.k1_cod, t.k2_cod).to_degrees(),
+        k1_cod: Some(t.k1_cod),
+        k2_cod: Some(t.k2_cod),
+        k1_j: Some(t.k1_m),
+        k2_j: Some(t.k2_m),
+        ..Default::default()
+    }
 }
 
 /// The last load factor of the scene (BEM is linear: one solve at the final load).

@@ -502,28 +502,13 @@ fn outer_conditions(
 /// Per-element BEM conditions at load `factor` (traction-free where nothing is said;
 /// groups wholly inside a window are skipped: PD carries them).
 fn conditions(scene: &Scene, mesh: &Mesh, factor: f64) -> Result<Vec<[Bc; 2]>> {
-    let mut bcs = vec![[Bc::Traction(0.0), Bc::Traction(0.0)]; mesh.len()];
-    for bc in &scene.boundary {
-        let Some(g) = mesh.group(&bc.on) else {
-            continue;
-        };
-        for i in mesh.group_elements(g) {
-            let e = &mesh.elements[i];
-            for (c, comp) in [bc.x, bc.y].iter().enumerate() {
-                match comp {
-                    Component::Free => {}
-                    Component::Displacement(v) => bcs[i][c] = Bc::Displacement(v * factor),
-                    Component::Traction(v) => bcs[i][c] = Bc::Traction(v * factor),
-                }
-            }
-            let (tn, ts) = (bc.normal.unwrap_or(0.0), bc.shear.unwrap_or(0.0));
-            if tn != 0.0 || ts != 0.0 {
-                let t = (e.normal * tn + e.tangent * ts) * factor;
-                bcs[i] = [Bc::Traction(t.x), Bc::Traction(t.y)];
-            }
-        }
-    }
-    Ok(bcs)
+    crate::bem_setup::conditions(
+        scene,
+        mesh,
+        factor,
+        None,
+        crate::bem_setup::MissingGroup::Skip,
+    )
 }
 
 /// Interaction-integral SIFs of a windowed tip on a circle around its window.
@@ -594,23 +579,7 @@ pub fn summarize(scene: &Scene, out: &CoupledOutcome) -> Result<RunSummary> {
         contour_points: scene.bem.j_contour.points,
     };
     for t in analyze_tips(&pb.mesh, &ev, sol, &opts).context("BEM tips")? {
-        let name = format!(
-            "{}.{}",
-            pb.mesh.cracks[t.crack].name,
-            if t.at_end { "end" } else { "start" }
-        );
-        tips.push(TipResult {
-            name,
-            position: t.position,
-            k1: t.k1_cod,
-            k2: t.k2_cod,
-            kink_deg: pdbem_bem::post::kink_angle(t.k1_cod, t.k2_cod).to_degrees(),
-            k1_cod: Some(t.k1_cod),
-            k2_cod: Some(t.k2_cod),
-            k1_j: Some(t.k1_m),
-            k2_j: Some(t.k2_m),
-            ..Default::default()
-        });
+        tips.push(crate::run_bem::tip_result(&pb.mesh, &t));
     }
     let cracks = pb
         .mesh
