@@ -154,6 +154,25 @@ fn further_rhs_matches_fresh_assembly() {
         .map(|b| [Bc::Traction(b[0].value() * 2.5), b[1]])
         .collect();
     let again = sys.solve_with(&new).unwrap();
+    // The precomputed response gives the same solution without a substitution.
+    let pre = BemSystem::new(
+        &mesh,
+        &mat,
+        &bcs,
+        &SolveParams {
+            precompute_response: true,
+            ..params.clone()
+        },
+    )
+    .unwrap()
+    .solve_with(&new)
+    .unwrap();
+    for (a, b) in pre.u.iter().zip(&again.u) {
+        assert!(
+            (a[0] - b[0]).abs() + (a[1] - b[1]).abs()
+                < 1e-9 * (a[0].abs() + a[1].abs() + 1e-30) + 1e-18
+        );
+    }
     let fresh = BemSystem::new(&mesh, &mat, &new, &SolveParams::default())
         .unwrap()
         .solve()
