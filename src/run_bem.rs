@@ -251,26 +251,13 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
             .iter()
             .map(|p| V2::new(p.0, p.1))
             .collect();
-        let u = ev.displacements(&pts);
-        let s = ev.stresses(&pts);
-        let mut t = CsvTable::new(&["x", "y", "ux", "uy", "sxx", "syy", "sxy"]);
-        for ((p, u), s) in pts.iter().zip(&u).zip(&s) {
-            t.push(vec![
-                num(p.x),
-                num(p.y),
-                num(u[0]),
-                num(u[1]),
-                num(s[0]),
-                num(s[1]),
-                num(s[2]),
-            ]);
-        }
+        let (t, _, _) = field_table(&ev, &pts);
         ctx.writer.write_csv("interior.csv", &t)?;
     }
     Ok(summary)
 }
 
-/// Field table at sample points (points outside the body are skipped).
+/// Field table (`x,y,ux,uy,sxx,syy,sxy`) and the fields at the given interior points.
 fn field_table(ev: &FieldEvaluator, pts: &[V2]) -> (CsvTable, Vec<[f64; 2]>, Vec<[f64; 3]>) {
     let u = ev.displacements(pts);
     let s = ev.stresses(pts);
