@@ -1,6 +1,9 @@
 //! `pdbem bench {bem|pd|coupling|growth} --out DIR [--quick]`: timing tables and
 //! `DIR/bench.json` (schemas in docs/outputs.md). Speed targets live here, never in tests.
 //!
+//! `bench coupling` (issue 4): the coupled SENT cases with each acceleration scheme
+//! (constant 0.3, Aitken from 0.3, IQN-ILS from 0.5): iterations, CMOD error, time per phase.
+//!
 //! `bench bem` (issue 2): the seed-002 edge-cracked plate (a/W = 0.8) at about 500, 1000,
 //! 2000 and 4000 elements plus the 3680-element mesh of seed 002 Table 5 case 3; per mesh
 //! assembly, factorization, one further right-hand side (median of 5) and memory, and the
@@ -60,13 +63,166 @@ pub fn run(kind: BenchKind, out: &Path, quick: bool) -> Result<()> {
     match kind {
         BenchKind::Bem => bench_bem(out, quick),
         BenchKind::Pd => crate::run_pd::bench(out, quick),
-        BenchKind::Coupling => {
-            anyhow::bail!("bench coupling is not wired yet (it arrives with issue 4)")
-        }
+        BenchKind::Coupling => bench_coupling(out, quick),
         BenchKind::Growth => {
             anyhow::bail!("bench growth is not wired yet (it arrives with issue 5)")
         }
     }
+}
+
+/// One coupled run of `bench coupling`.
+#[derive(Debug, Serialize)]
+pub struct CouplingBenchEntry {
+    /// Case file stem.
+    pub case: String,
+    /// Acceleration scheme.
+    pub scheme: String,
+    /// BEM elements.
+    pub elements: usize,
+    /// PD real nodes in all windows.
+    pub pd_nodes: usize,
+    /// Coupling iterations.
+    pub iterations: usize,
+    /// Converged within the scene's cap.
+    pub converged: bool,
+    /// CMOD relative error against the formula (when the case has a mouth and a reference).
+    pub cmod_err: Option<f64>,
+    /// Time per phase and total (s).
+    pub timings: pdbem_coupling::iteration::Timings,
+    /// Wall time of the whole run including setup (s).
+    pub wall_time_s: f64,
+    /// Why the run failed (non-convergence, ...), first line only.
+    pub error: Option<String>,
+}
+
+/// `bench coupling`: the coupled SENT cases (seed 002 section 3.2.1) with each acceleration
+/// scheme, in one process (`--quick`: a/W = 0.5 only).
+fn bench_coupling(out: &Path, quick: bool) -> Result<()> {
+    use crate::scene::path::{parse_value, with_overrides};
+    let cases: &[&str] = if quick {
+        &["coupled_sent_a5"]
+    } else {
+        &["coupled_sent_a2", "coupled_sent_a5", "coupled_sent_a8"]
+    };
+    let schemes = [
+        ("constant", "{\"Constant\": 0.3}"),
+        ("aitken", "{\"Aitken\": 0.3}"),
+        ("iqn-ils", "{\"IqnIls\": {\"w0\": 0.5}}"),
+    ];
+    let mut entries = Vec::new();
+    for case in cases {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("cases")
+            .join(format!("{case}.ron"));
+        let base = crate::scene::Scene::load(&path)?;
+        for (name, value) in schemes {
+            let scene = with_overrides(
+                &base,
+                &[("coupling.relaxation".to_string(), parse_value(value))],
+            )?;
+            let t0 = std::time::Instant::now();
+            let result = crate::run_coupled::solve(&scene);
+            let wall = t0.elapsed().as_secs_f64();
+            let (mut summary, outcome) = match result {
+                Ok(r) => r,
+                Err(e) => {
+                    let msg = format!("{e:#}");
+                    let short = msg.split("; history").next().unwrap_or(&msg).to_string();
+                    entries.push(CouplingBenchEntry {
+                        case: case.to_string(),
+                        scheme: name.to_string(),
+                        elements: 0,
+                        pd_nodes: 0,
+                        iterations: 0,
+                        converged: false,
+                        cmod_err: None,
+                        timings: Default::default(),
+                        wall_time_s: wall,
+                        error: Some(short),
+                    });
+                    continue;
+                }
+            };
+            crate::runner::reference::apply(&scene, &mut summary);
+            entries.push(CouplingBenchEntry {
+                case: case.to_string(),
+                scheme: name.to_string(),
+                elements: summary.elements.unwrap_or(0),
+                pd_nodes: outcome
+                    .setup
+                    .problem
+                    .windows
+                    .iter()
+                    .map(|w| w.model.n_real())
+                    .sum(),
+                iterations: outcome.info.iterations,
+                converged: outcome.info.converged,
+                cmod_err: summary.cracks.first().and_then(|c| c.cmod_err),
+                timings: outcome.info.timings.clone(),
+                wall_time_s: wall,
+                error: None,
+            });
+        }
+    }
+    let mut text = String::new();
+    let _ = writeln!(
+        text,
+        "coupling benchmark ({} threads): seed 002 SENT cases",
+        rayon::current_num_threads()
+    );
+    let _ = writeln!(
+        text,
+        "{:<16} {:<9} {:>8} {:>8} {:>5} {:>5} {:>9} {:>8} {:>8} {:>7} {:>8} {:>8}",
+        "case",
+        "scheme",
+        "elements",
+        "pd_nodes",
+        "iter",
+        "conv",
+        "cmod_err%",
+        "bem_s",
+        "subst_s",
+        "pd_s",
+        "map_s",
+        "wall_s"
+    );
+    for e in &entries {
+        if let Some(err) = &e.error {
+            let _ = writeln!(
+                text,
+                "{:<16} {:<9} failed after {:.2} s: {err}",
+                e.case, e.scheme, e.wall_time_s
+            );
+            continue;
+        }
+        let t = &e.timings;
+        let _ =
+            writeln!(
+            text,
+            "{:<16} {:<9} {:>8} {:>8} {:>5} {:>5} {:>9} {:>8.3} {:>8.4} {:>7.3} {:>8.4} {:>8.3}",
+            e.case,
+            e.scheme,
+            e.elements,
+            e.pd_nodes,
+            e.iterations,
+            e.converged,
+            e.cmod_err.map(|v| format!("{:+.2}", 100.0 * v)).unwrap_or_else(|| "-".into()),
+            t.bem_assembly_s + t.bem_factor_s,
+            t.bem_substitution_s,
+            t.pd_s,
+            t.mapping_s,
+            e.wall_time_s
+        );
+    }
+    print!("{text}");
+    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    write_atomic(&out.join("bench.txt"), text.as_bytes())?;
+    let json = serde_json::json!({"bench": "coupling", "threads": rayon::current_num_threads(), "runs": entries});
+    write_atomic(
+        &out.join("bench.json"),
+        serde_json::to_string_pretty(&json)?.as_bytes(),
+    )?;
+    Ok(())
 }
 
 fn bench_bem(out: &Path, quick: bool) -> Result<()> {
