@@ -148,13 +148,7 @@ pub fn compare(case: PdCase) -> SwitchBench {
     let t1 = Instant::now();
     let rs = switching::solve(&mut ms, &ps);
     let ts = t1.elapsed().as_secs_f64();
-    let differing = ma
-        .bond_intact()
-        .iter()
-        .zip(ms.bond_intact())
-        .filter(|(a, b)| a != b)
-        .count()
-        / 2;
+    let differing = ma.differing_pairs(&ms);
     SwitchBench {
         case: format!(
             "{}{}",

@@ -139,6 +139,13 @@ impl PdModel {
         &self.u
     }
 
+    /// Bond pairs whose state (intact / broken) differs from `other`'s, a model on the same
+    /// grid (each pair is stored in both directions, hence the halving).
+    pub fn differing_pairs(&self, other: &PdModel) -> usize {
+        let (a, b) = (self.bond_intact(), other.bond_intact());
+        a.iter().zip(b).filter(|(x, y)| x != y).count() / 2
+    }
+
     /// Bond intact flags (1 intact, 0 broken or cut), CSR order.
     pub fn bond_intact(&self) -> &[u8] {
         &self.intact

@@ -76,13 +76,7 @@ fn switching_matches_adr_and_damage_is_symmetric() {
     let mut ms = PdModel::new(&case.problem).unwrap();
     let is = switching::solve(&mut ms, &ps).unwrap();
     let (ba, bs) = (ma.broken_bonds(), ms.broken_bonds());
-    let diff = ma
-        .bond_intact()
-        .iter()
-        .zip(ms.bond_intact())
-        .filter(|(a, b)| a != b)
-        .count()
-        / 2;
+    let diff = ma.differing_pairs(&ms);
     let prof = profile_difference(&ma, &ms);
     let sym = (mirror_mismatch(&ma), mirror_mismatch(&ms));
     let implicit_steps = is

@@ -477,15 +477,7 @@ pub fn solve(model: &mut PdModel, params: &AdrParams) -> Result<SolveInfo, PdErr
         }
     }
     let dt = t0.elapsed().as_secs_f64();
-    info.push_phase(
-        PhaseKind::Explicit,
-        lam0,
-        params.target_load,
-        info.iterations,
-        dt,
-    );
-    info.final_load = params.target_load;
-    info.bonds_broken = model.broken_bonds() - broken0;
-    info.wall_time_s = dt;
+    let broken = model.broken_bonds() - broken0;
+    info.finish_single_phase(PhaseKind::Explicit, lam0, params.target_load, dt, broken);
     Ok(info)
 }

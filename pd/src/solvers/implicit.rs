@@ -328,15 +328,7 @@ pub fn solve(model: &mut PdModel, params: &ImplicitParams) -> Result<SolveInfo, 
         info.iterations += newton.load_step(model, lam, params, &mut info)?;
     }
     let dt = t0.elapsed().as_secs_f64();
-    info.push_phase(
-        PhaseKind::Implicit,
-        lam0,
-        params.target_load,
-        info.iterations,
-        dt,
-    );
-    info.final_load = params.target_load;
-    info.bonds_broken = model.broken_bonds() - broken0;
-    info.wall_time_s = dt;
+    let broken = model.broken_bonds() - broken0;
+    info.finish_single_phase(PhaseKind::Implicit, lam0, params.target_load, dt, broken);
     Ok(info)
 }

@@ -134,6 +134,23 @@ pub struct SolveInfo {
 }
 
 impl SolveInfo {
+    /// Closes a single-phase solve that drove the load from `lam0` to `target` in `dt`
+    /// seconds: records the phase, the final load, the bonds broken since `broken0` and the
+    /// wall time.
+    pub(crate) fn finish_single_phase(
+        &mut self,
+        kind: PhaseKind,
+        lam0: f64,
+        target: f64,
+        dt: f64,
+        bonds_broken: usize,
+    ) {
+        self.push_phase(kind, lam0, target, self.iterations, dt);
+        self.final_load = target;
+        self.bonds_broken = bonds_broken;
+        self.wall_time_s = dt;
+    }
+
     pub(crate) fn push_phase(
         &mut self,
         kind: PhaseKind,
