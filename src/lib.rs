@@ -18,6 +18,7 @@ pub mod bem_setup;
 pub mod bench;
 pub mod cli;
 pub mod geometry;
+pub mod growth;
 pub mod output;
 pub mod plot;
 pub mod run_bem;

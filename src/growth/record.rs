@@ -1,0 +1,122 @@
+//! What a growth run produced, mode-independent: tip paths, per-step records, window
+//! relocations. Written by the output layer as `path_<tip>.csv`, `steps.csv` and the
+//! `summary.json` fields of docs/outputs.md.
+
+use serde::{Deserialize, Serialize};
+
+/// One point of a tip path.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PathPoint {
+    /// Position (m).
+    pub x: f64,
+    /// Position (m).
+    pub y: f64,
+    /// Load step (0-based) at which the tip reached this point; the initial tip has the
+    /// step before any growth (0).
+    pub step: usize,
+    /// Load factor of that step.
+    pub load: f64,
+}
+
+/// The path of one crack tip, starting at its initial position.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct TipPath {
+    /// Tip name, `<crack>.end` or `<crack>.start` (file `path_<name>.csv`).
+    pub name: String,
+    /// Points in growth order.
+    pub points: Vec<PathPoint>,
+    /// Why the tip stopped, when it did: `"outline"` (reached the outer boundary:
+    /// structural failure), `"hole:<name>"`, `"coalescence:<tip>"`, `"window"` ...
+    pub ended: Option<String>,
+}
+
+/// One converged load step.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct StepRecord {
+    /// Step index (0-based).
+    pub step: usize,
+    /// Load factor.
+    pub load: f64,
+    /// Crack-mouth opening displacement (m) of the first edge crack, when there is one.
+    pub cmod: Option<f64>,
+    /// Tip positions after the step, in the order of [`GrowthHistory::paths`].
+    pub tips: Vec<[f64; 2]>,
+    /// Coupling iterations of the step (0 for BEM-only and full PD).
+    pub coupling_iterations: usize,
+    /// Final coupling residual (0 when not coupled).
+    pub coupling_residual: f64,
+    /// Bonds broken so far (PD modes), 0 otherwise.
+    pub broken_bonds: usize,
+    /// Wall time of the step (s).
+    pub wall_time_s: f64,
+}
+
+/// A window outline (corners counter-clockwise, m) at a given step: the initial windows
+/// and every window after a relocation, for the path plot.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct WindowOutline {
+    /// Step after which this outline holds.
+    pub step: usize,
+    /// Tip the window serves.
+    pub tip: String,
+    /// Corners (m).
+    pub corners: [[f64; 2]; 4],
+}
+
+/// One window relocation (the geometry iteration of Algorithm 2).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Relocation {
+    /// Step after which the window moved.
+    pub step: usize,
+    /// Tip.
+    pub tip: String,
+    /// Window centre before (m).
+    pub from: [f64; 2],
+    /// Window centre after (m).
+    pub to: [f64; 2],
+    /// BEM elements added to each crack face.
+    pub elements_added: usize,
+    /// Wall time of the rebuild (mesh, assembly, factorization, new window) (s).
+    pub rebuild_s: f64,
+}
+
+/// Everything a growth run produced.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct GrowthHistory {
+    /// `"pd-bem"`, `"bem-only"` or `"full-pd"`.
+    pub mode: String,
+    /// One path per tip.
+    pub paths: Vec<TipPath>,
+    /// One record per converged step.
+    pub steps: Vec<StepRecord>,
+    /// Window outlines (initial and after each relocation); empty without windows.
+    pub windows: Vec<WindowOutline>,
+    /// Relocations in order.
+    pub relocations: Vec<Relocation>,
+    /// Load factor of the first step in which a crack grew (bond broke / K >= K_c).
+    pub initiation_load: Option<f64>,
+    /// True when a crack reached the outer boundary (seed 002 Alg. 2 step 9).
+    pub failure: bool,
+    /// Load factor at failure.
+    pub failure_load: Option<f64>,
+    /// Messages for the user (why the run stopped, merged windows, ...).
+    pub notes: Vec<String>,
+    /// Field snapshots for plots (damage in the active windows, displacement at chosen
+    /// steps); not serialised.
+    #[serde(skip)]
+    pub snapshots: Vec<FieldSnapshot>,
+}
+
+/// A field sampled at points at one step (damage in a window, displacement magnitude ...),
+/// for snapshot plots. Not serialised.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct FieldSnapshot {
+    /// Step (0-based).
+    pub step: usize,
+    /// What it shows, used in the file name: `damage_window0`, `displacement`, ...
+    pub label: String,
+    /// Sample positions (m).
+    pub points: Vec<[f64; 2]>,
+    /// Values at the points.
+    pub values: Vec<f64>,
+}
