@@ -389,6 +389,7 @@ fn pd_settings(scene: &Scene, pd: &ScenePd) -> PdSettings {
         surface_correction: pd.surface_correction,
         // The surface correction already includes the bulk factor.
         bulk_correction: !pd.surface_correction,
+        crack_face_correction: pd.crack_face_correction.unwrap_or(true),
     }
 }
 

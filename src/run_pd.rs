@@ -261,6 +261,7 @@ pub fn problem_from_scene(scene: &Scene) -> Result<PdProblem> {
         cracks,
         boundary,
         surface_correction: pd.surface_correction,
+        crack_face_correction: pd.crack_face_correction.unwrap_or(false),
         ..Default::default()
     })
 }

@@ -31,26 +31,24 @@ fn compare(a: usize) -> (f64, f64, usize, f64) {
 
 #[test]
 fn seed002_table3_cmod_a2_a5() {
-    // Measured CMOD errors, coupled / BEM only: a = 2: 0.0433 / 0.0179; a = 5: 0.0292 /
-    // 0.0048. The issue asks for at most 1 percentage point above BEM only: NOT met
-    // (the PD window adds about 2 % compliance near the tip; K_I from the interaction
-    // integral is 1.4 % / 1.9 % high). Guarded at the measured level.
-    let (ec, eb, it, wall) = compare(2);
-    assert!(ec < 0.045 && eb < 0.02 && it <= 13, "{ec} {eb} {it}");
-    assert!(wall < 5.0, "{wall}");
-    // seed 002 Table 4: 22.3 s; measured 0.5 s (target < 1 s, release, 2 cores).
+    // Measured CMOD errors, coupled / BEM only: a = 2: 0.0174 / 0.0179; a = 5: 0.0100 /
+    // 0.0048 (13 and 12 IQN-ILS iterations). The issue: at most 1 percentage point above
+    // BEM only. Before the PD pre-crack ends were made open and its faces corrected
+    // (pdbem_pd::geometry::segment_crosses_crack, pdbem_pd::surface), 0.0433 and 0.0292.
+    // Wall time is measured by `pdbem bench coupling`, not here.
+    let (ec, eb, it, _) = compare(2);
+    assert!(ec < eb + 0.01 && ec < 0.02 && it <= 13, "{ec} {eb} {it}");
     let (ec, eb, it, _) = compare(5);
-    assert!(ec < 0.031 && eb < 0.006 && it <= 12, "{ec} {eb} {it}");
+    assert!(ec < eb + 0.01 && ec < 0.012 && it <= 12, "{ec} {eb} {it}");
 }
 
 #[test]
-fn seed002_table5_cmod_a8_beats_the_seed_in_under_ten_seconds() {
-    // 40 x 40 points (seed Table 5 case 3), 1640 elements. Measured: error 0.0116 in
-    // 17 IQN-ILS iterations and 4.5 s; BEM only on the same element size 0.0063; seed
-    // 002 Table 5: 4.03 % in 862 s.
-    let (ec, eb, it, wall) = compare(8);
+fn seed002_table5_cmod_a8_beats_the_seed() {
+    // 40 x 40 points (seed Table 5 case 3), 1640 elements. Measured: error 0.0068 in 17
+    // IQN-ILS iterations (about 3 s, see `pdbem bench coupling`); BEM only on the same
+    // element size 0.0063; seed 002 Table 5: 4.03 % in 862 s.
+    let (ec, eb, it, _) = compare(8);
     assert!(ec < 0.0403, "{ec}");
     assert!(ec < eb + 0.01, "{ec} vs BEM {eb}");
     assert!(it <= 17, "{it}");
-    assert!(wall < 10.0, "{wall}");
 }

@@ -38,6 +38,9 @@ pub struct PdSettings {
     /// Scale E by [`bulk_stiffness_factor`]. Leave it off with `surface_correction`, which
     /// already contains the bulk factor.
     pub bulk_correction: bool,
+    /// Stiffen the bonds around pre-crack faces (`pdbem_pd::surface`): the crack faces of
+    /// a PD window then match the traction-free LEFM faces of the BEM crack.
+    pub crack_face_correction: bool,
 }
 
 /// A scene condition on a piece of a window's outer side.
@@ -195,6 +198,7 @@ pub fn build_problem(
             .collect(),
         boundary,
         surface_correction: s.surface_correction,
+        crack_face_correction: s.crack_face_correction,
         grid_angle: w.spec.angle,
         grid_origin: Some(p2(w.corners()[0])),
     }

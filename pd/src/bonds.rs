@@ -24,7 +24,7 @@
 
 use rayon::prelude::*;
 
-use crate::geometry::{dist_point_segment, segment_crosses_polyline, P2};
+use crate::geometry::{dist_point_segment, segment_crosses_crack, segment_crosses_polyline, P2};
 use crate::grid::Grid;
 use crate::problem::{Hole, Region};
 
@@ -258,7 +258,8 @@ pub fn partial_volume(len: f64, delta: f64, dx: f64) -> f64 {
     }
 }
 
-/// Mark bonds crossing any crack polyline as broken (`intact[b] = 0`).
+/// Mark bonds crossing any crack polyline as broken (`intact[b] = 0`); the crack ends
+/// are open ([`segment_crosses_crack`] with a tolerance of 1e-6 dx).
 /// Returns the number of directed bonds cut.
 pub fn cut_cracks(grid: &Grid, bonds: &Bonds, cracks: &[Vec<P2>], intact: &mut [u8]) -> usize {
     if cracks.is_empty() {
@@ -282,6 +283,7 @@ pub fn cut_cracks(grid: &Grid, bonds: &Bonds, cracks: &[Vec<P2>], intact: &mut [
         })
         .collect();
     let delta = grid.delta;
+    let end_tol = 1e-6 * grid.dx;
     let mut count = 0;
     for i in 0..grid.len() {
         let a = pos[i];
@@ -296,7 +298,7 @@ pub fn cut_cracks(grid: &Grid, bonds: &Bonds, cracks: &[Vec<P2>], intact: &mut [
                 {
                     continue;
                 }
-                if segment_crosses_polyline(a, bpt, line) {
+                if segment_crosses_crack(a, bpt, line, end_tol) {
                     if intact[bnd] != 0 {
                         count += 1;
                     }

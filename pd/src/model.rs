@@ -19,7 +19,7 @@ use crate::geometry::P2;
 use crate::grid::{build_grid, Grid};
 use crate::material::{micromodulus, BondLaw};
 use crate::problem::PdProblem;
-use crate::surface::apply_surface_correction;
+use crate::surface::{apply_crack_face_correction, apply_surface_correction};
 
 /// A snapshot of the mutable state, for roll-back (switching solver) and
 /// restarts (coupling).
@@ -64,6 +64,10 @@ impl PdModel {
         bonds.set_coefficients(c, grid.volume);
         let mut intact = vec![1u8; bonds.len()];
         let cut = cut_cracks(&grid, &bonds, &p.cracks, &mut intact);
+        if p.crack_face_correction && cut > 0 {
+            apply_crack_face_correction(&mut bonds, &intact);
+            bonds.set_coefficients(c, grid.volume);
+        }
         if !p.cracks.is_empty() && cut == 0 {
             return Err(PdError::invalid(
                 "cracks",

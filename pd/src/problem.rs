@@ -261,6 +261,10 @@ pub struct PdProblem {
     pub boundary: Vec<BoundaryCondition>,
     /// Apply the Madenci-Oterkus energy surface correction; default false.
     pub surface_correction: bool,
+    /// Stiffen the bonds around pre-crack faces by the energy-method factor of the bonds
+    /// the pre-cracks removed ([`crate::surface::apply_crack_face_correction`]); default
+    /// false.
+    pub crack_face_correction: bool,
     /// Grid rotation (radians, counter-clockwise); default 0.
     pub grid_angle: f64,
     /// Grid origin (a cell corner); default: the lower-left corner of the
@@ -281,6 +285,7 @@ impl Default for PdProblem {
             cracks: Vec::new(),
             boundary: Vec::new(),
             surface_correction: false,
+            crack_face_correction: false,
             grid_angle: 0.0,
             grid_origin: None,
         }

@@ -31,6 +31,11 @@ pub struct PdSettings {
     /// Surface correction (Madenci & Oterkus energy method). Default false.
     #[serde(default)]
     pub surface_correction: bool,
+    /// Stiffen the bonds around pre-crack faces by the energy factor of the bonds the
+    /// pre-cracks removed, so the faces match the traction-free LEFM crack. Default: on in
+    /// PD-BEM windows (their pre-crack continues a BEM crack), off in stand-alone PD.
+    #[serde(default)]
+    pub crack_face_correction: Option<bool>,
     /// Names of scene cracks cut as pre-cracks. Default: all scene cracks.
     #[serde(default)]
     pub pre_cracks: Option<Vec<String>>,
