@@ -62,10 +62,10 @@ fn iterations(scene: &Scene, acc: Acceleration) -> usize {
 
 #[test]
 fn seed002_plate_windows_interface_error_below_one_percent() {
-    // Measured (PD rows, BEM elements): centre (0.0030, 0.0056), shifted (0.0051, 0.0092),
-    // rotated45 (0.0057, 0.0111). The BEM maxima sit on the corner elements. The issue's
-    // 1 % is met except on the rotated window's BEM corner elements (1.11 %): guarded at
-    // 1.2 % there until the corner traction is improved.
+    // Measured (PD rows, BEM elements): centre (0.00050, 0.00056), shifted (0.00076,
+    // 0.00083), rotated45 (0.00091, 0.00103). The issue asks for 1 % everywhere, corners
+    // included. Before the PD -> BEM flux was taken bond by bond across each element line
+    // (coupling/src/interface.rs), the BEM corner elements reached 0.56 / 0.92 / 1.11 %.
     for name in [
         "coupled_plate_window_center",
         "coupled_plate_window_shifted",
@@ -74,20 +74,15 @@ fn seed002_plate_windows_interface_error_below_one_percent() {
         let (_, out) = solve(&case(name)).unwrap();
         let (pd, bem) = interface_error(&out);
         println!("{name}: interface error PD rows {pd:.5}, BEM elements {bem:.5}");
-        let bem_tol = if name.ends_with("rotated45") {
-            0.012
-        } else {
-            0.01
-        };
-        assert!(pd < 0.01 && bem < bem_tol, "{name}: {pd} {bem}");
+        assert!(pd < 0.002 && bem < 0.002, "{name}: {pd} {bem}");
     }
 }
 
 #[test]
 fn seed002_plate_displacement_maps_compared() {
     // Eq. 23 (copy) against interior evaluation and the Taylor map, centred window.
-    // Measured max interface error (PD rows, BEM): Copy (0.0139, 0.0155),
-    // Interior (0.0029, 0.0055), Taylor (0.0030, 0.0056); Interior costs ~10x the time.
+    // Measured max interface error (PD rows, BEM): Copy (0.0118, 0.0129),
+    // Interior (0.00050, 0.00055), Taylor (0.00050, 0.00056); Interior costs ~10x the time.
     let scene = case("coupled_plate_window_center");
     let mut errs = Vec::new();
     for map in [
@@ -112,7 +107,8 @@ fn seed002_plate_displacement_maps_compared() {
 #[test]
 fn seed002_plate_iteration_counts() {
     // Issue target: Aitken <= 15 (seed 002 bound). Measured from w0 = 0.3, psi = 1e-5:
-    // Aitken 16 on the centred window (target missed by one), IQN-ILS 11. Guards below.
+    // Aitken 16 / 14 / 14 (centred / shifted / rotated: the centred window misses the
+    // seed's bound by one), IQN-ILS 11 / 12 / 11. Guards at the measured counts.
     for name in [
         "coupled_plate_window_center",
         "coupled_plate_window_shifted",
@@ -122,7 +118,7 @@ fn seed002_plate_iteration_counts() {
         let a = iterations(&scene, Acceleration::Aitken(0.3));
         let q = iterations(&scene, Acceleration::IqnIls(0.3));
         println!("{name}: aitken {a}, iqn-ils {q}");
-        assert!(a <= 17, "{name}: aitken {a}");
+        assert!(a <= 16, "{name}: aitken {a}");
         assert!(q <= 12, "{name}: iqn {q}");
         assert!(q < a, "{name}: iqn {q} aitken {a}");
     }
@@ -130,7 +126,8 @@ fn seed002_plate_iteration_counts() {
 
 #[test]
 fn undamaged_coupled_solve_matches_bem_without_hole() {
-    // Measured largest relative difference at 600 interior points: 0.0012.
+    // Measured largest relative difference at 600 interior points: 0.00027 (0.0012 before
+    // the corner flux fix).
     let scene = case("coupled_plate_window_center");
     let (_, out) = solve(&scene).unwrap();
     let mut plain = scene.clone();

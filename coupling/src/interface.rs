@@ -4,10 +4,12 @@
 //! - Virtual node -> element (seed 002 Eq. 23 and Fig. 6): each coupled virtual node
 //!   belongs to the nearest interface element (its row; the corner blocks go to the
 //!   corner elements).
-//! - Bond -> element: each intact bond from a coupled virtual node to a real node crosses
-//!   the window boundary once; the element holding the crossing point receives its force.
-//!   This is the flux definition of the PD traction across a line, and coincides with the
-//!   row sum of Eq. 24 away from corners (translation invariance along a side).
+//! - Bond -> element: every bond from a coupled virtual node on the BEM side of an
+//!   element's line to a node on the window side that crosses the element gives it its
+//!   force (half through an element end point). This is the flux definition of the PD
+//!   traction across a line; it coincides with the row sum of Eq. 24 away from corners
+//!   (translation invariance along a side) and stays exact at the corners, where bonds
+//!   between virtual nodes cut through the window.
 //!
 //! Virtual nodes of outer sides with prescribed displacements are not coupled: they keep
 //! the values their boundary condition gave them.
@@ -31,12 +33,10 @@ pub struct Interface {
     pub node_element: Vec<usize>,
     /// Prescribed base values of all virtual nodes as built (outer conditions kept).
     pub base: Vec<[f64; 2]>,
-    /// Bonds from coupled virtual nodes to real nodes: (virtual node index in the model,
-    /// CSR bond index, slot in `elements` of the element the bond crosses).
-    pub crossings: Vec<(usize, usize, usize)>,
-    /// Bonds between two coupled virtual nodes whose segment passes through the window
-    /// (near its corners): (first node, CSR bond, entry slot, exit slot). Each pair once.
-    pub passes: Vec<(usize, usize, usize, usize)>,
+    /// The bonds carrying force across each element: (coupled virtual node index in the
+    /// model, CSR bond index, slot in `elements` of the element the bond crosses, share of
+    /// the bond's force: 1, or 1/2 through an end point shared by two elements).
+    pub crossings: Vec<(usize, usize, usize, f64)>,
 }
 
 impl Interface {
@@ -85,8 +85,7 @@ impl Interface {
             positions.push(x);
             node_element.push(nearest_element(mesh, &elements, x));
         }
-        let crossings = bond_crossings(w, mesh, &elements, model, &coupled);
-        let passes = bond_passes(w, mesh, &elements, model, &coupled);
+        let crossings = bond_crossings(mesh, &elements, model, &coupled);
         Ok(Interface {
             elements,
             coupled,
@@ -94,7 +93,6 @@ impl Interface {
             node_element,
             base,
             crossings,
-            passes,
         })
     }
 
@@ -135,59 +133,48 @@ fn is_coupled(w: &Window, x: V2) -> bool {
 
 /// Slot of the element nearest to `x` (ties: the first in mesh order).
 fn nearest_element(mesh: &Mesh, elements: &[usize], x: V2) -> usize {
-    let mut best = (f64::INFINITY, 0);
-    for (s, &e) in elements.iter().enumerate() {
-        let el = &mesh.elements[e];
-        let d = segment_distance(x, el.a, el.b).0;
-        if d < best.0 - 1e-12 * el.h {
-            best = (d, s);
-        }
-    }
-    best.1
+    nearest_elements(mesh, elements, x)[0].0
 }
 
-/// Every intact bond from a coupled virtual node to a real node, with the element its
-/// segment crosses.
+/// Slots of the elements nearest to `x` with equal shares: one element, or the two that
+/// share an end point at `x` (within 1e-9 of the element length).
+fn nearest_elements(mesh: &Mesh, elements: &[usize], x: V2) -> Vec<(usize, f64)> {
+    let dist = |e: usize| {
+        let el = &mesh.elements[e];
+        segment_distance(x, el.a, el.b).0
+    };
+    let best = elements
+        .iter()
+        .map(|&e| dist(e))
+        .fold(f64::INFINITY, f64::min);
+    let ties: Vec<usize> = elements
+        .iter()
+        .enumerate()
+        .filter(|&(_, &e)| dist(e) <= best + 1e-9 * mesh.elements[e].h)
+        .map(|(s, _)| s)
+        .collect();
+    let share = 1.0 / ties.len() as f64;
+    ties.into_iter().map(|s| (s, share)).collect()
+}
+
+/// The PD flux across every interface element: each bond from a coupled virtual node i
+/// on the BEM side of the element's line to a node j (real, or coupled virtual) on the
+/// window side whose segment crosses the element, with its share (1, or 1/2 through an
+/// end point shared by two elements).
+///
+/// This is the traction of PD across a line, element by element, and is exact under
+/// uniform strain up to the bulk calibration, corners included
+/// (`tests/traction_map.rs`). Both directions of a bond are seen, so a bond between two
+/// virtual nodes that cuts a window corner is counted on both elements it crosses, with
+/// opposite signs.
 fn bond_crossings(
-    w: &Window,
     mesh: &Mesh,
     elements: &[usize],
     model: &PdModel,
     coupled: &[usize],
-) -> Vec<(usize, usize, usize)> {
+) -> Vec<(usize, usize, usize, f64)> {
     let pos = model.positions();
     let n_real = model.n_real();
-    let bonds = model.bonds();
-    let intact = model.bond_intact();
-    let v0 = model.virtual_nodes().start;
-    let mut out = Vec::new();
-    for &k in coupled {
-        let i = v0 + k;
-        let xi = V2::new(pos[i][0], pos[i][1]);
-        for b in bonds.row(i) {
-            let j = bonds.nbr[b] as usize;
-            if j >= n_real || intact[b] == 0 {
-                continue;
-            }
-            let xj = V2::new(pos[j][0], pos[j][1]);
-            let c = w.boundary_crossing(xi, xj);
-            out.push((i, b, nearest_element(mesh, elements, c)));
-        }
-    }
-    out
-}
-
-/// Bonds between coupled virtual nodes that cut through the window (corner regions).
-/// The window transmits their force: the entry element (near the first node) receives
-/// the force the first node exerts on the second, the exit element its opposite.
-fn bond_passes(
-    w: &Window,
-    mesh: &Mesh,
-    elements: &[usize],
-    model: &PdModel,
-    coupled: &[usize],
-) -> Vec<(usize, usize, usize, usize)> {
-    let pos = model.positions();
     let bonds = model.bonds();
     let v0 = model.virtual_nodes().start;
     let is_coupled: std::collections::HashSet<usize> = coupled.iter().map(|k| v0 + k).collect();
@@ -197,20 +184,37 @@ fn bond_passes(
         let xi = V2::new(pos[i][0], pos[i][1]);
         for b in bonds.row(i) {
             let j = bonds.nbr[b] as usize;
-            if j <= i || !is_coupled.contains(&j) {
+            if j >= n_real && !is_coupled.contains(&j) {
                 continue;
             }
             let xj = V2::new(pos[j][0], pos[j][1]);
-            if let Some((p, q)) = w.chord(xi, xj) {
-                let (a, c) = (
-                    nearest_element(mesh, elements, p),
-                    nearest_element(mesh, elements, q),
-                );
-                if a != c {
-                    out.push((i, b, a, c));
+            for (slot, &e) in elements.iter().enumerate() {
+                let share = crossing_share(&mesh.elements[e], xi, xj);
+                if share > 0.0 {
+                    out.push((i, b, slot, share));
                 }
             }
         }
     }
     out
+}
+
+/// Share of the bond xi (BEM side) -> xj (window side) in the flux across element `el`:
+/// 1 when it crosses the element's interior, 1/2 through one of its end points, else 0.
+fn crossing_share(el: &pdbem_bem::mesh::Element, xi: V2, xj: V2) -> f64 {
+    let (si, sj) = ((xi - el.mid).dot(&el.normal), (xj - el.mid).dot(&el.normal));
+    // The element normal points into the window: i outside, j inside.
+    if si >= 0.0 || sj <= 0.0 {
+        return 0.0;
+    }
+    let c = xi + si / (si - sj) * (xj - xi);
+    let along = (c - el.mid).dot(&el.tangent).abs();
+    let (half, tol) = (0.5 * el.h, 1e-9 * el.h);
+    if along < half - tol {
+        1.0
+    } else if along <= half + tol {
+        0.5
+    } else {
+        0.0
+    }
 }

@@ -178,18 +178,10 @@ fn crossing_forces(model: &PdModel, iface: &Interface, f: &mut [[f64; 2]]) {
         // Force on j from i: minus the force density on i from j, times its volume.
         Some([-c * y[0], -c * y[1]])
     };
-    for &(i, b, slot) in &iface.crossings {
+    for &(i, b, slot, share) in &iface.crossings {
         if let Some(g) = force(i, b) {
-            f[slot][0] += g[0];
-            f[slot][1] += g[1];
-        }
-    }
-    for &(i, b, entry, exit) in &iface.passes {
-        if let Some(g) = force(i, b) {
-            f[entry][0] += g[0];
-            f[entry][1] += g[1];
-            f[exit][0] -= g[0];
-            f[exit][1] -= g[1];
+            f[slot][0] += share * g[0];
+            f[slot][1] += share * g[1];
         }
     }
 }
