@@ -111,58 +111,31 @@ fn bench_coupling(out: &Path, quick: bool) -> Result<()> {
     ];
     let mut entries = Vec::new();
     for case in cases {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("cases")
-            .join(format!("{case}.ron"));
-        let base = crate::scene::Scene::load(&path)?;
+        let base = load_case(case)?;
         for (name, value) in schemes {
             let scene = with_overrides(
                 &base,
                 &[("coupling.relaxation".to_string(), parse_value(value))],
             )?;
-            let t0 = std::time::Instant::now();
-            let result = crate::run_coupled::solve(&scene);
-            let wall = t0.elapsed().as_secs_f64();
-            let (mut summary, outcome) = match result {
-                Ok(r) => r,
-                Err(e) => {
-                    let msg = format!("{e:#}");
-                    let short = msg.split("; history").next().unwrap_or(&msg).to_string();
-                    entries.push(CouplingBenchEntry {
-                        case: case.to_string(),
-                        scheme: name.to_string(),
-                        elements: 0,
-                        pd_nodes: 0,
-                        iterations: 0,
-                        converged: false,
-                        cmod_err: None,
-                        timings: Default::default(),
-                        wall_time_s: wall,
-                        error: Some(short),
-                    });
-                    continue;
-                }
-            };
-            crate::runner::reference::apply(&scene, &mut summary);
-            entries.push(CouplingBenchEntry {
-                case: case.to_string(),
-                scheme: name.to_string(),
-                elements: summary.elements.unwrap_or(0),
-                pd_nodes: outcome
-                    .setup
-                    .problem
-                    .windows
-                    .iter()
-                    .map(|w| w.model.n_real())
-                    .sum(),
-                iterations: outcome.info.iterations,
-                converged: outcome.info.converged,
-                cmod_err: summary.cracks.first().and_then(|c| c.cmod_err),
-                timings: outcome.info.timings.clone(),
-                wall_time_s: wall,
-                error: None,
-            });
+            entries.push(coupling_entry(case, name, &scene));
         }
+    }
+    if !quick {
+        // Seed 002 Table 5 case 3 size: about 3680 elements and 1600 PD points (seed: 862 s).
+        let scene = with_overrides(
+            &load_case("coupled_sent_a8")?,
+            &[
+                // Finer outline, crack faces at the window's dx (the interface rows).
+                (
+                    "bem.group_sizes".to_string(),
+                    parse_value(
+                        r#"{"left": 0.0186, "right": 0.0186, "top": 0.0186, "bottom": 0.0186}"#,
+                    ),
+                ),
+                ("coupling.relaxation".to_string(), parse_value(schemes[2].1)),
+            ],
+        )?;
+        entries.push(coupling_entry("a8_seed_mesh", schemes[2].0, &scene));
     }
     let mut text = String::new();
     let _ = writeln!(
@@ -223,6 +196,58 @@ fn bench_coupling(out: &Path, quick: bool) -> Result<()> {
         serde_json::to_string_pretty(&json)?.as_bytes(),
     )?;
     Ok(())
+}
+
+fn load_case(case: &str) -> Result<crate::scene::Scene> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("cases")
+        .join(format!("{case}.ron"));
+    Ok(crate::scene::Scene::load(&path)?)
+}
+
+/// One coupled solve of `scene` timed as a bench row (a failed solve becomes a row too).
+fn coupling_entry(case: &str, scheme: &str, scene: &crate::scene::Scene) -> CouplingBenchEntry {
+    let t0 = std::time::Instant::now();
+    let result = crate::run_coupled::solve(scene);
+    let wall = t0.elapsed().as_secs_f64();
+    let (mut summary, outcome) = match result {
+        Ok(r) => r,
+        Err(e) => {
+            let msg = format!("{e:#}");
+            let short = msg.split("; history").next().unwrap_or(&msg).to_string();
+            return CouplingBenchEntry {
+                case: case.to_string(),
+                scheme: scheme.to_string(),
+                elements: 0,
+                pd_nodes: 0,
+                iterations: 0,
+                converged: false,
+                cmod_err: None,
+                timings: Default::default(),
+                wall_time_s: wall,
+                error: Some(short),
+            };
+        }
+    };
+    crate::runner::reference::apply(scene, &mut summary);
+    CouplingBenchEntry {
+        case: case.to_string(),
+        scheme: scheme.to_string(),
+        elements: summary.elements.unwrap_or(0),
+        pd_nodes: outcome
+            .setup
+            .problem
+            .windows
+            .iter()
+            .map(|w| w.model.n_real())
+            .sum(),
+        iterations: outcome.info.iterations,
+        converged: outcome.info.converged,
+        cmod_err: summary.cracks.first().and_then(|c| c.cmod_err),
+        timings: outcome.info.timings.clone(),
+        wall_time_s: wall,
+        error: None,
+    }
 }
 
 fn bench_bem(out: &Path, quick: bool) -> Result<()> {
