@@ -52,3 +52,33 @@ fn seed002_table5_cmod_a8_beats_the_seed() {
     assert!(ec < eb + 0.01, "{ec} vs BEM {eb}");
     assert!(it <= 17, "{it}");
 }
+
+#[test]
+fn aitken_within_the_seeds_fifteen_iterations_at_psi_1e_3() {
+    // Seed 002 bounds its iterations by 15 with Psi = 1e-2 m absolute (larger than the
+    // CMOD itself here); at our default psi = 1e-4 relative Aitken needs 19 / 16 and does
+    // not converge in 50 at a/W = 0.8, IQN-ILS 12 / 11 / 17. At psi = 1e-3 relative,
+    // measured: Aitken 15 / 12 (a/W = 0.8: 40, the bound is NOT met there),
+    // IQN-ILS 10 / 9 / 15; the CMOD moves by 8e-5 / 2e-5 from the psi = 1e-4 value.
+    for a in [2, 5] {
+        let scene = Scene::load(format!("cases/coupled_sent_a{a}.ron")).unwrap();
+        let (tight, _) = pdbem::run_coupled::solve(&scene).unwrap();
+        let mut setup = pdbem::run_coupled::prepare(&scene).unwrap();
+        setup.params.psi = 1e-3;
+        setup.params.acceleration = pdbem_coupling::Acceleration::Aitken(0.3);
+        let out = pdbem::run_coupled::solve_setup(setup).unwrap();
+        let loose = pdbem::run_coupled::summarize(&scene, &out).unwrap();
+        let (c0, c1) = (tight.cracks[0].cmod.unwrap(), loose.cracks[0].cmod.unwrap());
+        println!(
+            "a = {a}: aitken {} iterations, CMOD change {:.2e}",
+            out.info.iterations,
+            c1 / c0 - 1.0
+        );
+        assert!(
+            out.info.iterations <= 15,
+            "a = {a}: {}",
+            out.info.iterations
+        );
+        assert!((c1 / c0 - 1.0).abs() < 1e-3, "a = {a}: {c0} {c1}");
+    }
+}
