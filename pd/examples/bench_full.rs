@@ -1,33 +1,40 @@
 //! Full benchmark run: `cargo run --release -p pdbem-pd --example bench_full`.
-//! `--quick` for the smoke-test sizes; `--parts` prints each measurement as
-//! it finishes (kernel sizes, then the switching cases given as
-//! `plate:N:NE` or `tpb:NX:NY:NE`).
+//! `--quick` for the smoke-test sizes; `--parts` measures only the cases
+//! given as `plate:N:NE[:REPEATS]` or `tpb:NX:NY:NE[:REPEATS]` and prints
+//! each as it finishes.
+use pdbem_pd::bench::{compare, run_bench, table, BenchOptions, BenchReport};
+use pdbem_pd::cases::{plate_hole, three_point_bend};
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     if args.iter().any(|a| a == "--parts") {
-        for n in [19, 60, 189] {
-            println!("{:?}", pdbem_pd::bench::kernel(n, 1.0));
-        }
         for a in args.iter().filter(|a| a.contains(':')) {
-            let f: Vec<&str> = a.split(':').collect();
-            let num = |i: usize| f[i].parse::<usize>().unwrap();
-            let case = match f[0] {
-                "plate" => {
-                    let mut c = pdbem_pd::cases::plate_hole(num(1));
-                    c.explicit_steps = num(2);
-                    c
-                }
-                _ => {
-                    let mut c = pdbem_pd::cases::three_point_bend(num(1), num(2));
-                    c.explicit_steps = num(3);
-                    c
-                }
+            let f: Vec<usize> = a.split(':').skip(1).map(|v| v.parse().unwrap()).collect();
+            let r = if a.starts_with("plate") {
+                compare(
+                    &plate_hole(f[0]),
+                    f[1],
+                    0.025,
+                    f.get(2).copied().unwrap_or(1),
+                )
+            } else {
+                compare(
+                    &three_point_bend(f[0], f[1]),
+                    f[2],
+                    0.03,
+                    f.get(3).copied().unwrap_or(1),
+                )
             };
-            println!("{:?}", pdbem_pd::bench::compare(case));
+            let report = BenchReport {
+                threads: rayon::current_num_threads(),
+                protocol: pdbem_pd::bench::protocol(),
+                kernel: Vec::new(),
+                switching: vec![r],
+            };
+            print!("{}", table(&report));
         }
         return;
     }
     let quick = args.iter().any(|a| a == "--quick");
-    let r = pdbem_pd::bench::run_bench(pdbem_pd::bench::BenchOptions { quick });
-    println!("{r:#?}");
+    print!("{}", table(&run_bench(BenchOptions { quick })));
 }

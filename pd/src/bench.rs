@@ -1,13 +1,31 @@
 //! Benchmarks: bond-force throughput, memory per bond, factorisation time,
 //! and the speed-up of the switching solver over pure ADR (seed 000 Table 1).
 //!
-//! `bench.json` schema ([`BenchReport`], serde): `threads`; `kernel[]` with
-//! `nodes`, `bonds` (directed), `bond_evals_per_s` (directed bond force
-//! evaluations per second, both directions of a pair counted),
-//! `bytes_per_bond`, `factorization_s` (one numeric sparse Cholesky of the
-//! free-DOF tangent, symbolic excluded); `switching[]` with `case`,
-//! `adr_time_s`, `switching_time_s`, `switching_speedup` (= ADR / switching
-//! wall time), broken pairs of each and `differing_pairs`.
+//! [`run_bench`] returns a [`BenchReport`]; [`table`] renders it for a
+//! terminal. `bench.json` is the report serialised with serde:
+//!
+//! - `threads`: rayon threads; `protocol`: how the comparison is made (text).
+//! - `kernel[]` ([`KernelBench`]), grids of about 1e4, 1e5 and 1e6 directed
+//!   bonds: `nodes`, `bonds` (directed), `bond_evals_per_s` (directed bond
+//!   force evaluations per second, both directions of a pair counted),
+//!   `bytes_per_bond` (static bond data plus bond state per directed bond),
+//!   `factorization_s` (one numeric sparse Cholesky of the free-DOF tangent,
+//!   symbolic analysis excluded), `solve_s` (one pair of triangular solves
+//!   with that factor), `factor_entries` (stored entries of the factor).
+//! - `switching[]` ([`SwitchBench`]), one per case (`pd_plate_hole`,
+//!   `pd_three_point_bend`): `case`, `grid` (`[nx, ny]`), `nodes`,
+//!   `implicit_steps` (`N_i`), `increments` (`N_e`), `repeats`, `adr` and
+//!   `switching` ([`SolverRun`]: median `time_s`, all `times_s`,
+//!   `iterations`, `newton_iterations`, `secant_iterations`, `adr_iterations`,
+//!   `secant_rounds`, `factorizations`, `adr_fallbacks`, `broken_pairs`),
+//!   `switching_speedup` (median over the repeats of ADR time / switching
+//!   time, each pair measured back to back), `speedups` (all of them),
+//!   `differing_pairs` (bond pairs intact in one result and broken in the
+//!   other), `displacement_difference` (relative L2 difference of the
+//!   displacements of all real nodes, switching against ADR),
+//!   `profile_difference` (the same over the two node rows next to the
+//!   horizontal centre line, the seed's Figs. 13-14 profiles), `error`
+//!   (a solver error, if any).
 
 use std::time::Instant;
 
@@ -17,13 +35,19 @@ use crate::cases::{plate_hole, three_point_bend, PdCase};
 use crate::forces::History;
 use crate::model::PdModel;
 use crate::problem::{PdProblem, Region};
-use crate::solvers::{adr, switching};
+use crate::solvers::{adr, switching, PhaseKind, SolveInfo};
 use crate::tangent::Tangent;
+
+/// ADR density safety factor of both solvers in the comparison: the
+/// Gershgorin bound itself, as in Kilic & Madenci's ADR used by seed 000.
+/// Measured on the 20 x 20 plate: 20130 ADR steps against 24218 with the
+/// crate default 1.5, same damage.
+pub const ADR_SAFETY: f64 = 1.0;
 
 /// Benchmark options.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct BenchOptions {
-    /// Small grids and short runs (a few seconds), for smoke tests.
+    /// Small grids and one repeat (under a minute), for smoke tests.
     pub quick: bool,
 }
 
@@ -40,6 +64,55 @@ pub struct KernelBench {
     pub bytes_per_bond: f64,
     /// One numeric Cholesky factorisation of the tangent (s).
     pub factorization_s: f64,
+    /// One pair of triangular solves with that factor (s).
+    pub solve_s: f64,
+    /// Stored entries of the Cholesky factor.
+    pub factor_entries: usize,
+}
+
+/// Work and time of one solver on one case.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct SolverRun {
+    /// Median wall time over the repeats (s).
+    pub time_s: f64,
+    /// Wall time of every repeat (s).
+    pub times_s: Vec<f64>,
+    /// All iterations.
+    pub iterations: usize,
+    /// Newton iterations of the elastic (implicit) steps.
+    pub newton_iterations: usize,
+    /// Chord iterations of the secant re-commit rounds.
+    pub secant_iterations: usize,
+    /// ADR steps.
+    pub adr_iterations: usize,
+    /// Secant equilibria solved (re-commit rounds).
+    pub secant_rounds: usize,
+    /// Numeric factorisations.
+    pub factorizations: usize,
+    /// Damage increments handed to ADR because the secant rounds failed.
+    pub adr_fallbacks: usize,
+    /// Broken bond pairs at the end.
+    pub broken_pairs: usize,
+}
+
+impl SolverRun {
+    fn record(&mut self, info: &SolveInfo, broken_pairs: usize) {
+        let by_kind = |k: PhaseKind| -> usize {
+            info.phases
+                .iter()
+                .filter(|p| p.kind == k)
+                .map(|p| p.iterations)
+                .sum()
+        };
+        self.iterations = info.iterations;
+        self.newton_iterations = by_kind(PhaseKind::Implicit);
+        self.secant_iterations = by_kind(PhaseKind::Secant);
+        self.adr_iterations = by_kind(PhaseKind::Explicit);
+        self.secant_rounds = info.secant_rounds;
+        self.factorizations = info.factorizations;
+        self.adr_fallbacks = info.adr_fallbacks;
+        self.broken_pairs = broken_pairs;
+    }
 }
 
 /// Switching versus pure ADR on one seed case.
@@ -47,20 +120,32 @@ pub struct KernelBench {
 pub struct SwitchBench {
     /// Case name.
     pub case: String,
-    /// Grid nodes.
+    /// Grid `[nx, ny]`.
+    pub grid: [usize; 2],
+    /// Nodes (real and fictitious).
     pub nodes: usize,
-    /// Pure ADR wall time (s).
-    pub adr_time_s: f64,
-    /// Switching solver wall time (s).
-    pub switching_time_s: f64,
-    /// ADR time over switching time.
+    /// `N_i` of the switching solver.
+    pub implicit_steps: usize,
+    /// `N_e`: load increments of both solvers.
+    pub increments: usize,
+    /// Back-to-back repeats timed.
+    pub repeats: usize,
+    /// Pure ADR.
+    pub adr: SolverRun,
+    /// Switching solver.
+    pub switching: SolverRun,
+    /// Median of ADR time / switching time over the repeats.
     pub switching_speedup: f64,
-    /// Broken pairs, pure ADR.
-    pub adr_broken: usize,
-    /// Broken pairs, switching.
-    pub switching_broken: usize,
-    /// Bond pairs whose state differs between the two.
+    /// ADR time / switching time of every repeat.
+    pub speedups: Vec<f64>,
+    /// Bond pairs whose state differs between the two results.
     pub differing_pairs: usize,
+    /// Relative L2 difference of all real-node displacements.
+    pub displacement_difference: f64,
+    /// Relative L2 difference along the horizontal centre line.
+    pub profile_difference: f64,
+    /// First solver error, if any.
+    pub error: Option<String>,
 }
 
 /// The whole report.
@@ -68,10 +153,30 @@ pub struct SwitchBench {
 pub struct BenchReport {
     /// Rayon threads.
     pub threads: usize,
+    /// How the switching solver is compared with ADR.
+    pub protocol: String,
     /// Kernel measurements (about 1e4, 1e5, 1e6 bonds).
     pub kernel: Vec<KernelBench>,
     /// Switching measurements (plate with hole, three-point bend).
     pub switching: Vec<SwitchBench>,
+}
+
+/// Bytes of bond data per directed bond: the static CSR arrays and the
+/// bond state (intact flag, stretch history).
+fn bytes_per_bond(m: &PdModel) -> f64 {
+    use std::mem::size_of_val;
+    let b = m.bonds();
+    let bytes = size_of_val(b.offsets.as_slice())
+        + size_of_val(b.nbr.as_slice())
+        + size_of_val(b.xi.as_slice())
+        + size_of_val(b.inv_len.as_slice())
+        + size_of_val(b.vol_factor.as_slice())
+        + size_of_val(b.surface.as_slice())
+        + size_of_val(b.k.as_slice())
+        + size_of_val(b.meta.as_slice())
+        + size_of_val(m.intact.as_slice())
+        + size_of_val(m.s_hist.as_slice());
+    bytes as f64 / b.len() as f64
 }
 
 /// Force-kernel throughput, bytes per bond and one numeric factorisation on
@@ -85,7 +190,7 @@ pub fn kernel(n: usize, min_time: f64) -> KernelBench {
         failure: crate::problem::Failure::CriticalStretch { s0: 1.0 },
         ..Default::default()
     };
-    let mut m = PdModel::new(&p).unwrap();
+    let mut m = PdModel::new(&p).expect("unit square");
     for (i, u) in m.u.iter_mut().enumerate() {
         *u = [1e-4 * (i % 7) as f64 / n as f64, 0.0];
     }
@@ -96,79 +201,196 @@ pub fn kernel(n: usize, min_time: f64) -> KernelBench {
         reps += 1;
     }
     let dt = t0.elapsed().as_secs_f64();
-    let nb = m.n_bonds();
-    // nbr, xi, 1/|xi|, v, G, k, meta, intact, s_hist (of which the force
-    // pass reads nbr, xi, 1/|xi|, k, meta, intact: 38 bytes, plus s_hist
-    // for degrading bonds).
-    let bytes = 4 + 16 + 8 + 8 + 8 + 8 + 1 + 1 + 8;
-    // Pin one corner node so the tangent is not singular; time one numeric
-    // factorisation.
+    let (factorization_s, solve_s, factor_entries) = factorization(&m);
+    KernelBench {
+        nodes: m.n_nodes(),
+        bonds: m.n_bonds(),
+        bond_evals_per_s: (m.n_bonds() * reps) as f64 / dt,
+        bytes_per_bond: bytes_per_bond(&m),
+        factorization_s,
+        solve_s,
+        factor_entries,
+    }
+}
+
+/// One numeric factorisation (after a first one that includes the symbolic
+/// analysis) and one solve of the tangent of `m` with one corner node
+/// pinned: (factorisation s, solve s, factor entries); NaN on failure.
+fn factorization(m: &PdModel) -> (f64, f64, usize) {
     let mut fixed = vec![[false; 2]; m.n_nodes()];
     fixed[0] = [true, true];
     fixed[1] = [false, true];
-    let fact = match Tangent::new(&m.bonds, &fixed) {
-        Ok(mut t) => {
-            t.assemble(&m.bonds, m.law, &m.intact, &m.s_hist, &m.u);
-            let mut rhs = vec![1.0; t.n_free];
-            let _ = t.solve(&mut rhs); // symbolic + first numeric
-            let mut rhs = vec![1.0; t.n_free];
-            let t1 = Instant::now();
-            let _ = t.solve(&mut rhs);
-            t1.elapsed().as_secs_f64()
-        }
-        Err(_) => f64::NAN,
+    let Ok(mut t) = Tangent::new(&m.bonds, &fixed) else {
+        return (f64::NAN, f64::NAN, 0);
     };
-    KernelBench {
-        nodes: m.n_nodes(),
-        bonds: nb,
-        bond_evals_per_s: (nb * reps) as f64 / dt,
-        bytes_per_bond: bytes as f64 + (m.bonds.offsets.len() * 8) as f64 / nb as f64,
-        factorization_s: fact,
+    t.assemble(&m.bonds, m.law, &m.intact, &m.s_hist, &m.u);
+    if t.factorize().is_err() {
+        return (f64::NAN, f64::NAN, 0);
     }
+    let t1 = Instant::now();
+    let ok = t.factorize().is_ok();
+    let tf = t1.elapsed().as_secs_f64();
+    let mut rhs = vec![1.0; t.n_free];
+    let t2 = Instant::now();
+    let solved = t.solve_with_last_factor(&mut rhs, 1).is_ok();
+    let ts = t2.elapsed().as_secs_f64();
+    if !(ok && solved) {
+        return (f64::NAN, f64::NAN, 0);
+    }
+    (tf, ts, t.factor_nnz().unwrap_or(0))
 }
 
-/// Pure ADR converged at each of the switching solver's `N_e` increments
-/// (the same convergence measure), then the switching solver, in one run.
-pub fn compare(case: PdCase) -> SwitchBench {
+/// Relative L2 difference of the displacements of `b` against `a` over the
+/// real nodes with `select(position)`.
+pub fn displacement_difference(a: &PdModel, b: &PdModel, select: impl Fn([f64; 2]) -> bool) -> f64 {
+    let x = a.positions();
+    let (ua, ub) = (a.displacements(), b.displacements());
+    let (mut d2, mut n2) = (0.0, 0.0);
+    for i in (0..a.n_real()).filter(|&i| select(x[i])) {
+        for c in 0..2 {
+            d2 += (ua[i][c] - ub[i][c]).powi(2);
+            n2 += ua[i][c].powi(2);
+        }
+    }
+    (d2 / n2).sqrt()
+}
+
+/// Relative L2 difference over the two node rows next to the horizontal
+/// line `y = y0` (the seed's profile plots).
+pub fn profile_difference(a: &PdModel, b: &PdModel, y0: f64) -> f64 {
+    let h = 0.6 * a.grid().dx;
+    displacement_difference(a, b, |p| (p[1] - y0).abs() < h)
+}
+
+/// The comparison protocol, stated in the report.
+pub fn protocol() -> String {
+    format!(
+        "Both solvers run on the same model and the same N_e equal load increments, each \
+         converged to the same measure and tolerance (seed 000 Eq. 16, relative displacement \
+         change < 1e-9: per ADR step, per Newton/secant update), with the same bond-break rule \
+         (bonds act with their committed secant factor T(s_hist) while an equilibrium is \
+         sought; at the converged state the history is committed and bonds past s_c break; the \
+         increment is re-converged until no bond breaks and no stretch exceeds its history by \
+         more than 1e-3 (s_c - s_m)). ADR: Kilic-Madenci density at the Gershgorin bound \
+         (safety {ADR_SAFETY}), damping from the local Rayleigh quotient, each increment \
+         started at rest. Switching: Newton steps of up to N_e/N_i increments while no bond \
+         passes the damage onset, failure increments by the same re-commit rounds with each \
+         equilibrium solved on a factorised secant tangent with low-rank updates (ADR if that \
+         fails). Both solvers are timed back to back in one process; the speed-up is the \
+         median over the repeats."
+    )
+}
+
+/// Pure ADR converged at each of `n_e` increments, then the switching
+/// solver on the same increments, `repeats` times back to back.
+pub fn compare(case: &PdCase, n_e: usize, profile_y: f64, repeats: usize) -> SwitchBench {
     let ps = switching::SwitchingParams {
+        target_load: case.target_load,
         implicit_steps: case.implicit_steps,
-        explicit_steps: case.explicit_steps,
+        explicit_steps: n_e,
+        safety: ADR_SAFETY,
         ..Default::default()
     };
-    let mut ma = PdModel::new(&case.problem).unwrap();
     let pa = adr::AdrParams {
+        target_load: case.target_load,
         steps: ps.increments(),
         convergence: ps.convergence,
+        safety: ADR_SAFETY,
+        growth_tol: ps.growth_tol,
+        max_break_rounds: ps.max_break_rounds,
         ..Default::default()
     };
-    let t0 = Instant::now();
-    let ra = adr::solve(&mut ma, &pa);
-    let ta = t0.elapsed().as_secs_f64();
-    let mut ms = PdModel::new(&case.problem).unwrap();
-    let t1 = Instant::now();
-    let rs = switching::solve(&mut ms, &ps);
-    let ts = t1.elapsed().as_secs_f64();
-    let differing = ma.differing_pairs(&ms);
-    SwitchBench {
-        case: format!(
-            "{}{}",
-            case.name,
-            match (&ra, &rs) {
-                (Ok(_), Ok(_)) => String::new(),
-                _ => format!(" (errors: adr {:?}, switching {:?})", ra.err(), rs.err()),
+    let mut adr_run = SolverRun::default();
+    let mut sw_run = SolverRun::default();
+    let mut first: Option<(PdModel, PdModel)> = None;
+    let mut error = None;
+    let mut speedups = Vec::new();
+    for _ in 0..repeats.max(1) {
+        let mut ma = PdModel::new(&case.problem).expect("seed case");
+        let t0 = Instant::now();
+        let ra = adr::solve(&mut ma, &pa);
+        let ta = t0.elapsed().as_secs_f64();
+        let mut ms = PdModel::new(&case.problem).expect("seed case");
+        let t1 = Instant::now();
+        let rs = switching::solve(&mut ms, &ps);
+        let ts = t1.elapsed().as_secs_f64();
+        adr_run.times_s.push(ta);
+        sw_run.times_s.push(ts);
+        match (&ra, &rs) {
+            (Ok(ia), Ok(is)) => {
+                speedups.push(ta / ts);
+                adr_run.record(ia, ma.broken_bonds());
+                sw_run.record(is, ms.broken_bonds());
             }
-        ),
+            _ => {
+                error = Some(format!(
+                    "adr: {:?}; switching: {:?}",
+                    ra.as_ref().err(),
+                    rs.as_ref().err()
+                ));
+                break;
+            }
+        }
+        first.get_or_insert((ma, ms));
+    }
+    adr_run.time_s = median(&adr_run.times_s);
+    sw_run.time_s = median(&sw_run.times_s);
+    let (ma, ms) = first.expect("at least one repeat");
+    let dx = ma.grid().dx;
+    let (lo, hi) = bounding_box(&case.problem.region.outline);
+    SwitchBench {
+        case: case.name.clone(),
+        grid: [
+            ((hi[0] - lo[0]) / dx).round() as usize,
+            ((hi[1] - lo[1]) / dx).round() as usize,
+        ],
         nodes: ma.n_nodes(),
-        adr_time_s: ta,
-        switching_time_s: ts,
-        switching_speedup: ta / ts,
-        adr_broken: ma.broken_bonds(),
-        switching_broken: ms.broken_bonds(),
-        differing_pairs: differing,
+        implicit_steps: case.implicit_steps,
+        increments: ps.increments(),
+        repeats: speedups.len(),
+        differing_pairs: ma.differing_pairs(&ms),
+        displacement_difference: displacement_difference(&ma, &ms, |_| true),
+        profile_difference: profile_difference(&ma, &ms, profile_y),
+        switching_speedup: median(&speedups),
+        speedups,
+        adr: adr_run,
+        switching: sw_run,
+        error,
     }
 }
 
-/// Run the benchmarks.
+fn bounding_box(points: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
+    points.iter().fold(
+        ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]),
+        |(lo, hi), p| {
+            (
+                [lo[0].min(p[0]), lo[1].min(p[1])],
+                [hi[0].max(p[0]), hi[1].max(p[1])],
+            )
+        },
+    )
+}
+
+/// Median (NaN for an empty slice).
+fn median(v: &[f64]) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    let n = s.len();
+    if n % 2 == 1 {
+        s[n / 2]
+    } else {
+        0.5 * (s[n / 2 - 1] + s[n / 2])
+    }
+}
+
+/// Run the benchmarks. Full: kernels at about 1e4, 1e5 and 1e6 bonds; the
+/// plate with a hole on the seed's 50 x 50 grid with the seed's N_e = 180,
+/// the three-point bend on 96 x 24 with N_e = 60 (the seed's 200 x 50 grid
+/// with N_e = 1000 converged increments takes pure ADR hours), three
+/// repeats each. Quick: 20 x 20 (N_e 60) and 48 x 12 (N_e 40), one repeat.
 pub fn run_bench(opts: BenchOptions) -> BenchReport {
     // 28 bonds per interior node: n^2 * 28 ~ 1e4, 1e5, 1e6.
     let (sizes, min_time): (&[usize], f64) = if opts.quick {
@@ -177,28 +399,132 @@ pub fn run_bench(opts: BenchOptions) -> BenchReport {
         (&[19, 60, 189], 1.0)
     };
     let kernel = sizes.iter().map(|&n| kernel(n, min_time)).collect();
-    let switching = if opts.quick {
-        let mut p = plate_hole(20);
-        p.explicit_steps = 60;
-        let mut c = three_point_bend(48, 12);
-        c.explicit_steps = 40;
-        vec![compare(p), compare(c)]
+    let (plate, bend, repeats) = if opts.quick {
+        ((plate_hole(20), 60), (three_point_bend(48, 12), 40), 1)
     } else {
-        // The ADR reference converges every increment. The plate runs on
-        // the seed's 50 x 50 grid with N_e = 180 (measured: ADR 76.5 s,
-        // switching 42.0 s). The bend on the seed's 200 x 50 grid with even
-        // 100 converged increments did not finish in 30 min on the two
-        // shared cores, so it runs on 96 x 24 with N_e = 60 (measured: ADR
-        // 203 s, switching 150 s).
-        let mut c = three_point_bend(96, 24);
-        c.explicit_steps = 60;
-        vec![compare(plate_hole(50)), compare(c)]
+        ((plate_hole(50), 180), (three_point_bend(96, 24), 60), 3)
     };
+    // Profiles along the horizontal centre lines (plate: y = 0.025 m, bend:
+    // y = w/2 = 0.03 m).
+    let switching = vec![
+        compare(&plate.0, plate.1, 0.025, repeats),
+        compare(&bend.0, bend.1, 0.03, repeats),
+    ];
     BenchReport {
         threads: rayon::current_num_threads(),
+        protocol: protocol(),
         kernel,
         switching,
     }
+}
+
+/// The report as a text table.
+pub fn table(r: &BenchReport) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::new();
+    let _ = writeln!(s, "PD benchmark ({} threads)", r.threads);
+    let _ = writeln!(
+        s,
+        "{:>8} {:>9} {:>15} {:>10} {:>10} {:>9} {:>12}",
+        "nodes", "bonds", "bond_evals/s", "bytes/bond", "factor_s", "solve_s", "factor_nnz"
+    );
+    for k in &r.kernel {
+        let _ = writeln!(
+            s,
+            "{:>8} {:>9} {:>15.3e} {:>10.1} {:>10.4} {:>9.5} {:>12}",
+            k.nodes,
+            k.bonds,
+            k.bond_evals_per_s,
+            k.bytes_per_bond,
+            k.factorization_s,
+            k.solve_s,
+            k.factor_entries
+        );
+    }
+    let _ = writeln!(s, "\nswitching vs pure ADR:");
+    for line in wrap(&r.protocol, 100) {
+        let _ = writeln!(s, "  {line}");
+    }
+    let _ = writeln!(s);
+    let _ = writeln!(
+        s,
+        "{:<20} {:>7} {:>4} {:>5} {:>8} {:>8} {:>8} {:>8} {:>22} {:>7} {:>5} {:>9} {:>6} {:>9} {:>9}",
+        "case",
+        "grid",
+        "N_i",
+        "N_e",
+        "adr_s",
+        "switch_s",
+        "speedup",
+        "adr_it",
+        "newton/secant/adr_it",
+        "rounds",
+        "fact",
+        "broken",
+        "differ",
+        "du_field",
+        "du_line"
+    );
+    for c in &r.switching {
+        let _ = writeln!(
+            s,
+            "{:<20} {:>7} {:>4} {:>5} {:>8.2} {:>8.2} {:>8.2} {:>8} {:>22} {:>7} {:>5} {:>9} {:>6} {:>9.2e} {:>9.2e}",
+            c.case,
+            format!("{}x{}", c.grid[0], c.grid[1]),
+            c.implicit_steps,
+            c.increments,
+            c.adr.time_s,
+            c.switching.time_s,
+            c.switching_speedup,
+            c.adr.adr_iterations,
+            format!(
+                "{}/{}/{}",
+                c.switching.newton_iterations,
+                c.switching.secant_iterations,
+                c.switching.adr_iterations
+            ),
+            c.switching.secant_rounds,
+            c.switching.factorizations,
+            format!("{}/{}", c.adr.broken_pairs, c.switching.broken_pairs),
+            c.differing_pairs,
+            c.displacement_difference,
+            c.profile_difference
+        );
+        if let Some(e) = &c.error {
+            let _ = writeln!(s, "  error: {e}");
+        }
+        let _ = writeln!(
+            s,
+            "  speed-up per repeat: {}",
+            c.speedups
+                .iter()
+                .map(|v| format!("{v:.2}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    let _ = writeln!(
+        s,
+        "seed 000 Table 1 (Julia, one core, its own ADR baseline): plate 10.7x, three-point bend 6.4x"
+    );
+    s
+}
+
+/// `text` cut into lines of at most `width` characters at spaces.
+fn wrap(text: &str, width: usize) -> Vec<String> {
+    let mut lines = vec![String::new()];
+    for word in text.split_whitespace() {
+        let last = lines.last_mut().expect("one line");
+        if !last.is_empty() && last.len() + 1 + word.len() > width {
+            lines.push(word.to_string());
+        } else {
+            if !last.is_empty() {
+                last.push(' ');
+            }
+            last.push_str(word);
+        }
+    }
+    lines
 }
 
 #[cfg(test)]
@@ -208,7 +534,7 @@ mod tests {
     #[test]
     fn kernel_bench_reports_throughput() {
         // The quick kernel sizes only (the switching comparison is covered
-        // by tests/verification_seed000_plate_hole.rs).
+        // by tests/verification_seed000_*.rs).
         let k = kernel(60, 0.05);
         eprintln!("{k:#?}");
         // Measured about 2e8 directed bond evaluations per second on the
@@ -216,6 +542,22 @@ mod tests {
         // a broken kernel without flaking on a loaded machine.
         assert!(k.bond_evals_per_s > 1e7);
         assert_eq!(k.nodes, 3600);
-        assert!(k.factorization_s.is_finite());
+        assert!(k.factorization_s.is_finite() && k.solve_s.is_finite());
+        // Static bond data: neighbour 4, xi 16, 1/|xi|, partial volume,
+        // surface factor and k 8 each, group byte 1 (53 bytes); state:
+        // intact byte and s_hist (9 bytes); plus the row offsets (8 bytes
+        // per node over about 27 bonds per node): measured 62.3.
+        assert!(
+            (62.0..63.0).contains(&k.bytes_per_bond),
+            "{}",
+            k.bytes_per_bond
+        );
+    }
+
+    #[test]
+    fn median_of_odd_and_even_counts() {
+        assert_eq!(median(&[3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&[4.0, 1.0, 2.0, 3.0]), 2.5);
+        assert!(median(&[]).is_nan());
     }
 }

@@ -24,6 +24,10 @@ use crate::bonds::{Bonds, GROUP_END};
 use crate::geometry::P2;
 use crate::material::{degradation, BondLaw};
 
+/// Intact flag of a bond that may not fail (a no-fail zone, e.g. next to a coupling
+/// interface, [`crate::PdModel::protect_bonds`]): it stays elastic and intact.
+pub const NO_FAIL: u8 = 2;
+
 /// Whether a force pass may change the bond history.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum History {
@@ -123,7 +127,7 @@ unsafe fn node_force(
         (BondLaw::Elastic, _) => row_force(bonds, intact, s_hist, u, i, out, |_, s, _, _| (1.0, s)),
         (BondLaw::Brittle { s0 }, h) => {
             row_force(bonds, intact, s_hist, u, i, out, |st, s, ip, _| {
-                if s >= s0 {
+                if s >= s0 && *ip != NO_FAIL {
                     st.growing += 1;
                     if h == History::Update {
                         *ip = 0;
@@ -136,6 +140,9 @@ unsafe fn node_force(
         }
         (BondLaw::Degrading { s_m, s_c, beta }, h) => {
             row_force(bonds, intact, s_hist, u, i, out, |st, s, ip, hp| {
+                if *ip == NO_FAIL {
+                    return (1.0, s);
+                }
                 let hv = *hp;
                 if s > s_m && s > hv {
                     st.growing += 1;
@@ -234,17 +241,53 @@ pub fn elastic_energy(bonds: &Bonds, intact: &[u8], u: &[P2], volume: f64) -> f6
         .sum()
 }
 
+/// Which tangent a bond block is taken of.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TangentKind {
+    /// Of the [`History::Frozen`] force pass (seed 000 Eqs. 14-15): the
+    /// degradation acts at `max(s, s_hist)` and a bond loading past its
+    /// history gets the softening slope.
+    Consistent,
+    /// Of the [`History::Secant`] force pass: every bond keeps its
+    /// committed factor `T(s_hist)`, so $g' = T(s_{hist})$ (no softening).
+    Secant,
+    /// [`TangentKind::Secant`] with the transverse (geometric) term taken as
+    /// $\max(g, 0)$: a compressed bond would make it negative, and a
+    /// compressed bond left on its own (a fragment cut free by the crack)
+    /// makes the secant matrix indefinite. Positive semi-definite bond by
+    /// bond; iterations with it contract by the ratio of the dropped
+    /// geometric stiffness to the stiffness of the softest mode (about 0.3
+    /// measured on the three-point bend, whose compressed top chord
+    /// carries a bending mode).
+    SecantPositive,
+}
+
 /// The 2x2 tangent block `B = dF_i/du_j` of one bond (seed 000 Eqs. 8, 14):
 /// $B = k[g'(s)/L\, e e^T + g(s)/l\,(I - e e^T)]$ with $g = s\,T$,
 /// $g' = T + s T'$ while the bond is loading past its history, else $T(s_{hist})$.
+/// The tangent of the force pass with [`History::Frozen`]; see
+/// [`bond_tangent_in`] for the others.
 #[inline]
 pub fn bond_tangent(law: BondLaw, k: f64, inv_len: f64, y: P2, s_hist: f64) -> [[f64; 2]; 2] {
+    bond_tangent_in(law, k, inv_len, y, s_hist, TangentKind::Consistent)
+}
+
+/// [`bond_tangent`] of the given [`TangentKind`].
+#[inline]
+pub fn bond_tangent_in(
+    law: BondLaw,
+    k: f64,
+    inv_len: f64,
+    y: P2,
+    s_hist: f64,
+    kind: TangentKind,
+) -> [[f64; 2]; 2] {
     let l = y[0].hypot(y[1]);
     let s = l * inv_len - 1.0;
     let (g, gp) = match law {
         BondLaw::Elastic | BondLaw::Brittle { .. } => (s, 1.0),
         BondLaw::Degrading { s_m, s_c, beta } => {
-            if s > s_hist {
+            if s > s_hist && kind == TangentKind::Consistent {
                 let (t, dt) = degradation(s, s_m, s_c, beta);
                 (s * t, t + s * dt)
             } else {
@@ -252,6 +295,11 @@ pub fn bond_tangent(law: BondLaw, k: f64, inv_len: f64, y: P2, s_hist: f64) -> [
                 (s * t, t)
             }
         }
+    };
+    let g = if kind == TangentKind::SecantPositive {
+        g.max(0.0)
+    } else {
+        g
     };
     let e = [y[0] / l, y[1] / l];
     let a = gp * inv_len;

@@ -14,12 +14,15 @@
 //! - [`solvers`]: [`solvers::adr`], [`solvers::implicit`] and
 //!   [`solvers::switching`], each `params in, Result<SolveInfo, PdError> out`.
 //! - [`measure`]: initiation load and kink angle from the damage field.
+//! - [`crack_path`]: tip tracking: the macro crack connected to an entry
+//!   point, its tip and smoothed path ([`crack_path::trace_crack`]).
 //! - [`cases`]: the seed cases as problem constructors; [`bench`]: benchmarks.
 
 pub mod bench;
 pub mod bonds;
 pub mod boundary;
 pub mod cases;
+pub mod crack_path;
 pub mod damage;
 pub mod error;
 pub mod forces;

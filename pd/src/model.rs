@@ -147,10 +147,34 @@ impl PdModel {
     /// grid (each pair is stored in both directions, hence the halving).
     pub fn differing_pairs(&self, other: &PdModel) -> usize {
         let (a, b) = (self.bond_intact(), other.bond_intact());
-        a.iter().zip(b).filter(|(x, y)| x != y).count() / 2
+        a.iter()
+            .zip(b)
+            .filter(|(x, y)| (**x == 0) != (**y == 0))
+            .count()
+            / 2
     }
 
-    /// Bond intact flags (1 intact, 0 broken or cut), CSR order.
+    /// No-fail zone: every intact bond with an end node at which `protect` holds can no
+    /// longer break (flag [`crate::forces::NO_FAIL`]; degrading bonds stay elastic).
+    /// Returns the number of directed bonds marked.
+    pub fn protect_bonds(&mut self, protect: impl Fn(P2) -> bool) -> usize {
+        let pos = &self.grid.pos;
+        let flags: Vec<bool> = pos.iter().map(|&x| protect(x)).collect();
+        let mut marked = 0;
+        for i in 0..pos.len() {
+            for b in self.bonds.row(i) {
+                let j = self.bonds.nbr[b] as usize;
+                if self.intact[b] == 1 && (flags[i] || flags[j]) {
+                    self.intact[b] = crate::forces::NO_FAIL;
+                    marked += 1;
+                }
+            }
+        }
+        marked
+    }
+
+    /// Bond intact flags (0 broken or cut, 1 intact, [`crate::forces::NO_FAIL`] intact
+    /// and unbreakable), CSR order.
     pub fn bond_intact(&self) -> &[u8] {
         &self.intact
     }
@@ -383,5 +407,40 @@ impl PdModel {
         self.compute_forces(History::Frozen);
         self.u = saved;
         self.force.clone()
+    }
+}
+
+#[cfg(test)]
+mod no_fail_tests {
+    use super::*;
+    use crate::problem::{Failure, Region};
+
+    #[test]
+    fn protected_bonds_do_not_break() {
+        // 10 x 4 cells stretched by 5 % along x against s0 = 1 %: every bond with an x
+        // component breaks, except those with an end in the protected left half.
+        let p = PdProblem {
+            region: Region::rectangle([0.0, 0.0], [10.0, 4.0]),
+            dx: 1.0,
+            youngs_modulus: 1.0,
+            failure: Failure::CriticalStretch { s0: 0.01 },
+            ..Default::default()
+        };
+        let mut m = PdModel::new(&p).unwrap();
+        let marked = m.protect_bonds(|x| x[0] < 5.0);
+        assert!(marked > 0);
+        let u: Vec<P2> = m.positions().iter().map(|x| [0.05 * x[0], 0.0]).collect();
+        m.set_displacements(&u).unwrap();
+        let st = m.commit_history();
+        assert!(st.newly_broken > 0);
+        let (pos, b) = (m.positions().to_vec(), m.bonds().clone());
+        for i in 0..m.n_nodes() {
+            for k in b.row(i) {
+                let j = b.nbr[k] as usize;
+                let protected = pos[i][0] < 5.0 || pos[j][0] < 5.0;
+                assert_eq!(m.bond_intact()[k] != 0, protected || b.xi[k][0] == 0.0);
+            }
+        }
+        assert_eq!(m.differing_pairs(&m.clone()), 0);
     }
 }

@@ -4,8 +4,11 @@
 //! - [`adr`]: adaptive dynamic relaxation (seed 002 Eqs. 9-15, Kilic & Madenci).
 //! - [`implicit`]: Newton-Raphson on the full nonlinear equilibrium with the
 //!   analytic tangent (seed 000 section 2).
-//! - [`switching`]: implicit while no bond passes the damage onset, ADR while
-//!   bonds fail, implicit again once failure stops (seed 000 section 4).
+//! - [`switching`]: implicit while no bond passes the damage onset, the
+//!   failure increments by the secant re-commit rounds (ADR if those fail),
+//!   implicit again once failure stops (seed 000 section 4).
+//! - [`secant`]: the secant equilibria of the re-commit rounds with one
+//!   Cholesky factor and Woodbury low-rank updates (used by [`switching`]).
 //!
 //! All three measure convergence the same way ([`Convergence`]): the relative
 //! whole-field displacement change of seed 000 Eq. 16,
@@ -15,7 +18,9 @@
 //! load factor from its current value to `target_load` in equal steps.
 
 pub mod adr;
+pub mod anderson;
 pub mod implicit;
+pub mod secant;
 pub mod switching;
 
 use serde::Serialize;
@@ -52,6 +57,9 @@ pub enum PhaseKind {
     Implicit,
     /// Adaptive dynamic relaxation.
     Explicit,
+    /// Secant re-commit rounds solved implicitly ([`secant`]): the
+    /// switching solver's failure increments.
+    Secant,
 }
 
 /// One contiguous run of one solver kind.
@@ -63,7 +71,7 @@ pub struct Phase {
     pub load_start: f64,
     /// Load factor at the end.
     pub load_end: f64,
-    /// Iterations (Newton iterations or ADR steps).
+    /// Iterations (Newton or secant iterations, or ADR steps).
     pub iterations: usize,
     /// Wall time (s).
     pub time_s: f64,
@@ -102,7 +110,7 @@ pub struct StepRecord {
 /// What a solve did.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct SolveInfo {
-    /// Total iterations (Newton iterations + ADR steps).
+    /// Total iterations (Newton and secant iterations + ADR steps).
     pub iterations: usize,
     /// Convergence measure per Newton iteration, and per 100 ADR steps plus
     /// the last one of each step.
@@ -117,7 +125,7 @@ pub struct SolveInfo {
     pub phases: Vec<Phase>,
     /// Switch points (switching solver).
     pub switch_points: Vec<SwitchPoint>,
-    /// Time in implicit phases (s).
+    /// Time in implicit phases, secant rounds included (s).
     pub time_implicit_s: f64,
     /// Time in explicit phases (s).
     pub time_explicit_s: f64,
@@ -129,6 +137,12 @@ pub struct SolveInfo {
     pub factorizations: usize,
     /// Factorisations that fell back to LU.
     pub lu_fallbacks: usize,
+    /// Switching solver: secant equilibria solved by Newton in damage
+    /// increments (re-commit rounds).
+    pub secant_rounds: usize,
+    /// Switching solver: damage increments handed to ADR because Newton
+    /// failed.
+    pub adr_fallbacks: usize,
     /// Total wall time (s).
     pub wall_time_s: f64,
 }
@@ -160,7 +174,7 @@ impl SolveInfo {
         time_s: f64,
     ) {
         match kind {
-            PhaseKind::Implicit => self.time_implicit_s += time_s,
+            PhaseKind::Implicit | PhaseKind::Secant => self.time_implicit_s += time_s,
             PhaseKind::Explicit => self.time_explicit_s += time_s,
         }
         if let Some(last) = self.phases.last_mut() {

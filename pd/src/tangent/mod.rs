@@ -12,15 +12,18 @@
 //! Solve: sparse $LL^T$; if a pivot is not positive (compressed or softening
 //! bonds), sparse LU on the full matrix.
 
+mod cholesky;
+
 use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMat, Triplet};
-use faer::{MatMut, Side};
+use faer::MatMut;
 use rayon::prelude::*;
+
+use cholesky::CholeskyFactor;
 
 use crate::bonds::Bonds;
 use crate::error::PdError;
-use crate::forces::{bond_tangent, RowPtr};
+use crate::forces::{bond_tangent_in, RowPtr, TangentKind};
 use crate::geometry::P2;
 use crate::material::BondLaw;
 
@@ -48,7 +51,7 @@ pub struct Tangent {
     /// off-diagonal list (sorted by `j`).
     col_off: Vec<u32>,
     values: Vec<f64>,
-    llt_symbolic: Option<SymbolicLlt<usize>>,
+    llt: Option<CholeskyFactor>,
     /// Fall back to sparse LU when Cholesky finds a non-positive pivot
     /// (default); otherwise that is a [`PdError::LinearSolve`] error.
     pub allow_lu: bool,
@@ -127,7 +130,7 @@ impl Tangent {
             node_start,
             col_off,
             values: vec![0.0; nnz],
-            llt_symbolic: None,
+            llt: None,
             allow_lu: true,
         })
     }
@@ -145,6 +148,20 @@ impl Tangent {
         intact: &[u8],
         s_hist: &[f64],
         u: &[P2],
+    ) {
+        self.assemble_in(bonds, law, intact, s_hist, u, TangentKind::Consistent);
+    }
+
+    /// Fill the values at displacement `u` with the bond blocks of `kind`
+    /// ([`crate::forces::bond_tangent_in`]).
+    pub fn assemble_in(
+        &mut self,
+        bonds: &Bonds,
+        law: BondLaw,
+        intact: &[u8],
+        s_hist: &[f64],
+        u: &[P2],
+        kind: TangentKind,
     ) {
         let vals = RowPtr(self.values.as_mut_ptr());
         let dof = &self.dof;
@@ -183,7 +200,7 @@ impl Tangent {
                         bonds.xi[b][0] + (u[j][0] - u[i][0]),
                         bonds.xi[b][1] + (u[j][1] - u[i][1]),
                     ];
-                    bond_tangent(law, bonds.k[b], bonds.inv_len[b], y, s_hist[b])
+                    bond_tangent_in(law, bonds.k[b], bonds.inv_len[b], y, s_hist[b], kind)
                 } else {
                     [[0.0; 2]; 2]
                 };
@@ -226,24 +243,55 @@ impl Tangent {
         });
     }
 
-    /// Solve `K x = rhs` in place (rhs over the free DOFs). Returns the
-    /// factorisation used.
+    /// Solve with the last Cholesky factor (of the values at the last
+    /// [`Self::solve`] or [`Self::factorize`]), without refactorising: two
+    /// triangular solves per right-hand side. `rhs` holds `cols` right-hand
+    /// sides of length [`Self::n_free`] one after the other. Errors if no
+    /// Cholesky factor is held.
+    pub fn solve_with_last_factor(&mut self, rhs: &mut [f64], cols: usize) -> Result<(), PdError> {
+        match self.llt.as_mut() {
+            Some(llt) if llt.is_valid() && rhs.len() == cols * self.n_free => {
+                llt.solve_in_place(rhs, cols);
+                Ok(())
+            }
+            _ => Err(PdError::LinearSolve {
+                dofs: self.n_free,
+                reason: "no Cholesky factor to reuse".into(),
+            }),
+        }
+    }
+
+    /// Numeric Cholesky factorisation of the current values, kept for
+    /// [`Self::solve_with_last_factor`] (no LU fallback).
+    pub fn factorize(&mut self) -> Result<(), PdError> {
+        if self.llt.is_none() {
+            self.llt = Some(CholeskyFactor::new(self.symbolic.as_ref())?);
+        }
+        let mat = SparseColMatRef::new(self.symbolic.as_ref(), &self.values);
+        let llt = self.llt.as_mut().expect("symbolic factorisation present");
+        llt.factor(mat).map_err(|e| PdError::LinearSolve {
+            dofs: self.n_free,
+            reason: format!("tangent not positive definite (Cholesky: {e:?})"),
+        })
+    }
+
+    /// Stored entries of the Cholesky factor (after the first solve).
+    pub fn factor_nnz(&self) -> Option<usize> {
+        self.llt.as_ref().map(|f| f.factor_len())
+    }
+
+    /// Solve `K x = rhs` in place (rhs over the free DOFs) with a fresh
+    /// factorisation of the current values. Returns the factorisation used.
     pub fn solve(&mut self, rhs: &mut [f64]) -> Result<Factorization, PdError> {
         let n = self.n_free;
-        let mat = SparseColMatRef::new(self.symbolic.as_ref(), &self.values);
-        if self.llt_symbolic.is_none() {
-            let s = SymbolicLlt::try_new(self.symbolic.as_ref(), Side::Lower).map_err(|e| {
-                PdError::LinearSolve {
-                    dofs: n,
-                    reason: format!("symbolic Cholesky: {e:?}"),
-                }
-            })?;
-            self.llt_symbolic = Some(s);
+        if self.llt.is_none() {
+            self.llt = Some(CholeskyFactor::new(self.symbolic.as_ref())?);
         }
-        let sym = self.llt_symbolic.clone().unwrap();
-        match Llt::try_new_with_symbolic(sym, mat, Side::Lower) {
-            Ok(llt) => {
-                llt.solve_in_place(MatMut::from_column_major_slice_mut(rhs, n, 1));
+        let mat = SparseColMatRef::new(self.symbolic.as_ref(), &self.values);
+        let llt = self.llt.as_mut().expect("symbolic factorisation present");
+        match llt.factor(mat) {
+            Ok(()) => {
+                llt.solve_in_place(rhs, 1);
                 Ok(Factorization::Cholesky)
             }
             Err(e) if !self.allow_lu => Err(PdError::LinearSolve {
