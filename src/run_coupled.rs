@@ -170,7 +170,7 @@ fn p(v: &P2) -> V2 {
 }
 
 /// Window specifications and the tips they hold.
-fn window_specs(
+pub(crate) fn window_specs(
     scene: &Scene,
     geo: &SceneGeometry,
     co: &Coupling,
@@ -274,7 +274,7 @@ fn size_of(scene: &Scene, geo: &SceneGeometry, group: &str) -> f64 {
 }
 
 /// Outline loop with patches split out (as `bem_setup` does).
-fn outline_spec(scene: &Scene, geo: &SceneGeometry) -> LoopSpec {
+pub(crate) fn outline_spec(scene: &Scene, geo: &SceneGeometry) -> LoopSpec {
     let o = geo.outline.as_ref().expect("finite body checked");
     let n = o.points.len();
     let (mut points, mut groups) = (Vec::new(), Vec::new());
@@ -316,7 +316,7 @@ fn outline_spec(scene: &Scene, geo: &SceneGeometry) -> LoopSpec {
     }
 }
 
-fn hole_specs(scene: &Scene, geo: &SceneGeometry) -> Vec<LoopSpec> {
+pub(crate) fn hole_specs(scene: &Scene, geo: &SceneGeometry) -> Vec<LoopSpec> {
     let per_circle = scene
         .bem
         .elements_per_circle
@@ -342,7 +342,7 @@ fn hole_specs(scene: &Scene, geo: &SceneGeometry) -> Vec<LoopSpec> {
         .collect()
 }
 
-fn crack_specs(scene: &Scene, geo: &SceneGeometry) -> Vec<MacroCrack> {
+pub(crate) fn crack_specs(scene: &Scene, geo: &SceneGeometry) -> Vec<MacroCrack> {
     scene
         .cracks
         .iter()
@@ -355,11 +355,12 @@ fn crack_specs(scene: &Scene, geo: &SceneGeometry) -> Vec<MacroCrack> {
                 Faces::Gap(g) => FaceMode::Gap(g),
             },
             element_size: size_of(scene, geo, &c.name),
+            segment_elements: false,
         })
         .collect()
 }
 
-fn pd_settings(scene: &Scene, pd: &ScenePd) -> PdSettings {
+pub(crate) fn pd_settings(scene: &Scene, pd: &ScenePd) -> PdSettings {
     let plane = match scene.material.plane {
         crate::scene::Plane::Stress => pdbem_pd::Plane::Stress,
         crate::scene::Plane::Strain => pdbem_pd::Plane::Strain,
@@ -393,7 +394,7 @@ fn pd_settings(scene: &Scene, pd: &ScenePd) -> PdSettings {
     }
 }
 
-fn params_of(co: &Coupling, pd: &ScenePd) -> CouplingParams {
+pub(crate) fn params_of(co: &Coupling, pd: &ScenePd) -> CouplingParams {
     let acceleration = match co.relaxation {
         Relaxation::Constant(w) => Acceleration::Constant(w),
         Relaxation::Aitken(w) => Acceleration::Aitken(w),
@@ -440,7 +441,7 @@ fn params_of(co: &Coupling, pd: &ScenePd) -> CouplingParams {
 }
 
 /// Scene conditions on the outline pieces that lie along window `w`'s outer sides.
-fn outer_conditions(
+pub(crate) fn outer_conditions(
     scene: &Scene,
     outline: &LoopSpec,
     w: &Window,

@@ -113,6 +113,38 @@ pub enum CouplingError {
         /// Residual of every iteration.
         residuals: Vec<f64>,
     },
+    /// Bad options of one Algorithm 1 run ([`crate::iteration::solve_prepared`]).
+    #[error("coupling step: {message}")]
+    InvalidStep {
+        /// What is wrong, with the numbers.
+        message: String,
+    },
+    /// A crack-growth parameter is out of range (seed 002 Algorithm 2).
+    #[error("growth parameter `{field}`: {message}")]
+    InvalidGrowth {
+        /// Parameter name.
+        field: &'static str,
+        /// What is wrong and what to change.
+        message: String,
+    },
+    /// Two tip windows would overlap and cannot be merged into one rectangle.
+    #[error("tips {first} and {second}: their windows overlap and cannot be merged: {reason}")]
+    WindowsCannotMerge {
+        /// First tip.
+        first: String,
+        /// Second tip.
+        second: String,
+        /// Why (different orientation or spacing, merged rectangle outside the body, ...).
+        reason: String,
+    },
+    /// A window cannot be moved on along its crack.
+    #[error("tip {tip}: cannot relocate its window: {reason}")]
+    Relocation {
+        /// Tip name.
+        tip: String,
+        /// Why, with the numbers.
+        reason: String,
+    },
 }
 
 impl CouplingError {

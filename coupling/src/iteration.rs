@@ -17,7 +17,21 @@
 //! `stagnation_window` iterations) restarts from the best iterate with half the
 //! relaxation weight; after `max_backoffs` restarts [`CouplingError::Diverged`] carries
 //! the residual history.
+//!
+//! Load steps on one geometry (Algorithm 2, seed 002 section 2.3.2): [`PreparedBem`] keeps
+//! the assembled and factored BEM system, and [`solve_prepared`] runs Algorithm 1 on it at
+//! a load scale $s$. The problem is linear in the scene loads and the interface
+//! tractions, so the BEM solve at scale $s$ is $s$ times the solve of the factored
+//! reference system with the tractions divided by $s$; the PD windows run at load factor
+//! $s$ (their outer scene conditions scale with it). With bonds breaking, an iteration is
+//! converged only when $e_k < \psi$ and no bond broke in its PD solves; a break restarts
+//! the divergence counters and the relaxation weight (the accelerator keeps its secant
+//! data: a break changes the map only near a tip), and `max_iter` counts the iterations
+//! since the last break (at most
+//! [`BREAK_ITERATION_FACTOR`] `max_iter` in all). A monitor called after every iteration
+//! may stop the iteration early (Algorithm 2 step 6: the crack reached the window margin).
 
+use std::ops::ControlFlow;
 use std::time::Instant;
 
 use pdbem_bem::post::Background;
@@ -75,6 +89,71 @@ pub enum PdSolve {
     Implicit(implicit::ImplicitParams),
     /// Adaptive dynamic relaxation.
     Adr(adr::AdrParams),
+    /// Crack growth: Newton equilibrium with the bond state frozen, then at most `rounds`
+    /// break rounds (break every bond past its critical stretch, re-equilibrate). With
+    /// `rounds = 0` bonds break only at converged interface states: once the residual is
+    /// below psi, [`solve_prepared`] commits every window's bond history and iterates on
+    /// while bonds break. Either way the coupling iterations carry the growth, so a crack
+    /// advances by about one break front at a time and the tip can be checked in between
+    /// (Algorithm 2).
+    Staggered(StaggeredParams),
+}
+
+/// Parameters of [`PdSolve::Staggered`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct StaggeredParams {
+    /// Newton settings of each equilibrium (`target_load` is the load factor).
+    pub newton: implicit::ImplicitParams,
+    /// Break rounds per PD solve; 0: break only at converged interface states.
+    pub rounds: usize,
+    /// At converged interface states, break only the bonds within this relative band of
+    /// the largest stretch ([`crate::breaking`]); 1 breaks every bond past its critical
+    /// stretch.
+    pub break_fraction: f64,
+    /// Break-and-re-equilibrate rounds of the PD model (interface held) per converged
+    /// interface state (>= 1).
+    pub break_rounds: usize,
+    // Measured on cases/growth_tension_edge.ron (mode I, K up to 30 K_c at the end):
+    // break_fraction 0.05 puts the crack one lattice column off its line after 0.3 m
+    // (path 1 dx off), 0.1 keeps it on the line within 0.05 m over 7 m, 0.2 and 0.3
+    // let it wander by 0.25 m once K exceeds 10 K_c.
+}
+
+impl Default for StaggeredParams {
+    /// Bonds break at converged interface states only, those within 10 % of the largest
+    /// stretch at a time, in up to 10 rounds with the interface held (a crack advances
+    /// by a few bonds per interface re-convergence); Newton to a relative residual of
+    /// 1e-9.
+    fn default() -> Self {
+        StaggeredParams {
+            newton: implicit::ImplicitParams {
+                convergence: Convergence::Residual { tol: 1e-9 },
+                residual_tol: 1e-9,
+                ..Default::default()
+            },
+            rounds: 0,
+            break_fraction: 0.1,
+            break_rounds: 10,
+        }
+    }
+}
+
+/// [`PdSolve::Staggered`] on one model; returns the Newton iterations.
+fn staggered(
+    model: &mut pdbem_pd::PdModel,
+    p: &StaggeredParams,
+) -> Result<usize, pdbem_pd::PdError> {
+    let mut info = pdbem_pd::SolveInfo::default();
+    let mut newton = implicit::Newton::new(model)?;
+    newton.predict_to(model, p.newton.target_load, &mut info)?;
+    let (mut iters, _) = newton.equilibrate(model, &p.newton, &mut info)?;
+    for _ in 0..p.rounds {
+        if model.commit_history().newly_broken == 0 {
+            break;
+        }
+        iters += newton.equilibrate(model, &p.newton, &mut info)?.0;
+    }
+    Ok(iters)
 }
 
 impl Default for PdSolve {
@@ -168,6 +247,10 @@ pub struct CouplingInfo {
     pub pd_iterations: usize,
     /// Timings.
     pub timings: Timings,
+    /// Bond pairs broken in the PD solves of every iteration (all windows).
+    pub bonds_broken: Vec<usize>,
+    /// The monitor of [`solve_prepared`] stopped the iteration before convergence.
+    pub interrupted: bool,
 }
 
 /// The coupled problem: BEM body (mesh, material, scene conditions) and the windows.
@@ -201,48 +284,220 @@ pub struct CoupledSolution {
     pub tractions: Vec<Vec<[f64; 2]>>,
 }
 
-/// One map evaluation: BEM solution, mapped displacements, tractions per window.
-type Evaluation = (Solution, Vec<f64>, Vec<Vec<[f64; 2]>>);
+/// One map evaluation: BEM solution, mapped displacements, tractions per window, bond
+/// pairs broken.
+type Evaluation = (Solution, Vec<f64>, Vec<Vec<[f64; 2]>>, usize);
 
-/// One window's PD result: solver iterations, tractions, mapping time.
-type WindowResult = Result<(usize, Vec<[f64; 2]>, f64), CouplingError>;
+/// One window's PD result: solver iterations, bond pairs broken, tractions, mapping time.
+type WindowResult = Result<(usize, usize, Vec<[f64; 2]>, f64), CouplingError>;
 
-/// Runs Algorithm 1 on `problem`.
+/// Total iteration cap of [`solve_prepared`] as a multiple of `max_iter` when bonds keep
+/// breaking (each break restarts the `max_iter` count).
+pub const BREAK_ITERATION_FACTOR: usize = 10;
+
+/// Runs Algorithm 1 on `problem` (assembles and factors the BEM system, then
+/// [`solve_prepared`] at load scale 1 from zero interface displacements).
 pub fn solve(
     problem: &mut CoupledProblem,
     params: &CouplingParams,
+) -> Result<(CoupledSolution, CouplingInfo), CouplingError> {
+    let t0 = Instant::now();
+    let bem = PreparedBem::new(problem)?;
+    let (sol, mut info) = solve_prepared(problem, &bem, params, StepOptions::default())?;
+    info.timings.bem_assembly_s = bem.assembly_s();
+    info.timings.bem_factor_s = bem.factor_s();
+    info.timings.total_s = t0.elapsed().as_secs_f64();
+    Ok((sol, info))
+}
+
+/// The BEM system of one coupled geometry, assembled and factored once with the scene
+/// conditions of [`CoupledProblem::bcs`] (the reference load) and the interface groups
+/// variable; reused for every iteration and every load step on that geometry.
+pub struct PreparedBem {
+    system: BemSystem,
+}
+
+impl PreparedBem {
+    /// Marks the interface groups variable (traction) in `problem`, then assembles and
+    /// factors. Changing the mesh or the scene conditions needs a new `PreparedBem`.
+    pub fn new(problem: &mut CoupledProblem) -> Result<Self, CouplingError> {
+        Ok(PreparedBem {
+            system: factor_bem(problem)?,
+        })
+    }
+
+    /// Assembly wall time (s).
+    pub fn assembly_s(&self) -> f64 {
+        self.system.info().assembly_s
+    }
+
+    /// Factorization and response precomputation wall time (s).
+    pub fn factor_s(&self) -> f64 {
+        self.system.info().factor_s + self.system.info().response_s
+    }
+
+    /// Number of BEM unknowns.
+    pub fn unknowns(&self) -> usize {
+        self.system.info().unknowns
+    }
+
+    /// Solves at load scale `scale` with interface conditions `bcs` (physical tractions
+    /// at that scale): `scale` times the reference solve with the tractions over `scale`.
+    fn solve_scaled(
+        &self,
+        bcs: &[[Bc; 2]],
+        interface: &[usize],
+        scale: f64,
+    ) -> Result<Solution, CouplingError> {
+        if scale == 1.0 {
+            return Ok(self.system.solve_with(bcs)?);
+        }
+        let mut reference = bcs.to_vec();
+        for &e in interface {
+            for c in 0..2 {
+                reference[e][c] = Bc::Traction(bcs[e][c].value() / scale);
+            }
+        }
+        let mut sol = self.system.solve_with(&reference)?;
+        for v in sol
+            .u
+            .iter_mut()
+            .chain(sol.t.iter_mut())
+            .chain(sol.du.iter_mut())
+        {
+            v[0] *= scale;
+            v[1] *= scale;
+        }
+        for l in &mut sol.lambda {
+            *l *= scale;
+        }
+        Ok(sol)
+    }
+}
+
+/// What the monitor of [`solve_prepared`] sees after every iteration.
+pub struct IterationReport<'a> {
+    /// Iterations done (1-based).
+    pub iteration: usize,
+    /// Relative interface residual e_k of this iteration.
+    pub residual: f64,
+    /// Bond pairs broken in this iteration's PD solves.
+    pub bonds_broken: usize,
+    /// The windows after their PD solves.
+    pub windows: &'a [WindowModel],
+}
+
+/// Monitor of [`solve_prepared`]: `Break` stops the iteration (the result then has
+/// `interrupted = true` and `converged = false`).
+pub type Monitor<'a> = &'a mut dyn FnMut(&IterationReport<'_>) -> ControlFlow<()>;
+
+/// Options of one run of Algorithm 1 on a prepared system.
+pub struct StepOptions<'a> {
+    /// Load scale s (> 0): the scene conditions are s times those the system was factored
+    /// with, and the PD windows run at load factor s. Default 1.
+    pub load_scale: f64,
+    /// Initial interface displacements (length: interface unknowns). Default zero.
+    pub start: Option<Vec<f64>>,
+    /// Called after every iteration. Default none.
+    pub monitor: Option<Monitor<'a>>,
+}
+
+impl Default for StepOptions<'_> {
+    fn default() -> Self {
+        StepOptions {
+            load_scale: 1.0,
+            start: None,
+            monitor: None,
+        }
+    }
+}
+
+/// Runs Algorithm 1 on `problem` with the prepared BEM system `bem` (see the module docs
+/// for the load scale, bond breaking and the monitor).
+pub fn solve_prepared(
+    problem: &mut CoupledProblem,
+    bem: &PreparedBem,
+    params: &CouplingParams,
+    mut opts: StepOptions<'_>,
 ) -> Result<(CoupledSolution, CouplingInfo), CouplingError> {
     let t0 = Instant::now();
     let mut info = CouplingInfo {
         scheme: params.acceleration.name().into(),
         ..Default::default()
     };
-    let sys = factor_bem(problem, &mut info)?;
     let n: usize = problem.windows.iter().map(|w| w.interface.len()).sum();
     info.interface_unknowns = n;
-    let mut x = vec![0.0; n];
-    let mut scale = 1.0;
-    let mut relax = params.acceleration.build(scale);
+    let scale = opts.load_scale;
+    if !(scale.is_finite() && scale > 0.0) {
+        return Err(CouplingError::InvalidStep {
+            message: format!("load scale {scale} must be positive and finite"),
+        });
+    }
+    let mut x = match opts.start.take() {
+        Some(x0) if x0.len() == n => x0,
+        Some(x0) => {
+            return Err(CouplingError::InvalidStep {
+                message: format!(
+                    "start vector has {} values for {n} interface unknowns",
+                    x0.len()
+                ),
+            })
+        }
+        None => vec![0.0; n],
+    };
+    let pd_solve = pd_solve_at(&params.pd_solve, scale);
+    let commit_at_convergence = match &pd_solve {
+        PdSolve::Staggered(p) if p.rounds == 0 => Some(p.clone()),
+        _ => None,
+    };
+    let mut weight_scale = 1.0;
+    let mut relax = params.acceleration.build(weight_scale);
     let mut best = (f64::INFINITY, x.clone());
     let mut since_best = 0;
     let mut growing = 0;
+    let mut since_break = 0;
+    let mut backoffs_since_break = 0;
     let mut pd_failure: Option<String> = None;
     loop {
-        let evaluated = evaluate(problem, &sys, &x, params, &mut info);
+        let evaluated = evaluate(problem, bem, &x, params, &pd_solve, scale, &mut info);
         info.iterations += 1;
-        let (e, xt, state) = match evaluated {
-            Ok((sol, xt, tractions)) => (relative_residual(&x, &xt), xt, Some((sol, tractions))),
+        since_break += 1;
+        let (e, xt, state, broke) = match evaluated {
+            Ok((sol, xt, tractions, broke)) => (
+                relative_residual(&x, &xt),
+                xt,
+                Some((sol, tractions)),
+                broke,
+            ),
             Err(CouplingError::Pd { window, source }) => {
                 // A failed PD solve counts as divergence: restart its state from rest.
                 reset_window(&mut problem.windows[window]);
                 pd_failure = Some(format!("PD window {window} failed: {source}"));
-                (f64::NAN, x.clone(), None)
+                (f64::NAN, x.clone(), None, 0)
             }
             Err(other) => return Err(other),
         };
+        let mut broke = broke;
+        if let Some(sp) = &commit_at_convergence {
+            if state.is_some() && e.is_finite() && e < params.psi && broke == 0 {
+                broke = commit_windows(&mut problem.windows, sp)?;
+            }
+        }
         info.residuals.push(e);
-        if let (true, Some((sol, tractions))) = (e.is_finite() && e < params.psi, state) {
-            info.converged = true;
+        info.bonds_broken.push(broke);
+        let stop = opts.monitor.as_mut().is_some_and(|m| {
+            m(&IterationReport {
+                iteration: info.iterations,
+                residual: e,
+                bonds_broken: broke,
+                windows: &problem.windows,
+            })
+            .is_break()
+        });
+        let converged = e.is_finite() && e < params.psi && broke == 0;
+        if let (true, Some((sol, tractions))) = (converged || stop, state) {
+            info.converged = converged;
+            info.interrupted = !converged;
             info.timings.total_s = t0.elapsed().as_secs_f64();
             let out = CoupledSolution {
                 solution: sol,
@@ -252,7 +507,20 @@ pub fn solve(
             };
             return Ok((out, info));
         }
-        if info.iterations >= params.max_iter {
+        if broke > 0 {
+            // The map changed a little (a few bonds near a tip): the accelerator keeps its
+            // secant data, the divergence history restarts, back-offs are forgiven.
+            since_break = 0;
+            weight_scale = 1.0;
+            relax = params.acceleration.build(weight_scale);
+            best = (f64::INFINITY, xt.clone());
+            since_best = 0;
+            growing = 0;
+            backoffs_since_break = 0;
+        }
+        if since_break >= params.max_iter
+            || info.iterations >= BREAK_ITERATION_FACTOR * params.max_iter
+        {
             return Err(CouplingError::NoConvergence {
                 iterations: info.iterations,
                 last: e,
@@ -260,7 +528,10 @@ pub fn solve(
                 residuals: info.residuals,
             });
         }
-        growing = if info.residuals.len() > 1 && e > info.residuals[info.residuals.len() - 2] {
+        growing = if broke == 0
+            && info.residuals.len() > 1
+            && e > info.residuals[info.residuals.len() - 2]
+        {
             growing + 1
         } else {
             0
@@ -285,7 +556,7 @@ pub fn solve(
             None
         };
         if let Some(reason) = reason {
-            if info.backoffs >= params.max_backoffs {
+            if backoffs_since_break >= params.max_backoffs {
                 return Err(CouplingError::Diverged {
                     reason,
                     iterations: info.iterations,
@@ -294,8 +565,9 @@ pub fn solve(
                 });
             }
             info.backoffs += 1;
-            scale *= 0.5;
-            relax = params.acceleration.build(scale);
+            backoffs_since_break += 1;
+            weight_scale *= 0.5;
+            relax = params.acceleration.build(weight_scale);
             x = best.1.clone();
             growing = 0;
             since_best = 0;
@@ -307,11 +579,37 @@ pub fn solve(
     }
 }
 
+/// Break rounds in every window with its interface held ([`crate::breaking`]); returns the
+/// bond pairs broken.
+fn commit_windows(
+    windows: &mut [WindowModel],
+    p: &StaggeredParams,
+) -> Result<usize, CouplingError> {
+    let counts: Vec<Result<usize, CouplingError>> = windows
+        .par_iter_mut()
+        .enumerate()
+        .map(|(i, w)| {
+            crate::breaking::break_rounds(&mut w.model, p.break_fraction, p.break_rounds, &p.newton)
+                .map_err(|e| CouplingError::pd(i, e))
+        })
+        .collect();
+    counts.into_iter().sum()
+}
+
+/// The PD solver with its target load set to the load scale.
+fn pd_solve_at(solve: &PdSolve, scale: f64) -> PdSolve {
+    let mut s = solve.clone();
+    match &mut s {
+        PdSolve::Switching(p) => p.target_load = scale,
+        PdSolve::Implicit(p) => p.target_load = scale,
+        PdSolve::Adr(p) => p.target_load = scale,
+        PdSolve::Staggered(p) => p.newton.target_load = scale,
+    }
+    s
+}
+
 /// Assembles and factors the BEM system with the interface groups variable.
-fn factor_bem(
-    problem: &mut CoupledProblem,
-    info: &mut CouplingInfo,
-) -> Result<BemSystem, CouplingError> {
+fn factor_bem(problem: &mut CoupledProblem) -> Result<BemSystem, CouplingError> {
     for w in &problem.windows {
         if let Some(g) = problem.mesh.group(&w.group) {
             if !problem.bem_params.variable_groups.contains(&g) {
@@ -332,17 +630,18 @@ fn factor_bem(
         &problem.bcs,
         &problem.bem_params,
     )?;
-    info.timings.bem_assembly_s = sys.info().assembly_s;
-    info.timings.bem_factor_s = sys.info().factor_s + sys.info().response_s;
     Ok(sys)
 }
 
-/// One evaluation of the fixed-point map: PD (parallel) -> tractions -> BEM -> x~.
+/// One evaluation of the fixed-point map: PD (parallel) -> tractions -> BEM -> x~, at load
+/// scale `scale`; also returns the bond pairs broken in the PD solves.
 fn evaluate(
     problem: &mut CoupledProblem,
-    sys: &BemSystem,
+    bem: &PreparedBem,
     x: &[f64],
     params: &CouplingParams,
+    pd_solve: &PdSolve,
+    scale: f64,
     info: &mut CouplingInfo,
 ) -> Result<Evaluation, CouplingError> {
     let tp = Instant::now();
@@ -355,18 +654,22 @@ fn evaluate(
         .zip(chunks)
         .enumerate()
         .map(|(i, (w, xw))| {
+            let broken0 = w.model.broken_bonds();
             let iters =
-                solve_window(w, xw, &params.pd_solve).map_err(|e| CouplingError::pd(i, e))?;
+                solve_window_at(w, xw, pd_solve, scale).map_err(|e| CouplingError::pd(i, e))?;
+            let broke = w.model.broken_bonds().saturating_sub(broken0);
             let tm = Instant::now();
             let t = pd_to_tractions(params.traction_map, &w.model, &w.interface, mesh, thickness);
-            Ok((iters, t, tm.elapsed().as_secs_f64()))
+            Ok((iters, broke, t, tm.elapsed().as_secs_f64()))
         })
         .collect();
     let mut tractions = Vec::with_capacity(results.len());
     let mut map_s = 0.0;
+    let mut broke = 0;
     for r in results {
-        let (iters, t, dt) = r?;
+        let (iters, b, t, dt) = r?;
         info.pd_iterations += iters;
+        broke += b;
         map_s += dt;
         tractions.push(t);
     }
@@ -378,7 +681,12 @@ fn evaluate(
         }
     }
     let ts = Instant::now();
-    let sol = sys.solve_with(&bcs)?;
+    let interface: Vec<usize> = problem
+        .windows
+        .iter()
+        .flat_map(|w| w.interface.elements.iter().copied())
+        .collect();
+    let sol = bem.solve_scaled(&bcs, &interface, scale)?;
     info.timings.bem_substitution_s += ts.elapsed().as_secs_f64();
     let tm = Instant::now();
     let ifaces: Vec<_> = problem
@@ -394,7 +702,7 @@ fn evaluate(
     };
     let xt = bem_to_virtual(params.displacement_map, &view, &ifaces);
     info.timings.mapping_s += map_s + tm.elapsed().as_secs_f64();
-    Ok((sol, xt, tractions))
+    Ok((sol, xt, tractions, broke))
 }
 
 /// Puts a window back at rest after a failed PD solve.
@@ -423,9 +731,24 @@ pub fn solve_window(
     xw: &[f64],
     solver: &PdSolve,
 ) -> Result<usize, pdbem_pd::PdError> {
+    solve_window_at(w, xw, solver, 1.0)
+}
+
+/// [`solve_window`] at load factor `scale`: the model runs at that load factor (its outer
+/// scene conditions scale with it) and the coupled virtual nodes get `xw` (their base
+/// values are `xw / scale`). `solver` must target the same load factor.
+pub fn solve_window_at(
+    w: &mut WindowModel,
+    xw: &[f64],
+    solver: &PdSolve,
+    scale: f64,
+) -> Result<usize, pdbem_pd::PdError> {
     let mut base = w.interface.base.clone();
     for (k, &v) in w.interface.coupled.iter().enumerate() {
-        base[v] = [xw[2 * k], xw[2 * k + 1]];
+        base[v] = [xw[2 * k] / scale, xw[2 * k + 1] / scale];
+    }
+    if w.model.load_factor() != scale {
+        w.model.set_load_factor(scale);
     }
     w.model.set_prescribed_displacements(&base)?;
     if is_unloaded(&w.model, &base) {
@@ -438,6 +761,7 @@ pub fn solve_window(
         PdSolve::Switching(p) => switching::solve(&mut w.model, p)?,
         PdSolve::Implicit(p) => implicit::solve(&mut w.model, p)?,
         PdSolve::Adr(p) => adr::solve(&mut w.model, p)?,
+        PdSolve::Staggered(p) => return staggered(&mut w.model, p),
     };
     Ok(info.iterations)
 }

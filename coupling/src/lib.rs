@@ -17,11 +17,14 @@
 //! - [`iteration`]: Algorithm 1 ([`iteration::solve`]: params in, `Result<(solution, info), CouplingError>` out).
 //! - [`relaxation`]: interface acceleration behind one trait: constant, Aitken (seed 002
 //!   Eqs. 25-28) and IQN-ILS.
+//! - [`breaking`]: progressive bond breaking at converged interface states.
+//! - [`growth`]: Algorithm 2 (seed 002 sections 2.3.2-2.3.3): load steps with moving
+//!   tip windows, crack extension and structural failure ([`growth::Growth`]).
 //! - [`error`]: the crate's error type, [`CouplingError`].
-//!
-//! Algorithm 2 (moving windows, crack growth) arrives with issue 5.
 
+pub mod breaking;
 pub mod error;
+pub mod growth;
 pub mod interface;
 pub mod iteration;
 pub mod maps;
@@ -32,8 +35,8 @@ pub mod window;
 
 pub use error::CouplingError;
 pub use iteration::{
-    solve, Acceleration, CoupledProblem, CoupledSolution, CouplingInfo, CouplingParams, PdSolve,
-    Timings,
+    solve, solve_prepared, Acceleration, CoupledProblem, CoupledSolution, CouplingInfo,
+    CouplingParams, PdSolve, PreparedBem, StaggeredParams, StepOptions, Timings,
 };
 pub use maps::{DisplacementMap, TractionMap};
 pub use setup::{build, Built, Layout, MacroCrack, WindowModel};

@@ -30,6 +30,10 @@ pub struct MacroCrack {
     pub faces: FaceMode,
     /// BEM element size along the crack (m); capped at the dx of a window it enters.
     pub element_size: f64,
+    /// One BEM element per polyline segment: the caller placed the element ends (crack
+    /// growth extends the faces by a set number of elements); `element_size` and the
+    /// window cap are then ignored.
+    pub segment_elements: bool,
 }
 
 /// The macro layout.
@@ -114,15 +118,28 @@ pub fn build(
     for (ci, c) in layout.cracks.iter().enumerate() {
         let mut line = Some(c.points.clone());
         let mut size = c.element_size;
+        let mut window_dx: f64 = 0.0;
         for (wi, w) in windows.iter().enumerate() {
             let Some(pts) = line.clone() else { break };
             if let Some(split) = w.split_crack(ci, &pts, CRACK_EXTENSION * w.delta())? {
                 pd_cracks[wi].push(split.pd);
                 line = split.bem;
                 size = size.min(w.spec.dx);
+                window_dx = window_dx.max(w.spec.dx);
             }
         }
+        if window_dx > 0.0 {
+            // The mesher refines the loop at a crack mouth to the crack's size; below dx
+            // that would split the window's interface elements (one per node row).
+            size = size.max(window_dx);
+        }
         if let Some(points) = line {
+            if c.segment_elements {
+                // Every segment is one element when the size is at least the longest
+                // segment (the mesher takes round(length / size), at least 1); at least dx
+                // so the mouth on a window hole does not refine its interface elements.
+                size = longest_segment(&points).max(window_dx);
+            }
             b.add_crack(CrackSpec {
                 name: c.name.clone(),
                 points,
@@ -145,6 +162,14 @@ pub fn build(
         mesh,
         windows: models,
     })
+}
+
+/// Length of the longest segment of a polyline (m).
+fn longest_segment(points: &[V2]) -> f64 {
+    points
+        .windows(2)
+        .map(|w| (w[1] - w[0]).norm())
+        .fold(0.0, f64::max)
 }
 
 fn place_all(specs: &[WindowSpec], body: &Body) -> Result<Vec<Window>, CouplingError> {

@@ -333,7 +333,10 @@ impl Window {
         let entry = self.boundary_crossing(line[k - 1], line[k]);
         let dir = (line[k] - line[k - 1]).normalize();
         let mut bem: Vec<V2> = line[..k].to_vec();
-        bem.push(entry);
+        if (entry - line[k - 1]).norm() > tol {
+            // (A crack polyline may already have a vertex on the boundary.)
+            bem.push(entry);
+        }
         let mut pd = vec![entry - extend * dir, entry];
         pd.extend_from_slice(&line[k..]);
         if first_in {

@@ -1,15 +1,470 @@
-//! PD-BEM crack growth (seed 002 Algorithm 2): placeholder until the coupling growth lands.
+//! PD-BEM crack growth of a scene (seed 002 Algorithm 2, sections 2.3.2-2.3.3).
+//!
+//! The scene gives the macro layout exactly as a static coupled solve does
+//! ([`crate::run_coupled`]: outline with patches, holes, cracks, one window per crack tip
+//! with axes along the crack, PD settings, Algorithm 1 parameters), the load steps
+//! (`load`: initial factor, increment, count; every boundary value of the scene is
+//! multiplied by the factor) and the growth settings (`growth`: trigger ratio, move
+//! distance, elements per extension, damage threshold). The run itself is
+//! [`pdbem_coupling::growth::Growth::run`]; this module adapts the scene to it (the
+//! [`Scenario`]: BEM conditions of each rebuilt mesh and conditions on window sides lying
+//! on the outline, both at load factor 1), shows a progress bar per load step with the
+//! coupling residual and the tip positions, logs every relocation (run log and
+//! `growth_log.jsonl`), and converts the result into a [`GrowthHistory`] with damage
+//! snapshots of the windows (just before each relocation, labels
+//! `damage_window<i>_step<k>_reloc<r>` with r counting relocations, since a load step can
+//! hold several; at the last step `damage_window<i>_step<k>`) and the displacement
+//! magnitude over the PD nodes and BEM interior points at the last step.
 
-use anyhow::Result;
+use anyhow::{bail, Context, Result};
+use pdbem_bem::mesh::LoopSpec;
+use pdbem_bem::post::{Background, FieldEvaluator};
+use pdbem_bem::{Bc, Mesh, SolveParams, V2};
+use pdbem_coupling::growth::{
+    Growth, GrowthParams, GrowthResult, GrowthSetup, IterationEvent, LoadSteps, Observer,
+    RelocationRecord, Scenario, StepResult, TipSpec,
+};
+use pdbem_coupling::pd_window::EdgeCondition;
+use pdbem_coupling::setup::{Layout, WindowModel};
+use pdbem_coupling::window::{segment_distance, Window};
+use pdbem_coupling::CouplingParams;
+use serde_json::json;
 
-use crate::growth::GrowthHistory;
+use super::log::{step_bar, GrowthLog};
+use super::{FieldSnapshot, GrowthHistory, PathPoint, Relocation, TipPath, WindowOutline};
+use crate::bem_setup::{material, MissingGroup};
+use crate::geometry::P2;
+use crate::run_coupled::{
+    crack_specs, hole_specs, outer_conditions, outline_spec, params_of, pd_settings, window_specs,
+};
 use crate::runner::RunContext;
-use crate::scene::Scene;
+use crate::scene::shapes::SceneGeometry;
+use crate::scene::{GrowthMode, Scene};
+
+/// The scene seen by the growth driver (all values at load factor 1).
+pub struct SceneScenario<'a> {
+    scene: &'a Scene,
+    outline: LoopSpec,
+}
+
+impl Scenario for SceneScenario<'_> {
+    fn bem_conditions(&self, mesh: &Mesh) -> std::result::Result<Vec<[Bc; 2]>, String> {
+        crate::bem_setup::conditions(self.scene, mesh, 1.0, None, MissingGroup::Skip)
+            .map_err(|e| format!("{e:#}"))
+    }
+
+    fn outer_conditions(&self, window: &Window) -> Vec<EdgeCondition> {
+        outer_conditions(self.scene, &self.outline, window, 1.0)
+    }
+}
+
+/// The growth driver's input from a scene: setup, parameters and the scenario.
+pub struct PdBemInput<'a> {
+    /// Initial macro model.
+    pub setup: GrowthSetup,
+    /// Algorithm 2 parameters.
+    pub params: GrowthParams,
+    /// The scene's conditions.
+    pub scenario: SceneScenario<'a>,
+}
+
+impl PdBemInput<'_> {
+    /// The growth run at its initial geometry (for studies and tests that drive
+    /// [`Growth::solve_at`] and [`Growth::relocate`] themselves).
+    pub fn growth(&self) -> Result<Growth<'_, SceneScenario<'_>>> {
+        Ok(Growth::new(
+            self.setup.clone(),
+            &self.scenario,
+            self.params.clone(),
+        )?)
+    }
+}
+
+/// Builds the growth input of `scene` (with `pd`, `coupling` and `growth`).
+pub fn input(scene: &Scene) -> Result<PdBemInput<'_>> {
+    let file = scene.file_label();
+    let (Some(co), Some(pd), Some(gr)) = (&scene.coupling, &scene.pd, &scene.growth) else {
+        bail!(
+            "{}: PD-BEM growth needs `pd`, `coupling` and `growth`",
+            file.display()
+        );
+    };
+    if gr.mode != GrowthMode::PdBem {
+        bail!(
+            "{}: growth.mode is {:?}, not PdBem",
+            file.display(),
+            gr.mode
+        );
+    }
+    let geo = SceneGeometry::of(scene);
+    if geo.outline.is_none() {
+        bail!("{}: PD-BEM growth needs a finite body", file.display());
+    }
+    let (windows, wtips) = window_specs(scene, &geo, co, pd)?;
+    let cracks = crack_specs(scene, &geo);
+    let tips = wtips
+        .iter()
+        .map(|t| {
+            let (crack, end) = t.name.rsplit_once('.').unwrap_or((t.name.as_str(), "end"));
+            let index = cracks
+                .iter()
+                .position(|c| c.name == crack)
+                .with_context(|| format!("{}: tip {} has no crack", file.display(), t.name))?;
+            Ok(TipSpec {
+                name: t.name.clone(),
+                crack: index,
+                at_end: end == "end",
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    if tips.is_empty() {
+        bail!(
+            "{}: PD-BEM growth: no crack tip lies in a window (coupling.placement = AtTips puts one on every tip)",
+            file.display()
+        );
+    }
+    let outline = outline_spec(scene, &geo);
+    let layout = Layout {
+        outline: outline.clone(),
+        holes: hole_specs(scene, &geo),
+        cracks,
+        windows,
+        pd: pd_settings(scene, pd),
+    };
+    let setup = GrowthSetup {
+        layout,
+        tips,
+        material: material(scene)?,
+        bem_params: SolveParams {
+            estimate_condition: false,
+            ..Default::default()
+        },
+        background: Background::default(),
+        thickness: scene.material.thickness,
+    };
+    let loads = LoadSteps {
+        initial: scene.load.initial,
+        step: scene.load.step,
+        count: scene.load.count,
+    };
+    let mut params = GrowthParams::new(loads, gr.move_distance.unwrap_or(0.25 * co.side));
+    params.trigger_ratio = gr.trigger_ratio;
+    params.elements_per_extension = gr.elements_per_extension;
+    params.path.threshold = gr.damage_threshold;
+    // Algorithm 1 settings from the scene; the PD solver stays the staggered one of
+    // `GrowthParams::new` (one break round per coupling iteration), whatever `pd.solver`.
+    params.coupling = CouplingParams {
+        pd_solve: params.coupling.pd_solve.clone(),
+        ..params_of(co, pd)
+    };
+    Ok(PdBemInput {
+        setup,
+        params,
+        scenario: SceneScenario { scene, outline },
+    })
+}
+
+/// Progress bar, run log, growth log and damage snapshots of a run.
+struct Progress<'a> {
+    ctx: &'a RunContext,
+    bar: indicatif::ProgressBar,
+    log: Option<GrowthLog>,
+    tip_names: Vec<String>,
+    snapshots: Vec<FieldSnapshot>,
+    /// Relocations so far (several can happen in one load step).
+    relocations: usize,
+    error: Option<anyhow::Error>,
+}
+
+impl Progress<'_> {
+    fn log_event(&mut self, kind: &str, fields: serde_json::Value) {
+        if let Some(l) = &self.log {
+            if let Err(e) = l.event(kind, fields) {
+                self.error.get_or_insert(e);
+            }
+        }
+    }
+
+    fn tips_text(&self, tips: &[V2]) -> String {
+        self.tip_names
+            .iter()
+            .zip(tips)
+            .map(|(n, p)| format!("{n} ({:.3}, {:.3})", p.x, p.y))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+impl Observer for Progress<'_> {
+    fn iteration(&mut self, e: &IterationEvent<'_>) {
+        let msg = format!(
+            "load {:.4e}, iteration {}, residual {:.2e}, {} bonds broke; {}",
+            e.load,
+            e.iteration,
+            e.residual,
+            e.bonds_broken,
+            self.tips_text(e.tips)
+        );
+        self.bar.set_message(msg);
+    }
+
+    fn step(&mut self, s: &StepResult) {
+        self.bar.inc(1);
+        self.log_event(
+            "step",
+            json!({"step": s.step, "load": s.load, "iterations": s.iterations,
+                   "residual": s.residual, "converged": s.converged,
+                   "broken_bonds": s.broken_bonds, "cmod": s.cmod,
+                   "tips": s.tips.iter().map(|p| [p.x, p.y]).collect::<Vec<_>>(),
+                   "relocations": s.relocations, "wall_time_s": s.wall_s, "pd_s": s.pd_s}),
+        );
+    }
+
+    fn relocation(&mut self, r: &RelocationRecord) {
+        let msg = format!(
+            "step {} (load {:.4e}): window of {} moved ({:.4}, {:.4}) -> ({:.4}, {:.4}), tip at ({:.4}, {:.4}), +{} BEM elements per face, {} elements, rebuild {:.2} s",
+            r.step, r.load, r.tip, r.from.x, r.from.y, r.to.x, r.to.y, r.tip_at.x, r.tip_at.y,
+            r.elements_added, r.elements, r.rebuild_s
+        );
+        self.bar.suspend(|| self.ctx.log(&msg));
+        self.log_event(
+            "relocation",
+            json!({"step": r.step, "load": r.load, "tip": r.tip, "from": [r.from.x, r.from.y],
+                   "to": [r.to.x, r.to.y], "tip_at": [r.tip_at.x, r.tip_at.y],
+                   "elements_added": r.elements_added, "elements": r.elements,
+                   "precrack_deviation": r.precrack_deviation,
+                   "transfer": {"exact_nodes": r.transfer.exact_nodes,
+                                "near_nodes": r.transfer.near_nodes,
+                                "bem_nodes": r.transfer.bem_nodes,
+                                "bonds_copied": r.transfer.bonds_copied},
+                   "rebuild_s": r.rebuild_s}),
+        );
+    }
+
+    fn note(&mut self, message: &str) {
+        self.bar.suspend(|| self.ctx.log(message));
+        self.log_event("note", json!({ "message": message }));
+    }
+
+    fn before_relocation(&mut self, step: usize, windows: &[WindowModel]) {
+        self.relocations += 1;
+        let tag = format!("_reloc{}", self.relocations);
+        self.snapshots.extend(damage_snapshots(step, windows, &tag));
+    }
+}
+
+/// Damage at the real nodes of every window (labels `damage_window<i>_step<k><tag>`).
+fn damage_snapshots(step: usize, windows: &[WindowModel], tag: &str) -> Vec<FieldSnapshot> {
+    windows
+        .iter()
+        .enumerate()
+        .map(|(i, w)| {
+            let n = w.model.n_real();
+            FieldSnapshot {
+                step,
+                label: format!("damage_window{i}_step{step}{tag}"),
+                points: w.model.positions()[..n].to_vec(),
+                values: w.model.damage()[..n].to_vec(),
+            }
+        })
+        .collect()
+}
+
+/// Displacement magnitude at the PD nodes and at BEM interior points on a grid over the
+/// body (outside windows and half an element from the boundary) at the last solution.
+fn displacement_snapshot<S: Scenario>(
+    scene: &Scene,
+    g: &Growth<'_, S>,
+    step: usize,
+) -> Option<FieldSnapshot> {
+    let sol = g.last_solution()?;
+    let pb = g.problem();
+    let ev = FieldEvaluator::new(&pb.mesh, &pb.material, &sol.solution, pb.background);
+    let geo = SceneGeometry::of(scene);
+    let (lo, hi) = geo.bounds();
+    let n = 60;
+    let pts: Vec<V2> = (0..n * n)
+        .map(|k| {
+            let (i, j) = ((k % n) as f64 + 0.5, (k / n) as f64 + 0.5);
+            V2::new(
+                lo.x + (hi.x - lo.x) * i / n as f64,
+                lo.y + (hi.y - lo.y) * j / n as f64,
+            )
+        })
+        .filter(|x| {
+            geo.contains(&P2::new(x.x, x.y))
+                && !pb.windows.iter().any(|w| w.window.contains(*x, 0.0))
+                && pb
+                    .mesh
+                    .elements
+                    .iter()
+                    .all(|e| segment_distance(*x, e.a, e.b).0 > 0.5 * e.h)
+        })
+        .collect();
+    let mut snap = FieldSnapshot {
+        step,
+        label: "displacement".into(),
+        ..Default::default()
+    };
+    for (x, u) in pts.iter().zip(ev.displacements(&pts)) {
+        snap.points.push([x.x, x.y]);
+        snap.values.push(u[0].hypot(u[1]));
+    }
+    for w in &pb.windows {
+        let (pos, u) = (w.model.positions(), w.model.displacements());
+        for i in 0..w.model.n_real() {
+            snap.points.push(pos[i]);
+            snap.values.push(u[i][0].hypot(u[i][1]));
+        }
+    }
+    Some(snap)
+}
+
+/// The window outlines of the initial geometry.
+fn initial_windows<S: Scenario>(g: &Growth<'_, S>) -> Vec<WindowOutline> {
+    g.tips()
+        .iter()
+        .map(|t| WindowOutline {
+            step: 0,
+            tip: t.spec.name.clone(),
+            corners: corners(&g.problem().windows[t.window].window.corners()),
+        })
+        .collect()
+}
+
+fn corners(c: &[V2; 4]) -> [[f64; 2]; 4] {
+    c.map(|p| [p.x, p.y])
+}
+
+/// The history of a finished run.
+fn history<S: Scenario>(
+    g: &Growth<'_, S>,
+    result: &GrowthResult,
+    windows: Vec<WindowOutline>,
+) -> GrowthHistory {
+    let paths = (0..g.tips().len())
+        .map(|t| TipPath {
+            name: g.tips()[t].spec.name.clone(),
+            points: g
+                .tip_path(t)
+                .into_iter()
+                .map(|(p, step, load)| PathPoint {
+                    x: p.x,
+                    y: p.y,
+                    step,
+                    load,
+                })
+                .collect(),
+            ended: g.tips()[t].ended.as_ref().map(|e| e.to_string()),
+        })
+        .collect();
+    let steps = result
+        .steps
+        .iter()
+        .map(|s| super::StepRecord {
+            step: s.step,
+            load: s.load,
+            cmod: s.cmod,
+            tips: s.tips.iter().map(|p| [p.x, p.y]).collect(),
+            coupling_iterations: s.iterations,
+            coupling_residual: s.residual,
+            broken_bonds: s.broken_bonds,
+            wall_time_s: s.wall_s,
+        })
+        .collect();
+    let mut outlines = windows;
+    outlines.extend(result.relocations.iter().map(|r| WindowOutline {
+        step: r.step,
+        tip: r.tip.clone(),
+        corners: corners(&r.corners),
+    }));
+    GrowthHistory {
+        mode: "pd-bem".into(),
+        paths,
+        steps,
+        windows: outlines,
+        relocations: result
+            .relocations
+            .iter()
+            .map(|r| Relocation {
+                step: r.step,
+                tip: r.tip.clone(),
+                from: [r.from.x, r.from.y],
+                to: [r.to.x, r.to.y],
+                elements_added: r.elements_added,
+                rebuild_s: r.rebuild_s,
+            })
+            .collect(),
+        initiation_load: result.initiation_load,
+        failure: result.failure.is_some(),
+        failure_load: result.failure.as_ref().map(|f| f.load),
+        notes: result.notes.clone(),
+        snapshots: Vec::new(),
+    }
+}
 
 /// Runs PD-BEM growth of `scene`.
-pub fn run(scene: &Scene, _ctx: &RunContext) -> Result<GrowthHistory> {
-    anyhow::bail!(
-        "{}: PD-BEM growth is not wired yet",
-        scene.file_label().display()
-    )
+pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
+    let file = scene.file_label();
+    let inp = input(scene)?;
+    let count = inp.params.loads.count;
+    ctx.log(&format!(
+        "{}: PD-BEM growth, {} load steps from {} by {}, {} tip(s)",
+        scene.name,
+        count,
+        inp.params.loads.initial,
+        inp.params.loads.step,
+        inp.setup.tips.len()
+    ));
+    let log = if GrowthLog::exists(ctx) {
+        None
+    } else {
+        Some(GrowthLog::open(ctx)?)
+    };
+    let tip_names = inp.setup.tips.iter().map(|t| t.name.clone()).collect();
+    let mut g = Growth::new(inp.setup, &inp.scenario, inp.params)
+        .with_context(|| format!("{}: PD-BEM growth setup", file.display()))?;
+    let mut progress = Progress {
+        ctx,
+        bar: step_bar(ctx, count),
+        log,
+        tip_names,
+        snapshots: Vec::new(),
+        relocations: 0,
+        error: None,
+    };
+    progress.log_event(
+        "start",
+        json!({"mode": "pd-bem", "steps": count, "elements": g.problem().mesh.len(),
+               "windows": g.problem().windows.len()}),
+    );
+    let windows = initial_windows(&g);
+    let result = g
+        .run(&mut progress)
+        .with_context(|| format!("{}: PD-BEM growth", file.display()))?;
+    progress.bar.finish_and_clear();
+    if let Some(e) = progress.error.take() {
+        return Err(e);
+    }
+    let mut h = history(&g, &result, windows);
+    let last = result.steps.len().saturating_sub(1);
+    h.snapshots = std::mem::take(&mut progress.snapshots);
+    h.snapshots
+        .extend(damage_snapshots(last, &g.problem().windows, ""));
+    h.snapshots.extend(displacement_snapshot(scene, &g, last));
+    for p in &h.paths {
+        if let Some(why) = &p.ended {
+            progress.log_event("tip_end", json!({"tip": p.name, "reason": why}));
+        }
+    }
+    if let Some(f) = &result.failure {
+        progress.log_event(
+            "failure",
+            json!({"step": f.step, "load": f.load, "tip": f.tip, "geometries": g.geometries()}),
+        );
+    }
+    if let Some(e) = progress.error.take() {
+        return Err(e);
+    }
+    Ok(h)
 }

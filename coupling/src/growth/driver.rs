@@ -1,0 +1,603 @@
+//! Algorithm 2 of seed 002 (section 2.3.2, Fig. 8): load steps, each iterated by
+//! Algorithm 1 on the current geometry, with the geometry iteration (section 2.3.3,
+//! Fig. 9) whenever a tip passes its window margin.
+//!
+//! [`Growth::run`] does, for every load factor $f_k$ = `initial + k step`:
+//! 1. Algorithm 1 at $f_k$ on the factored BEM system of the current geometry
+//!    ([`crate::iteration::solve_prepared`], warm-started from the last interface state
+//!    scaled to $f_k$). After every iteration the active tips are traced; a tip past its
+//!    window margin or at the outline stops the iteration (step 6).
+//! 2. Tips that reached the outline end the run (structural failure, step 9), as do two
+//!    edge cracks that meet, or a window that would have to reach the outline while its
+//!    crack is held at the outline at its other end (the BEM body would be cut in two;
+//!    the relocation is not attempted). Tips at a hole or running into another crack end
+//!    and the run goes on with the others.
+//! 3. Tips past their margin are relocated ([`Growth::relocate`], steps 7 and 10): new
+//!    window, extended crack, overlapping windows merged, mesh rebuilt and refactored,
+//!    state transferred; then 1. again at the same load.
+//! 4. Otherwise the step converged (interface residual below psi and no bond broke in the
+//!    last PD solves) and is recorded; the load grows.
+//!
+//! The scene-specific parts (BEM conditions of a mesh, conditions on window sides lying on
+//! the outline, both at load factor 1) come from a [`Scenario`]; progress goes to an
+//! [`Observer`], so the crate stays free of I/O.
+
+use std::ops::ControlFlow;
+use std::time::Instant;
+
+use pdbem_bem::post::sif::cmod;
+use pdbem_bem::V2;
+use pdbem_pd::crack_path::CrackPath;
+
+use crate::error::CouplingError;
+use crate::growth::merge::resolve_overlaps;
+use crate::growth::params::GrowthParams;
+use crate::growth::polyline;
+use crate::growth::records::{
+    Failure, GrowthResult, GrowthSetup, IterationEvent, Observer, Scenario, SolveOutcome,
+    StepResult,
+};
+use crate::growth::tips::{
+    entry_point, passed_margin, protect_band, ran_into, reached_boundary, towards_tip, track,
+    TipEnd, TipState,
+};
+use crate::growth::topology::cuts_body;
+use crate::iteration::{solve_prepared, CoupledProblem, CoupledSolution, PreparedBem, StepOptions};
+use crate::setup::{build, Layout};
+use crate::window::{Body, Window};
+
+/// A growth run in progress: the current geometry, its factored BEM system, the windows
+/// and the tips. [`Growth::run`] drives it; [`Growth::solve_at`] and [`Growth::relocate`]
+/// are its two moves, public for tests and studies.
+pub struct Growth<'s, S: Scenario> {
+    pub(super) scenario: &'s S,
+    pub(super) params: GrowthParams,
+    pub(super) setup: GrowthSetup,
+    pub(super) body: Body,
+    pub(super) problem: CoupledProblem,
+    pub(super) bem: PreparedBem,
+    pub(super) tips: Vec<TipState>,
+    /// Interface state to start from and the load it belongs to.
+    pub(super) start: Option<(Vec<f64>, f64)>,
+    pub(super) last: Option<CoupledSolution>,
+    /// Arc length of each tip along its crack polyline at each record: (s, step, load).
+    pub(super) progress: Vec<Vec<(f64, usize, f64)>>,
+    /// Arc length of the initial tip along its crack (oriented towards the tip).
+    pub(super) initial_s: Vec<f64>,
+    /// Initial tip positions.
+    pub(super) initial_tip: Vec<V2>,
+    pub(super) geometries: usize,
+}
+
+/// Builds mesh, windows (with their no-fail bands) and the factored BEM system of a
+/// layout.
+pub(super) fn build_geometry<S: Scenario>(
+    layout: &Layout,
+    setup: &GrowthSetup,
+    scenario: &S,
+    ratio: f64,
+) -> Result<(CoupledProblem, PreparedBem), CouplingError> {
+    let built = build(layout, |_, w| scenario.outer_conditions(w))?;
+    let bcs =
+        scenario
+            .bem_conditions(&built.mesh)
+            .map_err(|message| CouplingError::InvalidGrowth {
+                field: "scenario",
+                message,
+            })?;
+    let mut problem = CoupledProblem {
+        mesh: built.mesh,
+        material: setup.material,
+        bcs,
+        bem_params: setup.bem_params.clone(),
+        background: setup.background,
+        thickness: setup.thickness,
+        windows: built.windows,
+    };
+    for wm in problem.windows.iter_mut() {
+        protect_band(wm, ratio);
+    }
+    let bem = PreparedBem::new(&mut problem)?;
+    Ok((problem, bem))
+}
+
+impl<'s, S: Scenario> Growth<'s, S> {
+    /// Validates the parameters, builds the initial geometry and assigns the tips to
+    /// their windows (overlapping windows merged).
+    pub fn new(
+        mut setup: GrowthSetup,
+        scenario: &'s S,
+        params: GrowthParams,
+    ) -> Result<Self, CouplingError> {
+        params.validate()?;
+        let body = Body {
+            outline: setup.layout.outline.points.clone(),
+            holes: setup
+                .layout
+                .holes
+                .iter()
+                .map(|h| h.points.clone())
+                .collect(),
+        };
+        let names: Vec<String> = setup.tips.iter().map(|t| t.name.clone()).collect();
+        let mut owner = tip_windows(&setup, &body)?;
+        resolve_overlaps(&mut setup.layout.windows, &mut owner, &names, &body)?;
+        if cuts_body(&setup.layout, &body) {
+            return Err(CouplingError::InvalidGrowth {
+                field: "layout",
+                message: "the cracks and windows cut the BEM body apart from the start \
+                          (a ligament held only by PD windows); shrink or move the windows"
+                    .into(),
+            });
+        }
+        let (problem, bem) = build_geometry(&setup.layout, &setup, scenario, params.trigger_ratio)?;
+        let mut tips = Vec::new();
+        let mut initial_s = Vec::new();
+        for (t, spec) in setup.tips.iter().enumerate() {
+            let line = towards_tip(&setup.layout.cracks[spec.crack].points, spec.at_end);
+            let w = &problem.windows[owner[t]].window;
+            let (entry, macro_tip) = entry_point(w, &line, &spec.name)?;
+            initial_s.push(polyline::length(&line));
+            tips.push(TipState {
+                spec: spec.clone(),
+                window: owner[t],
+                entry,
+                macro_tip,
+                path: CrackPath {
+                    points: vec![[entry.x, entry.y]],
+                    ..Default::default()
+                },
+                ended: None,
+            });
+        }
+        let n = tips.len();
+        let initial_tip = tips.iter().map(|t| t.macro_tip).collect();
+        let mut g = Growth {
+            scenario,
+            params,
+            setup,
+            body,
+            problem,
+            bem,
+            tips,
+            start: None,
+            last: None,
+            progress: vec![Vec::new(); n],
+            initial_s,
+            initial_tip,
+            geometries: 1,
+        };
+        g.retrace()?;
+        Ok(g)
+    }
+
+    /// The current coupled problem (mesh, windows with their PD state).
+    pub fn problem(&self) -> &CoupledProblem {
+        &self.problem
+    }
+
+    /// The current macro layout.
+    pub fn layout(&self) -> &Layout {
+        &self.setup.layout
+    }
+
+    /// The tips.
+    pub fn tips(&self) -> &[TipState] {
+        &self.tips
+    }
+
+    /// The body (outline and holes).
+    pub fn body(&self) -> &Body {
+        &self.body
+    }
+
+    /// The last coupled solution (interface state and BEM solution), if any.
+    pub fn last_solution(&self) -> Option<&CoupledSolution> {
+        self.last.as_ref()
+    }
+
+    /// Number of geometries built so far (1 + relocations with a rebuild).
+    pub fn geometries(&self) -> usize {
+        self.geometries
+    }
+
+    /// BEM unknowns of the current geometry.
+    pub fn bem_unknowns(&self) -> usize {
+        self.bem.unknowns()
+    }
+
+    /// CMOD (m) of the crack named `crack` in the last solution (None without a solution
+    /// or a mouth).
+    pub fn cmod(&self, crack: &str) -> Option<f64> {
+        let sol = self.last.as_ref()?;
+        let i = self
+            .problem
+            .mesh
+            .cracks
+            .iter()
+            .position(|c| c.name == crack)?;
+        cmod(&self.problem.mesh, &sol.solution, i)
+    }
+
+    /// CMOD of the first crack of the mesh that has one.
+    fn first_cmod(&self) -> Option<f64> {
+        let sol = self.last.as_ref()?;
+        (0..self.problem.mesh.cracks.len()).find_map(|i| cmod(&self.problem.mesh, &sol.solution, i))
+    }
+
+    /// The whole crack path of tip `t` from its initial position: the macro polyline from
+    /// the initial tip to the window entry, then the traced PD path; each point with the
+    /// step and load at which the tip first reached it.
+    pub fn tip_path(&self, t: usize) -> Vec<(V2, usize, f64)> {
+        let tip = &self.tips[t];
+        let line = towards_tip(
+            &self.setup.layout.cracks[tip.spec.crack].points,
+            tip.spec.at_end,
+        );
+        let w = &self.problem.windows[tip.window].window;
+        let s_entry = polyline::entry_length(&line, w).unwrap_or(polyline::length(&line));
+        let mut full: Vec<V2> = Vec::new();
+        let mut acc = 0.0;
+        full.push(line[0]);
+        for seg in line.windows(2) {
+            let l = (seg[1] - seg[0]).norm();
+            if acc + l >= s_entry {
+                break;
+            }
+            acc += l;
+            full.push(seg[1]);
+        }
+        full.extend(tip.path_points());
+        let s0 = polyline::project(&full, self.initial_tip[t]);
+        let total = polyline::length(&full);
+        let first = self.progress[t].first().map_or((0, 0.0), |p| (p.1, p.2));
+        let mut out = vec![(polyline::point_at(&full, s0), first.0, first.1)];
+        let mut s = s0;
+        let dx = w.spec.dx;
+        while s + dx < total {
+            s += dx;
+            let (k, f) = self.progress[t]
+                .iter()
+                .find(|p| p.0 >= s - 1e-9)
+                .or(self.progress[t].last())
+                .map_or(first, |p| (p.1, p.2));
+            out.push((polyline::point_at(&full, s), k, f));
+        }
+        if total > s0 {
+            let (k, f) = self.progress[t].last().map_or(first, |p| (p.1, p.2));
+            out.push((polyline::point_at(&full, total), k, f));
+        }
+        out
+    }
+
+    /// Arc length of tip `t` along its crack (polyline to the entry + traced path).
+    fn tip_arc(&self, t: usize) -> f64 {
+        let tip = &self.tips[t];
+        let line = towards_tip(
+            &self.setup.layout.cracks[tip.spec.crack].points,
+            tip.spec.at_end,
+        );
+        let w = &self.problem.windows[tip.window].window;
+        let s_entry = polyline::entry_length(&line, w).unwrap_or(0.0);
+        if tip.path.is_empty() {
+            polyline::length(&line)
+        } else {
+            s_entry + tip.path.length
+        }
+    }
+
+    fn record_progress(&mut self, step: usize, load: f64) {
+        for t in 0..self.tips.len() {
+            let s = self.tip_arc(t).max(self.initial_s[t]);
+            self.progress[t].push((s, step, load));
+        }
+    }
+
+    /// Traces every active tip in its window.
+    pub(super) fn retrace(&mut self) -> Result<(), CouplingError> {
+        for t in 0..self.tips.len() {
+            if !self.tips[t].active() {
+                continue;
+            }
+            let w = self.tips[t].window;
+            self.tips[t].path = track(
+                &self.problem.windows[w],
+                w,
+                self.tips[t].entry,
+                &self.params.path,
+            )?;
+        }
+        Ok(())
+    }
+
+    /// Algorithm 1 at load factor `load` on the current geometry (step `step`, for the
+    /// observer), stopped early when a tip needs attention (past its window margin or at
+    /// the outline or a hole). Updates the tips' traces.
+    pub fn solve_at(
+        &mut self,
+        step: usize,
+        load: f64,
+        observer: &mut dyn Observer,
+    ) -> Result<SolveOutcome, CouplingError> {
+        let start = self
+            .start
+            .as_ref()
+            .map(|(x, f)| x.iter().map(|v| v * load / f).collect());
+        let tips = &self.tips;
+        let (body, params) = (&self.body, &self.params);
+        let mut positions: Vec<V2> = tips.iter().map(TipState::position).collect();
+        let mut trace_error: Option<CouplingError> = None;
+        let mut monitor = |rep: &crate::iteration::IterationReport<'_>| {
+            let mut stop = false;
+            for (t, tip) in tips.iter().enumerate().filter(|(_, t)| t.active()) {
+                let wm = &rep.windows[tip.window];
+                match track(wm, tip.window, tip.entry, &params.path) {
+                    Ok(p) if !p.is_empty() => {
+                        positions[t] = V2::new(p.tip()[0], p.tip()[1]);
+                        stop |= needs_attention(&wm.window, tip.entry, positions[t], body, params);
+                    }
+                    Ok(_) => {}
+                    Err(e) => {
+                        trace_error = Some(e);
+                        stop = true;
+                    }
+                }
+            }
+            observer.iteration(&IterationEvent {
+                step,
+                load,
+                iteration: rep.iteration,
+                residual: rep.residual,
+                bonds_broken: rep.bonds_broken,
+                tips: &positions,
+            });
+            if stop {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        };
+        let opts = StepOptions {
+            load_scale: load,
+            start,
+            monitor: Some(&mut monitor),
+        };
+        let (sol, info) = solve_prepared(&mut self.problem, &self.bem, &params.coupling, opts)?;
+        if let Some(e) = trace_error {
+            return Err(e);
+        }
+        self.start = Some((sol.x_pd.clone(), load));
+        self.last = Some(sol);
+        self.retrace()?;
+        Ok(SolveOutcome {
+            converged: info.converged,
+            iterations: info.iterations,
+            residual: info.residuals.last().copied().unwrap_or(f64::NAN),
+            bonds_broken: info.bonds_broken.iter().sum(),
+            pd_s: info.timings.pd_s,
+        })
+    }
+
+    /// Ends tips that reached the outline, a hole or another crack; returns the tip that
+    /// cut the body (reached the outline), if any.
+    fn end_tips(&mut self, observer: &mut dyn Observer) -> Option<usize> {
+        let mut cut = None;
+        for t in 0..self.tips.len() {
+            if !self.tips[t].active() || self.tips[t].path.is_empty() {
+                continue;
+            }
+            let dx = self.problem.windows[self.tips[t].window].window.spec.dx;
+            let reach = self.params.boundary_reach * dx;
+            let p = self.tips[t].position();
+            let end = reached_boundary(&self.body, p, reach).or_else(|| {
+                let wm = &self.problem.windows[self.tips[t].window];
+                self.tips
+                    .iter()
+                    .enumerate()
+                    .filter(|&(o, other)| o != t && other.window == self.tips[t].window)
+                    .find(|(_, other)| ran_into(&self.tips[t], other, wm.model.positions(), reach))
+                    .map(|(_, other)| TipEnd::Coalescence(other.spec.name.clone()))
+            });
+            if let Some(end) = end {
+                let msg = format!(
+                    "tip {} ended at ({:.4}, {:.4}): reached {end}",
+                    self.tips[t].spec.name, p.x, p.y
+                );
+                observer.note(&msg);
+                let cuts = match &end {
+                    TipEnd::Outline => true,
+                    TipEnd::Coalescence(other) => self.joins_outline(t, other),
+                    TipEnd::Hole(_) => false,
+                };
+                if cuts && cut.is_none() {
+                    cut = Some(t);
+                }
+                self.tips[t].ended = Some(end);
+            }
+        }
+        cut
+    }
+
+    /// Whether tip `t` running into the crack of tip `other` joins two cracks that both
+    /// start on the outline (two edge cracks meeting cut the body).
+    fn joins_outline(&self, t: usize, other: &str) -> bool {
+        let on_outline = |tip: &TipState| {
+            let line = towards_tip(
+                &self.setup.layout.cracks[tip.spec.crack].points,
+                tip.spec.at_end,
+            );
+            let tol = self.problem.windows[tip.window].window.tol().max(1e-12);
+            crate::window::polygon_distance(line[0], &self.body.outline) <= tol
+        };
+        let Some(o) = self.tips.iter().find(|o| o.spec.name == other) else {
+            return false;
+        };
+        on_outline(&self.tips[t]) && on_outline(o)
+    }
+
+    /// Tips past their window margin.
+    fn triggered(&self) -> Vec<usize> {
+        (0..self.tips.len())
+            .filter(|&t| {
+                let tip = &self.tips[t];
+                let w = &self.problem.windows[tip.window].window;
+                tip.active()
+                    && !tip.path.is_empty()
+                    && passed_margin(w, tip.position(), tip.entry, self.params.trigger_ratio)
+            })
+            .collect()
+    }
+
+    /// Broken bond pairs over all windows.
+    fn broken_bonds(&self) -> usize {
+        self.problem
+            .windows
+            .iter()
+            .map(|w| w.model.broken_bonds())
+            .sum()
+    }
+
+    /// Runs Algorithm 2 (see the module docs).
+    pub fn run(&mut self, observer: &mut dyn Observer) -> Result<GrowthResult, CouplingError> {
+        let mut out = GrowthResult::default();
+        self.record_progress(0, self.params.loads.initial);
+        for k in 0..self.params.loads.count {
+            let load = self.params.loads.factor(k);
+            let t0 = Instant::now();
+            let (mut iterations, mut pd_s, mut relocations) = (0, 0.0, 0);
+            let (converged, residual, cut) = loop {
+                let o = self
+                    .solve_at(k, load, observer)
+                    .map_err(|e| step_error(k, load, e))?;
+                iterations += o.iterations;
+                pd_s += o.pd_s;
+                if o.bonds_broken > 0 && out.initiation_load.is_none() {
+                    out.initiation_load = Some(load);
+                }
+                if let Some(t) = self.end_tips(observer) {
+                    break (false, o.residual, Some(t));
+                }
+                let which = self.triggered();
+                if which.is_empty() {
+                    if o.converged {
+                        break (true, o.residual, None);
+                    }
+                    // Stopped for a tip that has now ended: iterate on with the others.
+                    continue;
+                }
+                if relocations >= self.params.max_relocations_per_step {
+                    return Err(CouplingError::Relocation {
+                        tip: self.tips[which[0]].spec.name.clone(),
+                        reason: format!(
+                            "more than {relocations} relocations in step {k} (load {load}); lower the load step"
+                        ),
+                    });
+                }
+                self.record_progress(k, load);
+                let plan = self.plan(&which)?;
+                if plan.cuts_body {
+                    let t = which[0];
+                    let p = self.tips[t].position();
+                    observer.note(&format!(
+                        "tip {} at ({:.4}, {:.4}): moving its window on would leave the \
+                         remaining ligament wholly in PD windows and the BEM body cut in two: \
+                         structural failure",
+                        self.tips[t].spec.name, p.x, p.y
+                    ));
+                    self.tips[t].ended = Some(TipEnd::Outline);
+                    break (false, o.residual, Some(t));
+                }
+                let recs = self.apply(plan, k, load, observer)?;
+                relocations += recs.len();
+                out.relocations.extend(recs);
+            };
+            self.record_progress(k, load);
+            let rec = StepResult {
+                step: k,
+                load,
+                iterations,
+                residual,
+                converged,
+                broken_bonds: self.broken_bonds(),
+                tips: self.tips.iter().map(TipState::position).collect(),
+                cmod: self.first_cmod(),
+                relocations,
+                wall_s: t0.elapsed().as_secs_f64(),
+                pd_s,
+            };
+            observer.step(&rec);
+            out.steps.push(rec);
+            if let Some(t) = cut {
+                let name = self.tips[t].spec.name.clone();
+                out.notes.push(format!(
+                    "structural failure at step {k} (load {load}): tip {name} reached the outer boundary"
+                ));
+                out.failure = Some(Failure {
+                    step: k,
+                    load,
+                    tip: name,
+                });
+                break;
+            }
+            if self.tips.iter().all(|t| !t.active()) {
+                out.notes
+                    .push(format!("every tip ended by step {k} (load {load})"));
+                break;
+            }
+        }
+        for t in &self.tips {
+            if let Some(e) = &t.ended {
+                out.notes.push(format!("tip {} ended: {e}", t.spec.name));
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// Whether a traced tip at `p` (entry `entry`) in `w` is past the margin or at the outline
+/// or a hole.
+fn needs_attention(w: &Window, entry: V2, p: V2, body: &Body, params: &GrowthParams) -> bool {
+    passed_margin(w, p, entry, params.trigger_ratio)
+        || reached_boundary(body, p, params.boundary_reach * w.spec.dx).is_some()
+}
+
+/// Adds the step and load to an error of a step.
+fn step_error(step: usize, load: f64, e: CouplingError) -> CouplingError {
+    match e {
+        CouplingError::NoConvergence { .. } | CouplingError::Diverged { .. } => {
+            CouplingError::InvalidStep {
+                message: format!("load step {step} (load factor {load}): {e}"),
+            }
+        }
+        other => other,
+    }
+}
+
+/// Window of every tip: the window containing its crack end.
+fn tip_windows(setup: &GrowthSetup, body: &Body) -> Result<Vec<usize>, CouplingError> {
+    setup
+        .tips
+        .iter()
+        .map(|t| {
+            let pts = &setup.layout.cracks[t.crack].points;
+            let p = if t.at_end {
+                *pts.last().expect("points")
+            } else {
+                pts[0]
+            };
+            setup
+                .layout
+                .windows
+                .iter()
+                .enumerate()
+                .find(|(i, s)| {
+                    Window::place(*i, (*s).clone(), body).is_ok_and(|w| w.contains(p, -1e-9))
+                })
+                .map(|(i, _)| i)
+                .ok_or_else(|| CouplingError::Relocation {
+                    tip: t.name.clone(),
+                    reason: format!("no window contains the tip ({:.4}, {:.4})", p.x, p.y),
+                })
+        })
+        .collect()
+}

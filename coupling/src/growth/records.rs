@@ -1,0 +1,186 @@
+//! The data of a growth run: the scene-specific [`Scenario`], the progress
+//! [`Observer`], the initial [`GrowthSetup`] and the records a run produces
+//! ([`StepResult`], [`RelocationRecord`], [`GrowthResult`], ...).
+
+use pdbem_bem::post::Background;
+use pdbem_bem::{Bc, Material, Mesh, SolveParams, V2};
+
+use crate::growth::tips::TipSpec;
+use crate::growth::transfer::TransferInfo;
+use crate::pd_window::EdgeCondition;
+use crate::setup::{Layout, WindowModel};
+use crate::window::Window;
+
+/// The scene-specific parts of a growth run, all at load factor 1.
+pub trait Scenario: Sync {
+    /// Conditions of every element of `mesh` (scene values; interface elements are
+    /// overwritten by the coupling).
+    fn bem_conditions(&self, mesh: &Mesh) -> Result<Vec<[Bc; 2]>, String>;
+    /// Scene conditions on the sides of `window` that lie on the outline.
+    fn outer_conditions(&self, window: &Window) -> Vec<EdgeCondition>;
+}
+
+/// Progress callbacks (all optional).
+pub trait Observer {
+    /// After every Algorithm 1 iteration.
+    fn iteration(&mut self, _event: &IterationEvent<'_>) {}
+    /// After every converged (or failed) load step.
+    fn step(&mut self, _step: &StepResult) {}
+    /// After every window relocation.
+    fn relocation(&mut self, _record: &RelocationRecord) {}
+    /// A message for the user (tip ended, windows merged, ...).
+    fn note(&mut self, _message: &str) {}
+    /// Just before a relocation, with the windows whose state triggered it.
+    fn before_relocation(&mut self, _step: usize, _windows: &[WindowModel]) {}
+}
+
+/// An observer that ignores everything.
+pub struct Silent;
+
+impl Observer for Silent {}
+
+/// One Algorithm 1 iteration, as seen by the observer.
+#[derive(Debug, Clone)]
+pub struct IterationEvent<'a> {
+    /// Load step.
+    pub step: usize,
+    /// Load factor.
+    pub load: f64,
+    /// Iteration within the current geometry.
+    pub iteration: usize,
+    /// Relative interface residual.
+    pub residual: f64,
+    /// Bond pairs broken in this iteration.
+    pub bonds_broken: usize,
+    /// Tip positions (m), in tip order.
+    pub tips: &'a [V2],
+}
+
+/// The initial macro model of a growth run.
+#[derive(Debug, Clone)]
+pub struct GrowthSetup {
+    /// Outline, holes, cracks (ending at the tips) and one window per tip.
+    pub layout: Layout,
+    /// The tips the windows follow.
+    pub tips: Vec<TipSpec>,
+    /// BEM material.
+    pub material: Material,
+    /// BEM solver parameters.
+    pub bem_params: SolveParams,
+    /// Remote field (finite bodies: none).
+    pub background: Background,
+    /// Thickness (m).
+    pub thickness: f64,
+}
+
+/// One load step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepResult {
+    /// Step index (0-based).
+    pub step: usize,
+    /// Load factor.
+    pub load: f64,
+    /// Algorithm 1 iterations in the step (all geometries).
+    pub iterations: usize,
+    /// Last interface residual.
+    pub residual: f64,
+    /// Whether the step converged (false when it ended in structural failure).
+    pub converged: bool,
+    /// Broken bond pairs in all windows after the step (pre-cracks excluded).
+    pub broken_bonds: usize,
+    /// Tip positions after the step (m), in tip order.
+    pub tips: Vec<V2>,
+    /// CMOD of the first crack with a mouth on the outline (m).
+    pub cmod: Option<f64>,
+    /// Relocations during the step.
+    pub relocations: usize,
+    /// Wall time (s).
+    pub wall_s: f64,
+    /// Of which PD solves (s).
+    pub pd_s: f64,
+}
+
+/// One window relocation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RelocationRecord {
+    /// Load step.
+    pub step: usize,
+    /// Load factor.
+    pub load: f64,
+    /// Tip.
+    pub tip: String,
+    /// Window centre before and after (m).
+    pub from: V2,
+    /// Window centre after (m).
+    pub to: V2,
+    /// Tip position when the window moved (m).
+    pub tip_at: V2,
+    /// BEM elements added to each crack face.
+    pub elements_added: usize,
+    /// Largest distance of the new window's traced pre-crack from the old traced path (m).
+    pub precrack_deviation: f64,
+    /// Where the new window's state came from.
+    pub transfer: TransferInfo,
+    /// Corners of the new window, counter-clockwise (m).
+    pub corners: [V2; 4],
+    /// BEM elements of the new mesh.
+    pub elements: usize,
+    /// Wall time of the rebuild (mesh, assembly, factorization, windows, transfer) (s).
+    pub rebuild_s: f64,
+}
+
+/// A relocation worked out but not yet carried out ([`Growth::plan`]).
+#[derive(Debug, Clone)]
+pub struct RelocationPlan {
+    /// The macro layout after the moves and merges.
+    pub layout: Layout,
+    /// Window of every tip afterwards.
+    pub owner: Vec<usize>,
+    /// Per relocated tip: (tip, (old window centre, tip position, BEM elements added)).
+    pub moves: Vec<(usize, (V2, V2, usize))>,
+    /// Windows merged.
+    pub merges: usize,
+    /// The new layout would cut the BEM body apart ([`crate::growth::topology`]).
+    pub cuts_body: bool,
+}
+
+/// Why the run stopped early.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Failure {
+    /// Step.
+    pub step: usize,
+    /// Load factor.
+    pub load: f64,
+    /// The tip that cut the body.
+    pub tip: String,
+}
+
+/// What a growth run produced.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct GrowthResult {
+    /// Load steps.
+    pub steps: Vec<StepResult>,
+    /// Relocations in order.
+    pub relocations: Vec<RelocationRecord>,
+    /// Structural failure (a crack reached the outline), if it happened.
+    pub failure: Option<Failure>,
+    /// First load factor at which a bond broke.
+    pub initiation_load: Option<f64>,
+    /// Messages (tips ended, windows merged, ...).
+    pub notes: Vec<String>,
+}
+
+/// Outcome of one Algorithm 1 run at a load.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SolveOutcome {
+    /// Converged (residual and no bond breaking).
+    pub converged: bool,
+    /// Iterations.
+    pub iterations: usize,
+    /// Last residual.
+    pub residual: f64,
+    /// Bond pairs broken during the run.
+    pub bonds_broken: usize,
+    /// PD wall time (s).
+    pub pd_s: f64,
+}

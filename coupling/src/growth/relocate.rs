@@ -1,0 +1,268 @@
+//! The geometry iteration of seed 002 (section 2.3.3, Fig. 9, Algorithm 2 steps 7 and 10):
+//! where the window goes and how the macro crack is extended.
+//!
+//! - [`moved_spec`]: the window moves by the move distance along the growth direction.
+//!   The move is snapped to the PD lattice (whole multiples of dx along the window axes),
+//!   so the nodes the old and new windows share coincide and their state carries over
+//!   exactly ([`crate::growth::transfer`]). A window that would leave the body is pushed
+//!   back inside (against the outline, where its side becomes an outer side); the tip must
+//!   end up inside the new window, clear of its trigger distance
+//!   ([`crate::growth::tips::margins`]), or the window is centred on the tip.
+//! - [`extend_crack`]: the macro crack is the old polyline up to the old window entry,
+//!   then the smoothed PD path: from the old entry to where the path enters the new window
+//!   it becomes BEM crack, split into `elements_per_extension` straight elements per face,
+//!   the last one ending on an interface element end of the new window (one interface
+//!   element per PD node row: the crack passes between two rows);
+//!   the rest of the path (inside the new window, up to one dx short of the tip: the
+//!   copied bond states carry the damage at the tip) becomes the new window's pre-crack
+//!   (seed 002: "the macro crack grows to reach the farthest macro crack tip").
+
+use pdbem_bem::V2;
+
+use crate::error::CouplingError;
+use crate::growth::polyline;
+use crate::growth::tips::{margins, near_interface_side};
+use crate::window::{Body, Window, WindowSpec};
+
+/// Snaps `v` to whole multiples of `dx` along the window axes `(e1, e2)`.
+fn snap(v: V2, e1: V2, e2: V2, dx: f64) -> V2 {
+    let a = (v.dot(&e1) / dx).round() * dx;
+    let b = (v.dot(&e2) / dx).round() * dx;
+    a * e1 + b * e2
+}
+
+/// Shifts `spec` (along its axes, by whole dx where possible) so the window lies inside
+/// the bounding box of the outline in the window frame.
+fn clamp_into(spec: &WindowSpec, body: &Body) -> WindowSpec {
+    let (s, c) = spec.angle.sin_cos();
+    let (e1, e2) = (V2::new(c, s), V2::new(-s, c));
+    let (hx, hy) = (
+        0.5 * spec.nx as f64 * spec.dx,
+        0.5 * spec.ny as f64 * spec.dx,
+    );
+    let proj = |e: V2| {
+        body.outline
+            .iter()
+            .map(|p| p.dot(&e))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                (lo.min(v), hi.max(v))
+            })
+    };
+    let mut out = spec.clone();
+    for (e, h) in [(e1, hx), (e2, hy)] {
+        let (lo, hi) = proj(e);
+        let x = out.center.dot(&e);
+        let clamped = x.clamp(lo + h, (hi - h).max(lo + h));
+        out.center += (clamped - x) * e;
+    }
+    out
+}
+
+/// The window after one relocation of the window `w` whose tip is at `tip` (entry
+/// `entry`) and grows along unit `dir`; see the module docs.
+pub fn moved_spec(
+    w: &Window,
+    tip: V2,
+    dir: V2,
+    distance: f64,
+    ratio: f64,
+    body: &Body,
+    tip_name: &str,
+) -> Result<WindowSpec, CouplingError> {
+    let (e1, e2) = w.axes();
+    let dx = w.spec.dx;
+    let mut spec = w.spec.clone();
+    spec.center += snap(distance * dir, e1, e2, dx);
+    spec = clamp_into(&spec, body);
+    let fits = |s: &WindowSpec| {
+        Window::place(0, s.clone(), body).ok().filter(|nw| {
+            nw.contains(tip, -0.5 * dx) && !near_interface_side(nw, tip, margins(nw, ratio).1)
+        })
+    };
+    if fits(&spec).is_none() {
+        // Centre on the tip instead (still on the lattice of the old window).
+        let mut c = w.spec.clone();
+        c.center += snap(tip - w.spec.center, e1, e2, dx);
+        spec = clamp_into(&c, body);
+    }
+    Window::place(0, spec.clone(), body).map_err(|e| CouplingError::Relocation {
+        tip: tip_name.to_string(),
+        reason: format!(
+            "moved window centred at ({:.4}, {:.4}) is not admissible: {e}",
+            spec.center.x, spec.center.y
+        ),
+    })?;
+    Ok(spec)
+}
+
+/// The point of the boundary of `w` nearest to `p` that is an interface element end
+/// (a whole number of dx from the side's start corner), at least one dx from the corners.
+pub fn snap_to_element_end(w: &Window, p: V2) -> V2 {
+    let dx = w.spec.dx;
+    (0..4)
+        .map(|k| {
+            let (a, b) = w.side(k);
+            let len = (b - a).norm();
+            let t = (p - a).dot(&(b - a)) / len;
+            let t = ((t / dx).round() * dx).clamp(dx, len - dx);
+            a + (b - a) * (t / len)
+        })
+        .min_by(|x, y| (x - p).norm().total_cmp(&(y - p).norm()))
+        .expect("four sides")
+}
+
+/// The extended macro crack (see the module docs).
+///
+/// `line_to_tip`: the current crack polyline oriented towards the tip; `old_entry_s`: the
+/// arc length of the old window entry along it; `path`: the traced PD path from the old
+/// entry to the tip; `new`: the new window; `base_size`: when the BEM part so far was
+/// meshed with a uniform element size, that size (its element ends become polyline
+/// points, so the mesh of the old part does not change). Returns the new polyline
+/// (oriented towards the tip, one BEM element per segment up to the new window) and the
+/// BEM elements added per face.
+pub fn extend_crack(
+    line_to_tip: &[V2],
+    old_entry_s: f64,
+    path: &[V2],
+    new: &Window,
+    elements: usize,
+    base_size: Option<f64>,
+    tip_name: &str,
+) -> Result<(Vec<V2>, usize), CouplingError> {
+    let dx = new.spec.dx;
+    let mut out: Vec<V2> = Vec::new();
+    let mut acc = 0.0;
+    out.push(line_to_tip[0]);
+    for seg in line_to_tip.windows(2) {
+        let l = (seg[1] - seg[0]).norm();
+        if acc + l >= old_entry_s - 1e-12 * (1.0 + old_entry_s) {
+            break;
+        }
+        acc += l;
+        out.push(seg[1]);
+    }
+    let entry = polyline::point_at(line_to_tip, old_entry_s);
+    if (entry - *out.last().expect("non-empty")).norm() > 1e-9 * dx {
+        out.push(entry);
+    }
+    if let Some(h) = base_size {
+        out = polyline::subdivide(&out, h);
+    }
+    let total = polyline::length(path);
+    let s_new = polyline::entry_length(path, new).ok_or_else(|| CouplingError::Relocation {
+        tip: tip_name.to_string(),
+        reason: format!(
+            "the traced path ({total:.4} m from ({:.4}, {:.4})) does not reach the new window",
+            entry.x, entry.y
+        ),
+    })?;
+    let mut added = 0;
+    if s_new > 0.5 * dx {
+        let mut ext = polyline::resample_between(path, 0.0, s_new, elements);
+        // The crack must meet the new window's boundary at an element end: one interface
+        // element per PD node row, the crack between two rows.
+        ext[elements] = snap_to_element_end(new, ext[elements]);
+        out.extend_from_slice(&ext[1..]);
+        added = elements;
+    }
+    // The pre-crack stops one dx short of the traced tip: the bond states copied from the
+    // old window carry the damage there, and a cut through the tip node would lengthen
+    // the crack by a node.
+    let end = (total - dx).max(s_new + dx).min(total);
+    let inside = polyline::resample_spacing(path, s_new, end, dx);
+    out.extend_from_slice(&inside[1..]);
+    if total - s_new < dx {
+        return Err(CouplingError::Relocation {
+            tip: tip_name.to_string(),
+            reason: format!(
+                "only {:.4} m of the path lies in the new window (dx = {dx:.4} m); raise the move distance or the window size",
+                total - s_new
+            ),
+        });
+    }
+    Ok((out, added))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn body() -> Body {
+        Body {
+            outline: vec![
+                V2::new(0.0, 0.0),
+                V2::new(20.0, 0.0),
+                V2::new(20.0, 10.0),
+                V2::new(0.0, 10.0),
+            ],
+            holes: vec![],
+        }
+    }
+
+    fn window(cx: f64, cy: f64) -> Window {
+        let spec = WindowSpec {
+            center: V2::new(cx, cy),
+            angle: 0.0,
+            dx: 0.05,
+            nx: 20,
+            ny: 20,
+            horizon_factor: 3.015,
+        };
+        Window::place(0, spec, &body()).unwrap()
+    }
+
+    #[test]
+    fn window_moves_on_the_lattice_and_stays_in_the_body() {
+        let w = window(10.0, 8.0);
+        // Growth slightly off vertical: the move is snapped to whole dx.
+        let dir = V2::new(0.03, -1.0).normalize();
+        let s = moved_spec(&w, V2::new(10.0, 7.56), dir, 0.5, 0.9, &body(), "t").unwrap();
+        let d = s.center - w.spec.center;
+        assert!((d.x / 0.05 - (d.x / 0.05).round()).abs() < 1e-9);
+        assert!((d.y + 0.5).abs() < 1e-12, "moved by {d:?}");
+        // Near the bottom edge the window is pushed back against it.
+        let w = window(10.0, 0.75);
+        let s = moved_spec(
+            &w,
+            V2::new(10.0, 0.3),
+            V2::new(0.0, -1.0),
+            0.5,
+            0.9,
+            &body(),
+            "t",
+        )
+        .unwrap();
+        assert!((s.center.y - 0.5).abs() < 1e-12, "{:?}", s.center);
+    }
+
+    #[test]
+    fn crack_is_extended_by_the_set_number_of_elements() {
+        // Crack from the top edge to (10, 8); window [9.5, 10.5] x [7.5, 8.5], entry at
+        // y = 8.5; the PD path runs from the entry straight down to y = 7.55.
+        let line = vec![V2::new(10.0, 10.0), V2::new(10.0, 8.0)];
+        let path: Vec<V2> = (0..=19)
+            .map(|k| V2::new(10.0, 8.5 - 0.05 * k as f64))
+            .collect();
+        let new = window(10.0, 7.5);
+        let (pts, added) = extend_crack(&line, 1.5, &path, &new, 5, None, "t").unwrap();
+        assert_eq!(added, 5);
+        assert!((pts[0] - V2::new(10.0, 10.0)).norm() < 1e-12);
+        assert!((pts[1] - V2::new(10.0, 8.5)).norm() < 1e-12);
+        // Extension points every 0.1 m down to the boundary at 8.0.
+        assert!((pts[6] - V2::new(10.0, 8.0)).norm() < 1e-12, "{pts:?}");
+        // The pre-crack ends one dx (0.05 m) short of the traced tip at 7.55.
+        assert!(
+            (pts.last().unwrap() - V2::new(10.0, 7.6)).norm() < 1e-12,
+            "{pts:?}"
+        );
+        assert!(pts.iter().all(|p| (p.x - 10.0).abs() < 1e-12));
+        // With the old part meshed at 0.05 m its 1.5 m become 30 segments.
+        let (pts, _) = extend_crack(&line, 1.5, &path, &new, 5, Some(0.05), "t").unwrap();
+        assert!((pts[30] - V2::new(10.0, 8.5)).norm() < 1e-12, "{pts:?}");
+        assert!((pts[31] - V2::new(10.0, 8.4)).norm() < 1e-12);
+        // A path meeting the boundary between two element ends is moved to the nearer.
+        let bent: Vec<V2> = path.iter().map(|p| V2::new(p.x + 0.02, p.y)).collect();
+        let (pts, _) = extend_crack(&line, 1.5, &bent, &new, 5, None, "t").unwrap();
+        assert!((pts[6] - V2::new(10.0, 8.0)).norm() < 1e-12, "{pts:?}");
+    }
+}

@@ -1,0 +1,177 @@
+//! Whether a macro layout leaves the BEM body in one piece.
+//!
+//! Seen from BEM, a crack is a cut from one of its ends to the other; a window is a hole
+//! whose inside PD carries. Take a graph whose nodes are the outline and the windows, with
+//! an edge for each window reaching the outline and an edge for each crack between the
+//! nodes its two ends are attached to (an end on the outline, or inside a window; a free
+//! tip in the BEM body attaches to nothing). A cycle in this graph closes a chain of cuts
+//! around part of the BEM body, which then hangs on PD alone: its rigid motions are free
+//! under the tractions of the Dirichlet-Neumann iteration, which cannot converge. For a
+//! growing crack this is the moment the crack has cut through everything BEM carries
+//! (seed 002 Algorithm 2 step 9: structural failure).
+
+use pdbem_bem::V2;
+
+use crate::setup::Layout;
+use crate::window::{polygon_distance, Body, SideKind, Window};
+
+/// Union-find root with path halving.
+fn root(parent: &mut [usize], mut i: usize) -> usize {
+    while parent[i] != i {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    i
+}
+
+/// Node of a crack end: 0 for the outline, `1 + i` for window `i`, None when free.
+fn attachment(p: V2, windows: &[Window], body: &Body, tol: f64) -> Option<usize> {
+    if polygon_distance(p, &body.outline) <= tol {
+        return Some(0);
+    }
+    windows
+        .iter()
+        .position(|w| w.contains(p, tol))
+        .map(|i| i + 1)
+}
+
+/// Whether the cracks and windows of `layout` cut the BEM body of `body` apart (see the
+/// module docs). Windows that cannot be placed count as not reaching the outline.
+pub fn cuts_body(layout: &Layout, body: &Body) -> bool {
+    let windows: Vec<Window> = layout
+        .windows
+        .iter()
+        .enumerate()
+        .filter_map(|(i, s)| Window::place(i, s.clone(), body).ok())
+        .collect();
+    if windows.len() != layout.windows.len() {
+        return false;
+    }
+    let tol = windows.iter().map(Window::tol).fold(1e-12, f64::max);
+    let mut parent: Vec<usize> = (0..=windows.len()).collect();
+    let mut edges: Vec<(usize, usize)> = windows
+        .iter()
+        .enumerate()
+        .filter(|(_, w)| w.sides.contains(&SideKind::Outer))
+        .map(|(i, _)| (0, i + 1))
+        .collect();
+    for c in &layout.cracks {
+        let (a, b) = (c.points[0], *c.points.last().expect("a crack has points"));
+        if let (Some(x), Some(y)) = (
+            attachment(a, &windows, body, tol),
+            attachment(b, &windows, body, tol),
+        ) {
+            edges.push((x, y));
+        }
+    }
+    for (x, y) in edges {
+        let (rx, ry) = (root(&mut parent, x), root(&mut parent, y));
+        if rx == ry {
+            return true;
+        }
+        parent[rx] = ry;
+    }
+    false
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pd_window::PdSettings;
+    use crate::setup::MacroCrack;
+    use crate::window::WindowSpec;
+    use pdbem_bem::mesh::{FaceMode, LoopSpec};
+
+    fn layout(cracks: Vec<Vec<V2>>, windows: Vec<V2>) -> (Layout, Body) {
+        let outline = vec![
+            V2::new(0.0, 0.0),
+            V2::new(20.0, 0.0),
+            V2::new(20.0, 10.0),
+            V2::new(0.0, 10.0),
+        ];
+        let l = Layout {
+            outline: LoopSpec {
+                points: outline.clone(),
+                edge_groups: vec!["e".into(); 4],
+                edge_sizes: vec![0.1; 4],
+                is_hole: false,
+            },
+            holes: vec![],
+            cracks: cracks
+                .into_iter()
+                .enumerate()
+                .map(|(i, points)| MacroCrack {
+                    name: format!("c{i}"),
+                    points,
+                    faces: FaceMode::Coincident,
+                    element_size: 0.1,
+                    segment_elements: false,
+                })
+                .collect(),
+            windows: windows
+                .into_iter()
+                .map(|center| WindowSpec {
+                    center,
+                    angle: 0.0,
+                    dx: 0.1,
+                    nx: 20,
+                    ny: 20,
+                    horizon_factor: 3.015,
+                })
+                .collect(),
+            pd: PdSettings {
+                youngs_modulus: 1.0,
+                thickness: 1.0,
+                plane: pdbem_pd::Plane::Stress,
+                failure: pdbem_pd::Failure::None,
+                surface_correction: false,
+                bulk_correction: false,
+                crack_face_correction: false,
+            },
+        };
+        let body = Body {
+            outline,
+            holes: vec![],
+        };
+        (l, body)
+    }
+
+    #[test]
+    fn edge_crack_into_an_interior_window_keeps_the_body_whole() {
+        let (l, b) = layout(
+            vec![vec![V2::new(10.0, 10.0), V2::new(10.0, 5.0)]],
+            vec![V2::new(10.0, 5.0)],
+        );
+        assert!(!cuts_body(&l, &b));
+    }
+
+    #[test]
+    fn window_reaching_the_outline_under_an_edge_crack_cuts() {
+        let (l, b) = layout(
+            vec![vec![V2::new(10.0, 10.0), V2::new(10.0, 1.0)]],
+            vec![V2::new(10.0, 1.0)],
+        );
+        assert!(cuts_body(&l, &b));
+    }
+
+    #[test]
+    fn two_edge_cracks_in_one_window_cut() {
+        let (l, b) = layout(
+            vec![
+                vec![V2::new(0.0, 5.0), V2::new(9.5, 5.0)],
+                vec![V2::new(20.0, 5.0), V2::new(10.5, 5.0)],
+            ],
+            vec![V2::new(10.0, 5.0)],
+        );
+        assert!(cuts_body(&l, &b));
+        // In two separate interior windows they do not.
+        let (l, b) = layout(
+            vec![
+                vec![V2::new(0.0, 5.0), V2::new(7.0, 5.0)],
+                vec![V2::new(20.0, 5.0), V2::new(13.0, 5.0)],
+            ],
+            vec![V2::new(7.0, 5.0), V2::new(13.0, 5.0)],
+        );
+        assert!(!cuts_body(&l, &b));
+    }
+}

@@ -1,0 +1,187 @@
+//! The initial state of a relocated window (seed 002 Algorithm 2 step 10: "set the
+//! current load and the initial cracks of the new PD domain").
+//!
+//! Every node of the new window (real and virtual) takes its displacement from
+//! 1. the node of an old window at the same position (relocations move by whole lattice
+//!    vectors, so shared nodes coincide): its displacement, and for bonds whose two ends
+//!    were real nodes of that old window, its bond state (broken flag, stretch history) on
+//!    top of the pre-crack cut of the new window; an old virtual node carries the BEM
+//!    displacement it was last given;
+//! 2. else an old node within 0.75 dx (windows pushed against the outline leave the
+//!    lattice): its displacement only;
+//! 3. else the BEM field of the last solution at the node (interior-point evaluation,
+//!    [`pdbem_bem::post::FieldEvaluator`]).
+//!
+//! The coupled virtual nodes' values form the first interface vector of the new geometry.
+
+use std::collections::HashMap;
+
+use pdbem_bem::post::FieldEvaluator;
+use pdbem_bem::V2;
+
+use crate::setup::WindowModel;
+
+/// Counts of where the new window's state came from.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct TransferInfo {
+    /// Nodes matched exactly to an old node.
+    pub exact_nodes: usize,
+    /// Nodes given the displacement of an old node within 0.75 dx.
+    pub near_nodes: usize,
+    /// Nodes evaluated from the BEM field.
+    pub bem_nodes: usize,
+    /// Directed bonds whose state came from an old window.
+    pub bonds_copied: usize,
+    /// Of those, broken ones.
+    pub broken_copied: usize,
+}
+
+/// Lattice index of the old windows' nodes.
+struct OldIndex<'a> {
+    windows: &'a [WindowModel],
+    maps: Vec<HashMap<(i64, i64), usize>>,
+}
+
+/// How a position matched an old node.
+#[derive(Clone, Copy)]
+enum Match {
+    Exact(usize, usize),
+    Near(usize, usize),
+    None,
+}
+
+impl<'a> OldIndex<'a> {
+    fn new(windows: &'a [WindowModel]) -> Self {
+        let maps = windows
+            .iter()
+            .map(|w| {
+                w.model
+                    .positions()
+                    .iter()
+                    .enumerate()
+                    .map(|(k, p)| (Self::key(w, V2::new(p[0], p[1])).0, k))
+                    .collect()
+            })
+            .collect();
+        OldIndex { windows, maps }
+    }
+
+    /// Rounded lattice index of `p` in window `w`'s grid and the rounding error (in dx).
+    fn key(w: &WindowModel, p: V2) -> ((i64, i64), f64) {
+        let q = w.window.to_local(p) / w.window.spec.dx - V2::new(0.5, 0.5);
+        let (i, j) = (q.x.round(), q.y.round());
+        ((i as i64, j as i64), (q.x - i).hypot(q.y - j))
+    }
+
+    fn find(&self, p: V2) -> Match {
+        let mut near = Match::None;
+        for (wi, w) in self.windows.iter().enumerate() {
+            let (k, err) = Self::key(w, p);
+            let Some(&node) = self.maps[wi].get(&k) else {
+                continue;
+            };
+            if err < 1e-6 {
+                return Match::Exact(wi, node);
+            }
+            if err < 0.75 && matches!(near, Match::None) {
+                near = Match::Near(wi, node);
+            }
+        }
+        near
+    }
+}
+
+/// Sets the state of `new` from the old windows and the BEM field `bem` (see the module
+/// docs) at load factor `load`; returns the coupled virtual-node displacements (interface
+/// vector of the window, 2 values per node) and the counts.
+pub fn transfer_state(
+    old: &[WindowModel],
+    bem: &FieldEvaluator<'_>,
+    new: &mut WindowModel,
+    load: f64,
+) -> (Vec<f64>, TransferInfo) {
+    let index = OldIndex::new(old);
+    let old_states: Vec<_> = old.iter().map(|w| w.model.state()).collect();
+    let mut st = new.model.state();
+    let mut info = TransferInfo::default();
+    let pos: Vec<V2> = new
+        .model
+        .positions()
+        .iter()
+        .map(|p| V2::new(p[0], p[1]))
+        .collect();
+    let matches: Vec<Match> = pos.iter().map(|p| index.find(*p)).collect();
+    let mut from_bem = Vec::new();
+    for (k, m) in matches.iter().enumerate() {
+        match *m {
+            Match::Exact(w, j) | Match::Near(w, j) => {
+                st.u[k] = old_states[w].u[j];
+                if matches!(m, Match::Exact(..)) {
+                    info.exact_nodes += 1;
+                } else {
+                    info.near_nodes += 1;
+                }
+            }
+            Match::None => from_bem.push(k),
+        }
+    }
+    let pts: Vec<V2> = from_bem.iter().map(|&k| pos[k]).collect();
+    for (k, u) in from_bem.iter().zip(bem.displacements(&pts)) {
+        st.u[*k] = u;
+    }
+    info.bem_nodes = from_bem.len();
+    copy_bond_states(old, &old_states, &matches, new, &mut st, &mut info);
+    st.load = load;
+    new.model.restore(&st);
+    let vstart = new.model.virtual_nodes().start;
+    let x0 = new
+        .interface
+        .coupled
+        .iter()
+        .flat_map(|&v| st.u[vstart + v])
+        .collect();
+    (x0, info)
+}
+
+/// Bond states of bonds whose two ends match real nodes of the same old window.
+fn copy_bond_states(
+    old: &[WindowModel],
+    old_states: &[pdbem_pd::ModelState],
+    matches: &[Match],
+    new: &WindowModel,
+    st: &mut pdbem_pd::ModelState,
+    info: &mut TransferInfo,
+) {
+    let real_exact = |m: Match| match m {
+        Match::Exact(w, j) if j < old[w].model.n_real() => Some((w, j)),
+        _ => None,
+    };
+    let nb = new.model.bonds();
+    for i in 0..new.model.n_nodes() {
+        let Some((w, oi)) = real_exact(matches[i]) else {
+            continue;
+        };
+        let ob = old[w].model.bonds();
+        for b in nb.row(i) {
+            let j = nb.nbr[b] as usize;
+            let Some((w2, oj)) = real_exact(matches[j]) else {
+                continue;
+            };
+            if w2 != w {
+                continue;
+            }
+            let Some(b_old) = ob.row(oi).find(|&c| ob.nbr[c] as usize == oj) else {
+                continue;
+            };
+            let s_old = &old_states[w];
+            info.bonds_copied += 1;
+            if s_old.intact[b_old] == 0 {
+                if st.intact[b] != 0 {
+                    info.broken_copied += 1;
+                }
+                st.intact[b] = 0;
+            }
+            st.s_hist[b] = st.s_hist[b].max(s_old.s_hist[b_old]);
+        }
+    }
+}
