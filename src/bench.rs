@@ -1,6 +1,14 @@
 //! `pdbem bench {bem|pd|coupling|growth} --out DIR [--quick]`: timing tables and
 //! `DIR/bench.json` (schemas in docs/outputs.md). Speed targets live here, never in tests.
 //!
+//! `bench pd` (issue 3): bond-force throughput at about 1e4, 1e5 and 1e6 bonds, bytes per
+//! bond, tangent factorisation and solve times, and the switching solver against pure ADR on
+//! `pd_plate_hole` and `pd_three_point_bend` in one run (`switching_speedup`, damage and
+//! displacement agreement); schema in `pdbem_pd::bench`.
+//!
+//! `bench growth` (issue 5): [`crate::growth::bench`], PD-BEM against BEM-only and full PD
+//! on `cases/growth_tension_edge.ron`.
+//!
 //! `bench coupling` (issue 4): the coupled SENT cases with each acceleration scheme
 //! (constant 0.3, Aitken from 0.3, IQN-ILS from 0.5): iterations, CMOD error, time per phase.
 //!
@@ -62,11 +70,9 @@ pub struct Exponents {
 pub fn run(kind: BenchKind, out: &Path, quick: bool) -> Result<()> {
     match kind {
         BenchKind::Bem => bench_bem(out, quick),
-        BenchKind::Pd => crate::run_pd::bench(out, quick),
+        BenchKind::Pd => bench_pd(out, quick),
         BenchKind::Coupling => bench_coupling(out, quick),
-        BenchKind::Growth => {
-            anyhow::bail!("bench growth is not wired yet (it arrives with issue 5)")
-        }
+        BenchKind::Growth => crate::growth::bench::run(out, quick),
     }
 }
 
@@ -195,6 +201,29 @@ fn bench_coupling(out: &Path, quick: bool) -> Result<()> {
         &out.join("bench.json"),
         serde_json::to_string_pretty(&json)?.as_bytes(),
     )?;
+    Ok(())
+}
+
+/// `bench pd`: the PD crate's benchmark as a table on stdout, `bench.txt` and `bench.json`.
+fn bench_pd(out: &Path, quick: bool) -> Result<()> {
+    eprintln!(
+        "bench pd: force kernel, factorisation, switching vs ADR ({})",
+        if quick {
+            "quick"
+        } else {
+            "full: several minutes"
+        }
+    );
+    let report = pdbem_pd::bench::run_bench(pdbem_pd::bench::BenchOptions { quick });
+    let text = pdbem_pd::bench::table(&report);
+    print!("{text}");
+    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    write_atomic(&out.join("bench.txt"), text.as_bytes())?;
+    write_atomic(
+        &out.join("bench.json"),
+        serde_json::to_string_pretty(&report)?.as_bytes(),
+    )?;
+    eprintln!("bench pd: wrote {}", out.join("bench.json").display());
     Ok(())
 }
 

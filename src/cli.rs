@@ -9,7 +9,7 @@ use clap::{Parser, Subcommand};
 use crate::bench::BenchKind;
 use crate::runner::{mode_of, run_scene, RunSummary};
 use crate::scene::shapes::SceneGeometry;
-use crate::scene::Scene;
+use crate::scene::{GrowthMode, Scene};
 
 /// Hybrid peridynamics + boundary element crack-growth engine for 2-D elastic bodies.
 #[derive(Debug, Parser)]
@@ -41,6 +41,9 @@ pub enum Command {
         /// No progress output.
         #[arg(long)]
         quiet: bool,
+        /// Override `growth.mode` of the scene (scenes with a `growth` section).
+        #[arg(long, value_enum)]
+        growth_mode: Option<GrowthModeArg>,
     },
     /// Run a scene over a grid of values of dotted fields.
     Sweep {
@@ -73,10 +76,32 @@ pub enum Command {
         /// Run folders.
         #[arg(required = true)]
         runs: Vec<PathBuf>,
-        /// Output file stem. Default `paths` in the current folder.
+        /// Output file: a stem for PNG and SVG, or a name ending in .png / .svg for
+        /// that format only. Default `paths` in the current folder.
         #[arg(long)]
         out: Option<PathBuf>,
     },
+}
+
+/// `--growth-mode` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum GrowthModeArg {
+    /// PD windows over the tips, BEM elsewhere.
+    PdBem,
+    /// BEM alone: SIF, maximum circumferential stress kink, fixed increment.
+    BemOnly,
+    /// PD over the whole body at the window resolution.
+    FullPd,
+}
+
+impl From<GrowthModeArg> for GrowthMode {
+    fn from(m: GrowthModeArg) -> GrowthMode {
+        match m {
+            GrowthModeArg::PdBem => GrowthMode::PdBem,
+            GrowthModeArg::BemOnly => GrowthMode::BemOnly,
+            GrowthModeArg::FullPd => GrowthMode::FullPd,
+        }
+    }
 }
 
 /// Parses the command line, runs the command, prints errors; returns the exit code.
@@ -95,7 +120,12 @@ pub fn main() -> ExitCode {
 pub fn execute(command: Command) -> anyhow::Result<()> {
     match command {
         Command::Check { scene, plot } => check(&scene, plot.as_deref()),
-        Command::Run { scene, out, quiet } => run(&scene, out, quiet),
+        Command::Run {
+            scene,
+            out,
+            quiet,
+            growth_mode,
+        } => run(&scene, out, quiet, growth_mode.map(GrowthMode::from)),
         Command::Sweep {
             scene,
             vary,
@@ -103,10 +133,7 @@ pub fn execute(command: Command) -> anyhow::Result<()> {
             quiet,
         } => sweep(&scene, &vary, out, quiet),
         Command::Bench { kind, out, quick } => crate::bench::run(kind, &out, quick),
-        Command::PlotPaths { runs, out } => {
-            let _ = (runs, out);
-            anyhow::bail!("plot-paths is not available yet: crack-growth runs arrive with issue 5")
-        }
+        Command::PlotPaths { runs, out } => plot_paths(&runs, out),
     }
 }
 
@@ -202,8 +229,31 @@ fn default_out(scene: &Scene, suffix: &str) -> PathBuf {
     PathBuf::from("runs").join(format!("{}{suffix}", scene.name))
 }
 
-fn run(path: &Path, out: Option<PathBuf>, quiet: bool) -> anyhow::Result<()> {
-    let scene = load(path)?;
+/// The scene with `growth.mode` replaced, validated again (BEM-only needs fracture data,
+/// the PD modes a `coupling` section).
+pub fn with_growth_mode(scene: &Scene, mode: GrowthMode) -> anyhow::Result<Scene> {
+    let mut s = scene.clone();
+    match s.growth.as_mut() {
+        Some(g) => g.mode = mode,
+        None => anyhow::bail!(
+            "{}: --growth-mode needs a scene with a `growth` section",
+            scene.file_label().display()
+        ),
+    }
+    s.validate()?;
+    Ok(s)
+}
+
+fn run(
+    path: &Path,
+    out: Option<PathBuf>,
+    quiet: bool,
+    growth_mode: Option<GrowthMode>,
+) -> anyhow::Result<()> {
+    let mut scene = load(path)?;
+    if let Some(m) = growth_mode {
+        scene = with_growth_mode(&scene, m)?;
+    }
     let out = out.unwrap_or_else(|| default_out(&scene, ""));
     let summary = run_scene(&scene, &out, quiet)?;
     if !quiet {
@@ -242,9 +292,46 @@ fn print_summary(s: &RunSummary) {
             println!("  crack {}: CMOD {v:.6e} m{err}", c.name);
         }
     }
+    if s.mode == "growth" {
+        print_growth(s);
+    }
     for n in &s.notes {
         println!("  note: {n}");
     }
+}
+
+/// The growth fields of a summary: mode, loads, failure, where each tip ended.
+fn print_growth(s: &RunSummary) {
+    let g = |k: &str| s.extra.get(k).cloned().unwrap_or(serde_json::Value::Null);
+    println!(
+        "  growth {}: {} steps, initiation load {}, failure {} (load {}), {} relocations",
+        g("growth_mode"),
+        g("steps"),
+        g("initiation_load"),
+        g("failure"),
+        g("failure_load"),
+        g("relocations")
+    );
+    if let Some(tips) = g("tips_final").as_array() {
+        for t in tips {
+            println!(
+                "  tip {}: at {}, grew {} m, ended {}",
+                t["name"], t["position"], t["extension"], t["ended"]
+            );
+        }
+    }
+}
+
+fn plot_paths(runs: &[PathBuf], out: Option<PathBuf>) -> anyhow::Result<()> {
+    let out = out.unwrap_or_else(|| PathBuf::from("paths"));
+    let (files, warnings) = crate::growth::overlay::plot_paths(runs, &out)?;
+    for w in warnings {
+        eprintln!("warning: {w}");
+    }
+    for f in files {
+        println!("{}", f.display());
+    }
+    Ok(())
 }
 
 fn sweep(path: &Path, vary: &[String], out: Option<PathBuf>, quiet: bool) -> anyhow::Result<()> {

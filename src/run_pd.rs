@@ -494,13 +494,3 @@ fn write_fields(
     )?;
     Ok(())
 }
-
-/// `pdbem bench pd`: the PD crate's benchmark written as a table and `bench.json`.
-pub fn bench(out: &std::path::Path, quick: bool) -> Result<()> {
-    let report = pdbem_pd::bench::run_bench(pdbem_pd::bench::BenchOptions { quick });
-    let text = serde_json::to_string_pretty(&report)?;
-    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
-    crate::output::atomic::write_atomic(&out.join("bench.json"), text.as_bytes())?;
-    println!("{text}");
-    Ok(())
-}

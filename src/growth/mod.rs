@@ -8,12 +8,23 @@
 //!   `da`, critical load from K_c = sqrt(E' G_c) (Liu, Li & Xie 2017, seed 002 ref. [34]);
 //! - full PD: the whole body in PD at the window resolution.
 //!
+//! Shared pieces: [`front`] (crack polylines, tips, failure), [`criterion`] (MCS kink and
+//! K_eq, Griffith K_c), [`log`] (`growth_log.jsonl`, progress bar), [`output`] (files and
+//! plots of a run, [`output::finish`]), [`overlay`] (`pdbem plot-paths`), [`bench`]
+//! (`pdbem bench growth`).
+//!
 //! Loads: step k applies the factor `load.initial + k load.step` to every boundary value
 //! of the scene (`Load::factors`); `load` in the records is that factor, which is the
 //! physical load (Pa or m) when the scene writes unit boundary values.
 
 pub mod bem_only;
+pub mod bench;
+pub mod criterion;
+pub mod front;
 pub mod full_pd;
+pub mod log;
+pub mod output;
+pub mod overlay;
 pub mod pd_bem;
 pub mod record;
 

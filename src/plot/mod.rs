@@ -6,6 +6,8 @@
 //!   against a/W), or error against wall time on log-log axes.
 //! - [`field::ScatterField`]: nodes coloured by a value (PD damage,
 //!   displacement) with a colour bar; equal aspect.
+//! - [`paths::PathsPlot`]: crack paths of growth runs over the body outline, with
+//!   PD window outlines; one colour per run or mode.
 //!
 //! [`save`] writes a [`Figure`] in the requested formats. If drawing text
 //! fails (no usable font), the figure is drawn again without text and
@@ -15,6 +17,7 @@
 
 pub mod field;
 pub mod geometry;
+pub mod paths;
 pub mod style;
 pub mod xy;
 
@@ -27,6 +30,7 @@ use crate::scene::PlotFormat;
 
 pub use field::ScatterField;
 pub use geometry::GeometryPlot;
+pub use paths::{PathGroup, PathsPlot};
 pub use xy::{Series, SeriesStyle, XyPlot};
 
 /// A plot that can draw itself on any plotters backend.

@@ -191,14 +191,14 @@ pub fn mode_of(scene: &Scene) -> Mode {
 /// On error nothing is left in `out_dir` (and a folder this run created is removed).
 pub fn run_scene(scene: &Scene, out_dir: &Path, quiet: bool) -> anyhow::Result<RunSummary> {
     let mode = mode_of(scene);
-    refuse_unavailable(scene, mode)?;
     let ctx = RunContext::new(out_dir, quiet)
         .with_context(|| format!("cannot create the run folder {}", out_dir.display()))?;
     let start = Instant::now();
     let mut summary = match mode {
         Mode::Pd => crate::run_pd::run(scene, &ctx)?,
         Mode::Coupled => crate::run_coupled::run(scene, &ctx)?,
-        _ => crate::run_bem::run(scene, &ctx)?,
+        Mode::Growth => run_growth(scene, &ctx)?,
+        Mode::Bem => crate::run_bem::run(scene, &ctx)?,
     };
     if summary.wall_time_s == 0.0 {
         summary.wall_time_s = start.elapsed().as_secs_f64();
@@ -215,18 +215,15 @@ pub fn run_scene(scene: &Scene, out_dir: &Path, quiet: bool) -> anyhow::Result<R
     Ok(summary)
 }
 
-/// Modes whose solvers arrive with later issues fail before any folder is created.
-fn refuse_unavailable(scene: &Scene, mode: Mode) -> anyhow::Result<()> {
-    let file = scene.file_label();
-    match mode {
-        Mode::Growth => {
-            let which = match scene.growth.as_ref().map(|g| g.mode) {
-                Some(GrowthMode::BemOnly) => "BEM-only growth",
-                Some(GrowthMode::FullPd) => "full-PD growth",
-                _ => "PD-BEM growth",
-            };
-            anyhow::bail!("{}: {which} arrives with issue 5", file.display())
-        }
-        Mode::Bem | Mode::Pd | Mode::Coupled => Ok(()),
-    }
+/// Growth: the scene's `growth.mode` picks the solver; every mode's history goes through
+/// the one output layer ([`crate::growth::output::finish`]).
+fn run_growth(scene: &Scene, ctx: &RunContext) -> anyhow::Result<RunSummary> {
+    use crate::growth::{bem_only, full_pd, pd_bem};
+    let mode = scene.growth.as_ref().map(|g| g.mode).unwrap_or_default();
+    let history = match mode {
+        GrowthMode::PdBem => pd_bem::run(scene, ctx)?,
+        GrowthMode::BemOnly => bem_only::run(scene, ctx)?,
+        GrowthMode::FullPd => full_pd::run(scene, ctx)?,
+    };
+    crate::growth::output::finish(scene, ctx, &history)
 }

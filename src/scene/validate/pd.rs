@@ -245,10 +245,26 @@ fn check_growth(c: &mut Checker, scene: &Scene, g: &crate::scene::Growth) {
         GrowthMode::PdBem if scene.coupling.is_none() => {
             c.fail_at("growth.mode", "PdBem growth needs a `coupling` section")
         }
+        GrowthMode::FullPd if scene.coupling.is_none() => c.fail_at(
+            "growth.mode",
+            "FullPd growth needs a `coupling` section: its grid spacing is the window's, dx = coupling.side / coupling.n",
+        ),
         GrowthMode::FullPd if scene.pd.is_none() => {
             c.fail_at("growth.mode", "FullPd growth needs a `pd` section")
         }
+        GrowthMode::BemOnly => check_toughness(c, scene),
         _ => {}
+    }
+    if g.mode == GrowthMode::FullPd && scene.body.outline.remote_stress().is_some() {
+        c.fail_at(
+            "growth.mode",
+            "FullPd growth needs a finite body: an Infinite outline has no region to fill",
+        );
+    }
+    if g.mode == GrowthMode::PdBem {
+        if let Some(co) = &scene.coupling {
+            check_ligaments(c, scene, co);
+        }
     }
     if scene.cracks.is_empty() {
         c.fail_at("growth", "growth needs at least one crack");
@@ -259,6 +275,75 @@ fn check_growth(c: &mut Checker, scene: &Scene, g: &crate::scene::Growth) {
                 if m > co.side {
                     c.fail("growth.move_distance", m, format!("move distance larger than the window: must be at most coupling.side = {} m", co.side));
                 }
+            }
+        }
+    }
+}
+
+/// BEM-only growth compares K_eq with K_c: the material needs `fracture.g_c` > 0 or
+/// `fracture.k_c`.
+fn check_toughness(c: &mut Checker, scene: &Scene) {
+    let f = scene.material.fracture.as_ref();
+    let k_c = f.and_then(|f| f.k_c);
+    let g_c = f.and_then(|f| f.g_c);
+    match (k_c, g_c) {
+        (Some(_), _) => {}
+        (None, Some(g)) if g <= 0.0 => c.fail(
+            "material.fracture.g_c",
+            g,
+            "BemOnly growth needs G_c > 0 (K_c = sqrt(E' G_c) would be 0)",
+        ),
+        (None, Some(_)) => {}
+        (None, None) => c.fail_at(
+            "material.fracture",
+            "BemOnly growth needs the toughness: give g_c (J/m^2) or k_c (Pa m^0.5)",
+        ),
+    }
+}
+
+/// PD-BEM windows sit on the tips: each window side must be below the ligament ahead of
+/// its tip (the distance from the tip to the outline or a hole along the crack direction).
+fn check_ligaments(c: &mut Checker, scene: &Scene, co: &crate::scene::Coupling) {
+    use crate::growth::front::{ray_hole, ray_polygon};
+    use crate::scene::shapes::SceneGeometry;
+    if co.placement != Placement::AtTips || co.side.is_nan() || co.side <= 0.0 {
+        return;
+    }
+    let geo = SceneGeometry::of(scene);
+    let Some(outline) = &geo.outline else { return };
+    for cr in &geo.cracks {
+        let n = cr.points.len();
+        if n < 2 {
+            continue;
+        }
+        let mut tips = vec![(
+            format!("{}.end", cr.name),
+            cr.points[n - 1],
+            cr.points[n - 1] - cr.points[n - 2],
+        )];
+        if !cr.mouth {
+            tips.push((
+                format!("{}.start", cr.name),
+                cr.points[0],
+                cr.points[0] - cr.points[1],
+            ));
+        }
+        for (name, tip, d) in tips {
+            let d = d / d.norm().max(1e-300);
+            let ahead = geo
+                .holes
+                .iter()
+                .filter_map(|(_, h)| ray_hole(&tip, &d, h))
+                .chain(ray_polygon(&tip, &d, &outline.points))
+                .fold(f64::INFINITY, f64::min);
+            if co.side >= ahead {
+                c.fail(
+                    "coupling.side",
+                    co.side,
+                    format!(
+                        "window larger than the remaining ligament: tip {name} is {ahead:.6} m from the boundary ahead; use a side below that"
+                    ),
+                );
             }
         }
     }

@@ -1,0 +1,344 @@
+//! `pdbem bench growth --out DIR [--quick]`: one growth scene three ways in one process,
+//! PD-BEM (moving windows), BEM-only (SIF + kink + da) and full PD at the windows' node
+//! spacing, with wall time per mode, per load step and per relocation, and the ratio
+//! full-PD / PD-BEM. Each mode's run folder is kept (`DIR/pd-bem`, `DIR/bem-only`,
+//! `DIR/full-pd`, overlaid in `DIR/paths.{png,svg}`); the table goes to stdout and
+//! `DIR/bench.txt`, the numbers to `DIR/bench.json` (docs/outputs.md). A mode that fails
+//! is a row with its error; the others still run.
+//!
+//! Scene: `cases/growth_tension_edge.ron` (seed 002 section 3.2.2). BEM-only needs K_c:
+//! when the scene gives no fracture data, G_c is taken from the PD critical stretch at the
+//! window's horizon (the same material the PD modes see): G_c = 9 E delta s0^2 / (4 pi)
+//! (plane stress) or 12 E delta s0^2 / (5 pi) (plane strain), the inverse of
+//! [`crate::analytic::pd_critical_stretch`]. `--quick` halves the node count per window
+//! side (dx and the BEM element size doubled) and uses da = 5 dx in BEM-only.
+
+use std::fmt::Write as _;
+use std::path::Path;
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use serde::Serialize;
+
+use super::GrowthHistory;
+use crate::output::atomic::write_atomic;
+use crate::scene::{Failure, Fracture, GrowthMode, Plane, Scene};
+
+/// The scene of the benchmark.
+pub const CASE: &str = "growth_tension_edge";
+
+/// Wall-time statistics of a set of events (s).
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Times {
+    /// Number of events.
+    pub count: usize,
+    /// Sum (s).
+    pub total: f64,
+    /// Mean (s), 0 without events.
+    pub mean: f64,
+    /// Largest (s).
+    pub max: f64,
+}
+
+impl Times {
+    fn of(v: impl Iterator<Item = f64>) -> Times {
+        let v: Vec<f64> = v.collect();
+        let total = v.iter().fold(0.0, |a, b| a + b);
+        Times {
+            count: v.len(),
+            total,
+            mean: if v.is_empty() {
+                0.0
+            } else {
+                total / v.len() as f64
+            },
+            max: v.iter().copied().fold(0.0, f64::max),
+        }
+    }
+}
+
+/// One mode of the benchmark.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct GrowthBenchRun {
+    /// `pd-bem`, `bem-only`, `full-pd`.
+    pub mode: String,
+    /// Wall time of the whole run including outputs (s).
+    pub wall_time_s: f64,
+    /// Load steps.
+    pub steps: Times,
+    /// Window relocations (rebuild time).
+    pub relocations: Times,
+    /// A crack cut the body through.
+    pub failure: bool,
+    /// Load factor at failure.
+    pub failure_load: Option<f64>,
+    /// Load factor of the first growth.
+    pub initiation_load: Option<f64>,
+    /// Final tip positions (m).
+    pub tips: Vec<[f64; 2]>,
+    /// Why the run failed (first line), `None` when it ran.
+    pub error: Option<String>,
+}
+
+/// `bench.json` of `bench growth`.
+#[derive(Debug, Serialize)]
+pub struct GrowthBenchReport {
+    /// "growth".
+    pub bench: &'static str,
+    /// Threads rayon used.
+    pub threads: usize,
+    /// Scene file stem.
+    pub case: String,
+    /// Smaller sizes.
+    pub quick: bool,
+    /// PD node spacing of the windows and of the full-PD body (m).
+    pub dx: f64,
+    /// One entry per mode.
+    pub runs: Vec<GrowthBenchRun>,
+    /// Wall time of full PD over PD-BEM (`None` when either failed).
+    pub ratio_full_pd_to_pd_bem: Option<f64>,
+}
+
+/// G_c (J/m^2) of PMB bonds breaking at `s0` with horizon `delta`.
+pub fn gc_from_stretch(e: f64, delta: f64, s0: f64, plane: Plane) -> f64 {
+    match plane {
+        Plane::Stress => 9.0 * e * delta * s0 * s0 / (4.0 * std::f64::consts::PI),
+        Plane::Strain => 12.0 * e * delta * s0 * s0 / (5.0 * std::f64::consts::PI),
+    }
+}
+
+/// The benchmark scene in `mode` (quick: dx doubled).
+pub fn scene_for(base: &Scene, mode: GrowthMode, quick: bool) -> Result<Scene> {
+    let mut s = base.clone();
+    if quick {
+        if let Some(co) = s.coupling.as_mut() {
+            let n = (co.n / 2).max(4);
+            // The BEM elements follow the window spacing (the windows' interface elements
+            // are one per node row).
+            let coarsen = co.n as f64 / n as f64;
+            co.n = n;
+            s.bem.element_size = s.bem.element_size.map(|h| h * coarsen);
+        }
+    }
+    let co = s
+        .coupling
+        .clone()
+        .context("bench growth: the case needs `coupling`")?;
+    let dx = co.side / co.n as f64;
+    let g = s
+        .growth
+        .as_mut()
+        .context("bench growth: the case needs `growth`")?;
+    g.mode = mode;
+    if mode == GrowthMode::BemOnly {
+        g.da = Some(if quick { 5.0 * dx } else { dx });
+        if s.material.k_c().is_none() {
+            let pd = s.pd.as_ref().context("bench growth: the case needs `pd`")?;
+            let Failure::CriticalStretch(s0) = pd.failure else {
+                anyhow::bail!("bench growth: no K_c for BEM-only: give material.fracture")
+            };
+            let delta = pd.horizon_factor * dx;
+            s.material.fracture = Some(Fracture {
+                g_c: Some(gc_from_stretch(s.material.e, delta, s0, s.material.plane)),
+                ..Default::default()
+            });
+        }
+    }
+    s.outputs.plots = true;
+    s.validate()?;
+    Ok(s)
+}
+
+fn mode_name(m: GrowthMode) -> &'static str {
+    match m {
+        GrowthMode::PdBem => "pd-bem",
+        GrowthMode::BemOnly => "bem-only",
+        GrowthMode::FullPd => "full-pd",
+    }
+}
+
+/// Runs one mode into `DIR/<mode>` and summarises it.
+fn run_mode(base: &Scene, mode: GrowthMode, out: &Path, quick: bool) -> GrowthBenchRun {
+    let name = mode_name(mode);
+    let t0 = Instant::now();
+    let result = scene_for(base, mode, quick).and_then(|s| {
+        crate::runner::run_scene(&s, &out.join(name), true)?;
+        let text = std::fs::read_to_string(out.join(name).join(super::output::HISTORY_FILE))?;
+        Ok(serde_json::from_str::<GrowthHistory>(&text)?)
+    });
+    let wall = t0.elapsed().as_secs_f64();
+    match result {
+        Ok(h) => GrowthBenchRun {
+            mode: name.into(),
+            wall_time_s: wall,
+            steps: Times::of(h.steps.iter().map(|s| s.wall_time_s)),
+            relocations: Times::of(h.relocations.iter().map(|r| r.rebuild_s)),
+            failure: h.failure,
+            failure_load: h.failure_load,
+            initiation_load: h.initiation_load,
+            tips: h.steps.last().map(|s| s.tips.clone()).unwrap_or_default(),
+            error: None,
+        },
+        Err(e) => GrowthBenchRun {
+            mode: name.into(),
+            wall_time_s: wall,
+            error: Some(short_error(&format!("{e:#}"))),
+            ..Default::default()
+        },
+    }
+}
+
+/// First line of an error, without a coupling residual history, at most 300 characters.
+fn short_error(msg: &str) -> String {
+    let line = msg.lines().next().unwrap_or_default();
+    let line = line.split("; residual history").next().unwrap_or(line);
+    line.chars().take(300).collect()
+}
+
+/// The readable table.
+pub fn table(r: &GrowthBenchReport) -> String {
+    let mut t = String::new();
+    let _ = writeln!(
+        t,
+        "growth benchmark ({} threads): {}, dx = {:e} m{}",
+        r.threads,
+        r.case,
+        r.dx,
+        if r.quick { " (quick)" } else { "" }
+    );
+    let _ = writeln!(
+        t,
+        "{:<9} {:>9} {:>6} {:>10} {:>10} {:>6} {:>10} {:>8} {:>10} {:>10}",
+        "mode",
+        "wall_s",
+        "steps",
+        "step_mean",
+        "step_max",
+        "reloc",
+        "reloc_mean",
+        "failure",
+        "fail_load",
+        "init_load"
+    );
+    let o = |v: Option<f64>| v.map(|x| format!("{x:.4}")).unwrap_or_else(|| "-".into());
+    for e in &r.runs {
+        if let Some(err) = &e.error {
+            let _ = writeln!(
+                t,
+                "{:<9} failed after {:.2} s: {err}",
+                e.mode, e.wall_time_s
+            );
+            continue;
+        }
+        let _ = writeln!(
+            t,
+            "{:<9} {:>9.2} {:>6} {:>10.4} {:>10.4} {:>6} {:>10.4} {:>8} {:>10} {:>10}",
+            e.mode,
+            e.wall_time_s,
+            e.steps.count,
+            e.steps.mean,
+            e.steps.max,
+            e.relocations.count,
+            e.relocations.mean,
+            e.failure,
+            o(e.failure_load),
+            o(e.initiation_load)
+        );
+    }
+    let _ = writeln!(
+        t,
+        "full-PD / PD-BEM wall time: {}",
+        r.ratio_full_pd_to_pd_bem
+            .map(|x| format!("{x:.2}"))
+            .unwrap_or_else(|| "- (a run failed)".into())
+    );
+    t
+}
+
+/// `bench growth`.
+pub fn run(out: &Path, quick: bool) -> Result<()> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("cases")
+        .join(format!("{CASE}.ron"));
+    let base = Scene::load(&path)?;
+    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    let modes = [GrowthMode::PdBem, GrowthMode::BemOnly, GrowthMode::FullPd];
+    let mut runs = Vec::new();
+    for m in modes {
+        eprintln!("bench growth: {} ...", mode_name(m));
+        let r = run_mode(&base, m, out, quick);
+        eprintln!(
+            "bench growth: {} {:.2} s{}",
+            r.mode,
+            r.wall_time_s,
+            r.error
+                .as_deref()
+                .map(|e| format!(" (failed: {e})"))
+                .unwrap_or_default()
+        );
+        runs.push(r);
+    }
+    let ok = |m: &str| {
+        runs.iter()
+            .find(|r| r.mode == m && r.error.is_none())
+            .map(|r| r.wall_time_s)
+    };
+    let ratio = match (ok("full-pd"), ok("pd-bem")) {
+        (Some(a), Some(b)) if b > 0.0 => Some(a / b),
+        _ => None,
+    };
+    let dx = scene_for(&base, GrowthMode::FullPd, quick)
+        .ok()
+        .and_then(|s| s.coupling.map(|c| c.side / c.n as f64))
+        .unwrap_or(f64::NAN);
+    let report = GrowthBenchReport {
+        bench: "growth",
+        threads: rayon::current_num_threads(),
+        case: CASE.into(),
+        quick,
+        dx,
+        runs,
+        ratio_full_pd_to_pd_bem: ratio,
+    };
+    let text = table(&report);
+    print!("{text}");
+    write_atomic(&out.join("bench.txt"), text.as_bytes())?;
+    write_atomic(
+        &out.join("bench.json"),
+        serde_json::to_string_pretty(&report)?.as_bytes(),
+    )?;
+    let done: Vec<_> = report
+        .runs
+        .iter()
+        .filter(|r| r.error.is_none())
+        .map(|r| out.join(&r.mode))
+        .collect();
+    if !done.is_empty() {
+        if let Err(e) = super::overlay::plot_paths(&done, &out.join("paths")) {
+            eprintln!("bench growth: no path overlay: {e:#}");
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gc_inverts_the_critical_stretch() {
+        for plane in [Plane::Stress, Plane::Strain] {
+            let g = gc_from_stretch(30e9, 7.5e-4, 0.0026, plane);
+            let s0 = crate::analytic::pd_critical_stretch(g, 30e9, 7.5e-4, plane);
+            assert!((s0 - 0.0026).abs() < 1e-15, "{plane:?}: {s0}");
+        }
+    }
+
+    #[test]
+    fn times_of_nothing_are_zero() {
+        let t = Times::of(std::iter::empty());
+        assert_eq!((t.count, t.total, t.mean, t.max), (0, 0.0, 0.0, 0.0));
+        let t = Times::of([1.0, 3.0].into_iter());
+        assert_eq!((t.count, t.mean, t.max), (2, 2.0, 3.0));
+    }
+}

@@ -1,0 +1,562 @@
+//! The crack front of a growth run: the crack polylines as they grow, their tips, what
+//! stopped each tip, and whether the body has come apart. Shared by the BEM-only and the
+//! full-PD modes.
+//!
+//! - [`Front::of`]: the scene's cracks; tips are named `<crack>.start` (first point, when
+//!   it is not a mouth on the outline) and `<crack>.end`.
+//! - [`Front::step_ahead`] (BEM-only): extend a tip by a straight increment and stop it at
+//!   the outline (the increment is clipped there), at a hole (arrested before it) or at
+//!   another crack (coalescence, stopped before it), see [`Obstacle`].
+//! - [`Front::set_tip`], [`Front::stop`] (full PD): the tip position comes from the damage
+//!   tracker; the caller decides when it has reached something.
+//! - [`Front::separated`]: failure. Cracks that coalesced form one group; a group that
+//!   touches the outline at two points or more (mouths of edge cracks and tips stopped on
+//!   the outline) cuts the body in two (seed 002 Alg. 2 step 9: "the crack exceeds the
+//!   boundary of the whole structure"). A tip of an interior crack that reaches the outline
+//!   stops, and the run goes on until the crack has also run out at its other end.
+
+use crate::geometry::{point_segment_distance, polyline_length, P2};
+use crate::scene::shapes::{HoleShape, SceneGeometry};
+use crate::scene::Scene;
+
+/// One crack of the front.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrontCrack {
+    /// Crack name.
+    pub name: String,
+    /// Polyline, first point to last (m).
+    pub points: Vec<P2>,
+    /// The first point lies on the outline (an edge crack).
+    pub mouth: bool,
+}
+
+/// One crack tip.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrontTip {
+    /// `<crack>.end` or `<crack>.start`.
+    pub name: String,
+    /// Index into [`Front::cracks`].
+    pub crack: usize,
+    /// The tip is the last point of the polyline (else the first).
+    pub at_end: bool,
+    /// Position at the start of the run (m).
+    pub initial: P2,
+    /// Why the tip stopped: `outline`, `hole:<name>`, `coalescence:<crack>`.
+    pub ended: Option<String>,
+}
+
+/// What the increment of a tip ran into.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Obstacle {
+    /// Nothing: the tip moved by the full increment.
+    None,
+    /// The outer boundary: the tip moved onto it and stopped.
+    Outline,
+    /// A hole (its group name): the tip stopped before it.
+    Hole(String),
+    /// Another crack (its name): the tip stopped before it.
+    Crack(String),
+}
+
+/// The cracks, tips and outline contacts of a growth run.
+#[derive(Debug, Clone)]
+pub struct Front {
+    /// Cracks in scene order.
+    pub cracks: Vec<FrontCrack>,
+    /// Tips, start before end per crack, in scene order (the order of the BEM mesh).
+    pub tips: Vec<FrontTip>,
+    outline: Option<Vec<P2>>,
+    holes: Vec<(String, HoleShape)>,
+    /// Group of each crack (union-find parent).
+    parent: Vec<usize>,
+}
+
+impl Front {
+    /// The front of a (validated) scene.
+    pub fn of(scene: &Scene) -> Front {
+        let geo = SceneGeometry::of(scene);
+        let cracks: Vec<FrontCrack> = geo
+            .cracks
+            .iter()
+            .map(|c| FrontCrack {
+                name: c.name.clone(),
+                points: c.points.clone(),
+                mouth: c.mouth,
+            })
+            .collect();
+        let mut tips = Vec::new();
+        for (i, c) in cracks.iter().enumerate() {
+            if !c.mouth {
+                tips.push(FrontTip {
+                    name: format!("{}.start", c.name),
+                    crack: i,
+                    at_end: false,
+                    initial: c.points[0],
+                    ended: None,
+                });
+            }
+            tips.push(FrontTip {
+                name: format!("{}.end", c.name),
+                crack: i,
+                at_end: true,
+                initial: *c.points.last().unwrap_or(&P2::zeros()),
+                ended: None,
+            });
+        }
+        Front {
+            parent: (0..cracks.len()).collect(),
+            cracks,
+            tips,
+            outline: geo.outline.map(|o| o.points),
+            holes: geo.holes,
+        }
+    }
+
+    /// Position of tip `t` (m).
+    pub fn tip_position(&self, t: usize) -> P2 {
+        let tip = &self.tips[t];
+        let pts = &self.cracks[tip.crack].points;
+        if tip.at_end {
+            pts[pts.len() - 1]
+        } else {
+            pts[0]
+        }
+    }
+
+    /// Unit direction ahead of tip `t` (along its last segment).
+    pub fn tip_direction(&self, t: usize) -> P2 {
+        let tip = &self.tips[t];
+        let pts = &self.cracks[tip.crack].points;
+        let n = pts.len();
+        let d = if tip.at_end {
+            pts[n - 1] - pts[n - 2]
+        } else {
+            pts[0] - pts[1]
+        };
+        d / d.norm().max(1e-300)
+    }
+
+    /// Positions of all tips, in tip order (the `tips` of a step record).
+    pub fn tip_positions(&self) -> Vec<[f64; 2]> {
+        (0..self.tips.len())
+            .map(|t| {
+                let p = self.tip_position(t);
+                [p.x, p.y]
+            })
+            .collect()
+    }
+
+    /// Indices of the tips still growing.
+    pub fn active(&self) -> Vec<usize> {
+        (0..self.tips.len())
+            .filter(|&t| self.tips[t].ended.is_none())
+            .collect()
+    }
+
+    /// Index of the tip on crack `crack` at its end (`at_end`) or start.
+    pub fn tip_index(&self, crack: usize, at_end: bool) -> Option<usize> {
+        self.tips
+            .iter()
+            .position(|t| t.crack == crack && t.at_end == at_end)
+    }
+
+    /// Moves tip `t` to `p`, appending it to the polyline (full PD: the tracked tip).
+    pub fn set_tip(&mut self, t: usize, p: P2) {
+        let (c, at_end) = (self.tips[t].crack, self.tips[t].at_end);
+        let pts = &mut self.cracks[c].points;
+        if at_end {
+            pts.push(p);
+        } else {
+            pts.insert(0, p);
+        }
+    }
+
+    /// Replaces the grown part of tip `t` (beyond its initial position) by `path`, given
+    /// from the initial tip outwards (full PD: the traced crack path).
+    pub fn set_path(&mut self, t: usize, path: &[P2]) {
+        let (c, at_end, initial) = (
+            self.tips[t].crack,
+            self.tips[t].at_end,
+            self.tips[t].initial,
+        );
+        let pts = &mut self.cracks[c].points;
+        let k = pts
+            .iter()
+            .position(|p| (p - initial).norm() == 0.0)
+            .unwrap_or(if at_end { pts.len() - 1 } else { 0 });
+        let grown = path.iter().filter(|p| (*p - initial).norm() > 0.0);
+        if at_end {
+            pts.truncate(k + 1);
+            pts.extend(grown);
+        } else {
+            let rest = pts.split_off(k);
+            pts.clear();
+            pts.extend(grown.rev());
+            pts.extend(rest);
+        }
+    }
+
+    /// Stops tip `t` for `why` (the obstacle it reached); coalescence joins the groups.
+    pub fn stop(&mut self, t: usize, why: &Obstacle) {
+        let reason = match why {
+            Obstacle::None => return,
+            Obstacle::Outline => "outline".to_string(),
+            Obstacle::Hole(h) => format!("hole:{h}"),
+            Obstacle::Crack(c) => {
+                if let Some(j) = self.cracks.iter().position(|k| &k.name == c) {
+                    self.join(self.tips[t].crack, j);
+                }
+                format!("coalescence:{c}")
+            }
+        };
+        self.tips[t].ended = Some(reason);
+    }
+
+    fn root(&self, mut i: usize) -> usize {
+        while self.parent[i] != i {
+            i = self.parent[i];
+        }
+        i
+    }
+
+    fn join(&mut self, a: usize, b: usize) {
+        let (ra, rb) = (self.root(a), self.root(b));
+        if ra != rb {
+            self.parent[rb] = ra;
+        }
+    }
+
+    /// True when a group of joined cracks touches the outline at two points or more: the
+    /// body is cut through (structural failure).
+    pub fn separated(&self) -> bool {
+        let mut touches = vec![0usize; self.cracks.len()];
+        for (i, c) in self.cracks.iter().enumerate() {
+            if c.mouth {
+                touches[self.root(i)] += 1;
+            }
+        }
+        for t in &self.tips {
+            if t.ended.as_deref() == Some("outline") {
+                touches[self.root(t.crack)] += 1;
+            }
+        }
+        touches.iter().any(|&n| n >= 2)
+    }
+
+    /// Length grown at tip `t` so far (m): arc length from its initial position.
+    pub fn extension(&self, t: usize) -> f64 {
+        let tip = &self.tips[t];
+        let pts = &self.cracks[tip.crack].points;
+        let k = pts
+            .iter()
+            .position(|p| (p - tip.initial).norm() == 0.0)
+            .unwrap_or(0);
+        if tip.at_end {
+            polyline_length(&pts[k..])
+        } else {
+            polyline_length(&pts[..=k])
+        }
+    }
+
+    /// The outline polygon (counter-clockwise), `None` for an infinite plate.
+    pub fn outline_points(&self) -> Option<&[P2]> {
+        self.outline.as_deref()
+    }
+
+    /// Distance (m) from `p` to the outline (infinite for an infinite plate).
+    pub fn outline_distance(&self, p: &P2) -> f64 {
+        self.outline
+            .as_ref()
+            .map_or(f64::INFINITY, |o| crate::geometry::polygon_distance(p, o))
+    }
+
+    /// The nearest hole to `p` within `d` (m), by group name.
+    pub fn hole_within(&self, p: &P2, d: f64) -> Option<String> {
+        self.holes
+            .iter()
+            .map(|(n, h)| (n, h.boundary_distance(p)))
+            .filter(|(_, dist)| *dist <= d)
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(n, _)| n.clone())
+    }
+
+    /// The nearest other crack to `p` within `d` (m), by name; the crack of tip `t` counts
+    /// only away from the tip (beyond `d` along its own polyline).
+    pub fn crack_within(&self, t: usize, p: &P2, d: f64) -> Option<String> {
+        let own = self.tips[t].crack;
+        let mut best: Option<(f64, &str)> = None;
+        for (i, c) in self.cracks.iter().enumerate() {
+            let pts = self.far_part(i, own, t, d);
+            for w in pts.windows(2) {
+                let dist = point_segment_distance(p, &w[0], &w[1]);
+                if dist <= d && best.is_none_or(|(b, _)| dist < b) {
+                    best = Some((dist, &c.name));
+                }
+            }
+        }
+        best.map(|(_, n)| n.to_string())
+    }
+
+    /// The polyline of crack `i` without the part within `d` of tip `t` when it is the
+    /// tip's own crack.
+    fn far_part(&self, i: usize, own: usize, t: usize, d: f64) -> Vec<P2> {
+        let pts = &self.cracks[i].points;
+        if i != own {
+            return pts.clone();
+        }
+        let tip = self.tip_position(t);
+        let keep: Vec<P2> = if self.tips[t].at_end {
+            let cut = pts
+                .iter()
+                .rposition(|q| (q - tip).norm() > 2.0 * d)
+                .unwrap_or(0);
+            pts[..=cut].to_vec()
+        } else {
+            let cut = pts
+                .iter()
+                .position(|q| (q - tip).norm() > 2.0 * d)
+                .unwrap_or(pts.len() - 1);
+            pts[cut..].to_vec()
+        };
+        keep
+    }
+
+    /// Extends tip `t` by `da` (m) in direction `dir` (unit) unless something is in the
+    /// way within `da + margin`: the outline (the increment is clipped onto it and the tip
+    /// stops), a hole or another crack (the tip stops where it is). Returns what it met.
+    pub fn step_ahead(&mut self, t: usize, dir: P2, da: f64, margin: f64) -> Obstacle {
+        let tip = self.tip_position(t);
+        let reach = da + margin;
+        let to_outline = self
+            .outline
+            .as_ref()
+            .and_then(|o| ray_polygon(&tip, &dir, o));
+        let to_hole = self
+            .holes
+            .iter()
+            .filter_map(|(n, h)| ray_hole(&tip, &dir, h).map(|s| (s, n.clone())))
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        let to_crack = self.ray_cracks(t, &tip, &dir);
+        let first = [
+            to_outline.map(|s| (s, Obstacle::Outline)),
+            to_hole.map(|(s, n)| (s, Obstacle::Hole(n))),
+            to_crack.map(|(s, n)| (s, Obstacle::Crack(n))),
+        ]
+        .into_iter()
+        .flatten()
+        .filter(|(s, _)| *s <= reach)
+        .min_by(|a, b| a.0.total_cmp(&b.0));
+        let end = tip + dir * da;
+        let hit = match first {
+            Some((s, Obstacle::Outline)) => {
+                self.set_tip(t, tip + dir * s);
+                Obstacle::Outline
+            }
+            Some((_, other)) => other,
+            None => match self.crack_within(t, &end, margin) {
+                Some(c) => Obstacle::Crack(c),
+                None => match self.hole_within(&end, margin) {
+                    Some(h) => Obstacle::Hole(h),
+                    None => {
+                        self.set_tip(t, end);
+                        Obstacle::None
+                    }
+                },
+            },
+        };
+        self.stop(t, &hit);
+        hit
+    }
+
+    /// First crossing of the ray from `tip` along `dir` with another crack (or the far part
+    /// of its own): distance and crack name.
+    fn ray_cracks(&self, t: usize, tip: &P2, dir: &P2) -> Option<(f64, String)> {
+        let own = self.tips[t].crack;
+        let h = 1e-9 * self.scale();
+        let mut best: Option<(f64, String)> = None;
+        for (i, c) in self.cracks.iter().enumerate() {
+            for w in self.far_part(i, own, t, h).windows(2) {
+                if let Some(s) = ray_segment(tip, dir, &w[0], &w[1]) {
+                    if best.as_ref().is_none_or(|(b, _)| s < *b) {
+                        best = Some((s, c.name.clone()));
+                    }
+                }
+            }
+        }
+        best
+    }
+
+    fn scale(&self) -> f64 {
+        let mut pts: Vec<P2> = self.outline.clone().unwrap_or_default();
+        pts.extend(self.cracks.iter().flat_map(|c| c.points.iter().copied()));
+        crate::geometry::scale_of(&pts).max(1e-300)
+    }
+}
+
+/// Distance along the ray `o + s d` (s > 0, `d` unit) to segment `a`-`b`, if it crosses.
+pub fn ray_segment(o: &P2, d: &P2, a: &P2, b: &P2) -> Option<f64> {
+    let e = b - a;
+    let den = crate::geometry::cross(d, &e);
+    if den.abs() <= 1e-14 * e.norm() {
+        return None;
+    }
+    let w = a - o;
+    let s = crate::geometry::cross(&w, &e) / den;
+    let u = crate::geometry::cross(&w, d) / den;
+    let tol = 1e-12;
+    (s > tol * e.norm() && (-tol..=1.0 + tol).contains(&u)).then_some(s)
+}
+
+/// Nearest crossing of the ray with a closed polygon.
+pub fn ray_polygon(o: &P2, d: &P2, poly: &[P2]) -> Option<f64> {
+    let n = poly.len();
+    (0..n)
+        .filter_map(|i| ray_segment(o, d, &poly[i], &poly[(i + 1) % n]))
+        .min_by(f64::total_cmp)
+}
+
+/// Nearest crossing of the ray with a hole (circles exact).
+pub fn ray_hole(o: &P2, d: &P2, h: &HoleShape) -> Option<f64> {
+    match h {
+        HoleShape::Circle { center, radius } => {
+            // |o + s d - c|^2 = r^2: s^2 + 2 b s + c0 = 0.
+            let w = o - center;
+            let b = w.dot(d);
+            let c0 = w.norm_squared() - radius * radius;
+            let disc = b * b - c0;
+            if disc < 0.0 {
+                return None;
+            }
+            let s = -b - disc.sqrt();
+            (s > 0.0).then_some(s)
+        }
+        HoleShape::Polygon(p) => ray_polygon(o, d, p),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scene(cracks: &str, holes: &str) -> Scene {
+        let src = format!(
+            "(name: \"f\", material: (E: 1, nu: 0.3, plane: Stress),
+              body: (outline: Rectangle(x0: 0, y0: 0, width: 10, height: 10), holes: [{holes}]),
+              cracks: [{cracks}],
+              boundary: [(on: \"top\", y: Traction(1)), (on: \"bottom\", y: Traction(-1))])"
+        );
+        Scene::from_ron_str(&src, "front.ron").expect("valid scene")
+    }
+
+    #[test]
+    fn edge_crack_reaching_the_far_side_separates_the_body() {
+        let s = scene(r#"(name: "c", start: (0, 5), angle_deg: 0, length: 2)"#, "");
+        let mut f = Front::of(&s);
+        assert_eq!(f.tips.len(), 1);
+        assert_eq!(f.tips[0].name, "c.end");
+        let mut hits = Vec::new();
+        for _ in 0..20 {
+            if f.active().is_empty() {
+                break;
+            }
+            hits.push(f.step_ahead(0, P2::new(1.0, 0.0), 1.0, 0.25));
+        }
+        // 2 -> 3 ... 9, then 9 -> 10 within 1.25: clipped onto x = 10.
+        assert_eq!(hits.last(), Some(&Obstacle::Outline));
+        assert!((f.tip_position(0).x - 10.0).abs() < 1e-12);
+        assert!(f.separated());
+        assert!((f.extension(0) - 8.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn interior_crack_needs_both_tips_on_the_outline() {
+        let s = scene(
+            r#"(name: "c", center: (5, 5), angle_deg: 0, length: 2)"#,
+            "",
+        );
+        let mut f = Front::of(&s);
+        assert_eq!(f.tips[0].name, "c.start");
+        let d0 = f.tip_direction(0);
+        assert!((d0.x + 1.0).abs() < 1e-12);
+        while f.tips[1].ended.is_none() {
+            f.step_ahead(1, P2::new(1.0, 0.0), 1.5, 0.1);
+        }
+        assert!(!f.separated());
+        while f.tips[0].ended.is_none() {
+            f.step_ahead(0, d0, 1.5, 0.1);
+        }
+        assert!(f.separated());
+        assert!((f.tip_position(0).x).abs() < 1e-12);
+    }
+
+    #[test]
+    fn hole_and_crack_stop_a_tip_before_them() {
+        let s = scene(
+            r#"(name: "a", start: (0, 5), angle_deg: 0, length: 2),
+               (name: "b", start: (10, 5), angle_deg: 180, length: 2)"#,
+            "",
+        );
+        let mut f = Front::of(&s);
+        let hit = loop {
+            let h = f.step_ahead(0, P2::new(1.0, 0.0), 1.0, 0.5);
+            if h != Obstacle::None {
+                break h;
+            }
+        };
+        assert_eq!(hit, Obstacle::Crack("b".into()));
+        assert_eq!(f.tips[0].ended.as_deref(), Some("coalescence:b"));
+        // Both edge cracks joined: mouths on both sides.
+        assert!(f.separated());
+        let s = scene(
+            r#"(name: "a", start: (0, 5), angle_deg: 0, length: 2)"#,
+            r#"Circle(center: (6, 5), radius: 1)"#,
+        );
+        let mut f = Front::of(&s);
+        let hit = loop {
+            let h = f.step_ahead(0, P2::new(1.0, 0.0), 1.0, 0.5);
+            if h != Obstacle::None {
+                break h;
+            }
+        };
+        assert_eq!(hit, Obstacle::Hole("hole0".into()));
+        assert!(f.tip_position(0).x <= 5.0 - 0.5 + 1e-12);
+        assert!(!f.separated());
+    }
+
+    #[test]
+    fn set_path_replaces_the_grown_part_at_either_end() {
+        let s = scene(
+            r#"(name: "c", center: (5, 5), angle_deg: 0, length: 2)"#,
+            "",
+        );
+        let mut f = Front::of(&s);
+        f.set_path(
+            1,
+            &[P2::new(6.0, 5.0), P2::new(7.0, 5.0), P2::new(8.0, 5.5)],
+        );
+        f.set_path(1, &[P2::new(6.0, 5.0), P2::new(7.0, 5.2)]);
+        f.set_path(0, &[P2::new(4.0, 5.0), P2::new(3.0, 5.0)]);
+        let pts = &f.cracks[0].points;
+        assert_eq!(pts.len(), 4);
+        assert_eq!(f.tip_position(1), P2::new(7.0, 5.2));
+        assert_eq!(f.tip_position(0), P2::new(3.0, 5.0));
+        assert!((f.extension(0) - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn ray_hits() {
+        let o = P2::new(0.0, 0.0);
+        let d = P2::new(1.0, 0.0);
+        let s = ray_segment(&o, &d, &P2::new(2.0, -1.0), &P2::new(2.0, 1.0));
+        assert_eq!(s, Some(2.0));
+        assert_eq!(
+            ray_segment(&o, &-d, &P2::new(2.0, -1.0), &P2::new(2.0, 1.0)),
+            None
+        );
+        let c = HoleShape::Circle {
+            center: P2::new(5.0, 0.0),
+            radius: 1.0,
+        };
+        assert!((ray_hole(&o, &d, &c).unwrap() - 4.0).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,398 @@
+//! Output layer of growth runs: every mode hands its [`GrowthHistory`] to [`finish`], which
+//! writes the tables, the machine-readable records and the plots into the run's staging
+//! folder (committed all-or-nothing by the runner) and returns the [`RunSummary`]
+//! (`mode: "growth"`) whose fields `summary.json` carries. File list: docs/outputs.md.
+//!
+//! - tables: `path_<tip>.csv` (`x,y,step,load`), `steps.csv`;
+//! - records: `growth.json` (the history, what `pdbem plot-paths` reads), `geometry.json`
+//!   (outline, holes and initial cracks), `growth_log.jsonl` (completed here for solvers
+//!   that did not log while running, see [`super::log`]);
+//! - plots: `paths` (crack paths over the outline with the window outlines), `load_cmod`,
+//!   `load_extension`, and one `snapshot_<label>_step<NNN>` per field snapshot.
+
+use anyhow::{Context, Result};
+use serde_json::{json, Value};
+
+use super::log::GrowthLog;
+use super::{FieldSnapshot, GrowthHistory, TipPath};
+use crate::geometry::P2;
+use crate::output::csv::{num, opt, CsvTable};
+use crate::plot::{PathGroup, PathsPlot, ScatterField, Series, SeriesStyle, XyPlot};
+use crate::runner::report::save_plot;
+use crate::runner::{RunContext, RunSummary};
+use crate::scene::shapes::SceneGeometry;
+use crate::scene::Scene;
+
+/// File of the serialised history.
+pub const HISTORY_FILE: &str = "growth.json";
+/// File of the body geometry.
+pub const GEOMETRY_FILE: &str = "geometry.json";
+
+/// Writes every output of a growth run and returns its summary.
+pub fn finish(scene: &Scene, ctx: &RunContext, history: &GrowthHistory) -> Result<RunSummary> {
+    let w = &ctx.writer;
+    let mut summary = growth_summary(scene, history);
+    complete_log(ctx, history, &summary)?;
+    w.write_json(HISTORY_FILE, history)
+        .with_context(|| format!("writing {HISTORY_FILE}"))?;
+    w.write_json(GEOMETRY_FILE, &geometry_json(scene))
+        .with_context(|| format!("writing {GEOMETRY_FILE}"))?;
+    if scene.outputs.csv {
+        for p in &history.paths {
+            let name = path_file(&p.name);
+            w.write_csv(&name, &path_table(p))
+                .with_context(|| format!("writing {name}"))?;
+        }
+        w.write_csv("steps.csv", &steps_table(history))
+            .context("writing steps.csv")?;
+    }
+    if scene.outputs.plots {
+        write_plots(scene, ctx, history, &mut summary)?;
+    }
+    Ok(summary)
+}
+
+/// `path_<tip>.csv` for a tip name.
+pub fn path_file(tip: &str) -> String {
+    format!("path_{tip}.csv")
+}
+
+/// The summary of a growth run: `mode: "growth"` and the growth fields of docs/outputs.md.
+pub fn growth_summary(scene: &Scene, h: &GrowthHistory) -> RunSummary {
+    let mut extra = serde_json::Map::new();
+    extra.insert("growth_mode".into(), json!(h.mode));
+    extra.insert("relocations".into(), json!(h.relocations.len()));
+    extra.insert("failure".into(), json!(h.failure));
+    extra.insert("failure_load".into(), json!(h.failure_load));
+    extra.insert("initiation_load".into(), json!(h.initiation_load));
+    extra.insert("steps".into(), json!(h.steps.len()));
+    extra.insert("final_load".into(), json!(h.steps.last().map(|s| s.load)));
+    extra.insert("tips_final".into(), Value::Array(final_tips(h)));
+    let times: Vec<f64> = h.steps.iter().map(|s| s.wall_time_s).collect();
+    extra.insert(
+        "step_wall_time_s".into(),
+        json!({"total": times.iter().fold(0.0, |a, t| a + t),
+               "max": times.iter().copied().fold(0.0, f64::max)}),
+    );
+    let rebuild = h.relocations.iter().fold(0.0, |a, r| a + r.rebuild_s);
+    extra.insert("relocation_rebuild_s".into(), json!(rebuild));
+    RunSummary {
+        scene: scene.name.clone(),
+        mode: "growth".into(),
+        notes: h.notes.clone(),
+        extra,
+        ..Default::default()
+    }
+}
+
+/// `tips_final`: name, last position, length grown and why each tip stopped.
+fn final_tips(h: &GrowthHistory) -> Vec<Value> {
+    h.paths
+        .iter()
+        .map(|p| {
+            let last = p.points.last();
+            json!({
+                "name": p.name,
+                "position": last.map(|q| [q.x, q.y]),
+                "extension": extension(p),
+                "ended": p.ended,
+            })
+        })
+        .collect()
+}
+
+/// Arc length of a tip path (m).
+pub fn extension(p: &TipPath) -> f64 {
+    p.points
+        .windows(2)
+        .map(|w| (w[1].x - w[0].x).hypot(w[1].y - w[0].y))
+        .sum()
+}
+
+/// Adds the history's events to the log when the solver did not write one, then the
+/// closing `end` event.
+fn complete_log(ctx: &RunContext, h: &GrowthHistory, s: &RunSummary) -> Result<()> {
+    let logged = GrowthLog::exists(ctx);
+    let log = GrowthLog::open(ctx)?;
+    if !logged {
+        log.event("start", json!({"mode": h.mode, "replayed": true}))?;
+        log.replay(h)?;
+    }
+    log.event("end", Value::Object(s.extra.clone()))
+}
+
+/// `path_<tip>.csv`: one row per path point.
+pub fn path_table(p: &TipPath) -> CsvTable {
+    let mut t = CsvTable::new(&["x", "y", "step", "load"]);
+    for q in &p.points {
+        t.push(vec![num(q.x), num(q.y), q.step.to_string(), num(q.load)]);
+    }
+    t
+}
+
+/// `steps.csv`: one row per load step; tip positions as `<tip>.x`, `<tip>.y` columns.
+pub fn steps_table(h: &GrowthHistory) -> CsvTable {
+    let mut header: Vec<String> = [
+        "step",
+        "load",
+        "cmod",
+        "coupling_iterations",
+        "coupling_residual",
+        "broken_bonds",
+        "wall_time_s",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    for p in &h.paths {
+        header.push(format!("{}.x", p.name));
+        header.push(format!("{}.y", p.name));
+    }
+    let mut t = CsvTable::new(&header);
+    for s in &h.steps {
+        let mut row = vec![
+            s.step.to_string(),
+            num(s.load),
+            opt(s.cmod),
+            s.coupling_iterations.to_string(),
+            num(s.coupling_residual),
+            s.broken_bonds.to_string(),
+            num(s.wall_time_s),
+        ];
+        for k in 0..h.paths.len() {
+            let p = s.tips.get(k);
+            row.push(p.map(|q| num(q[0])).unwrap_or_default());
+            row.push(p.map(|q| num(q[1])).unwrap_or_default());
+        }
+        t.push(row);
+    }
+    t
+}
+
+/// `geometry.json`: `{unit, outline, holes, cracks: [{name, points}]}` (m).
+pub fn geometry_json(scene: &Scene) -> Value {
+    let geo = SceneGeometry::of(scene);
+    let pts = |v: &[P2]| v.iter().map(|p| [p.x, p.y]).collect::<Vec<_>>();
+    json!({
+        "unit": "m",
+        "outline": geo.outline.as_ref().map(|o| pts(&o.points)),
+        "holes": geo.holes.iter().map(|(_, h)| pts(&h.polygon())).collect::<Vec<_>>(),
+        "cracks": geo.cracks.iter()
+            .map(|c| json!({"name": c.name, "points": pts(&c.points)}))
+            .collect::<Vec<_>>(),
+    })
+}
+
+fn xy(v: &[P2]) -> Vec<(f64, f64)> {
+    v.iter().map(|p| (p.x, p.y)).collect()
+}
+
+/// Outline and hole loops of the scene.
+fn body_loops(geo: &SceneGeometry) -> Vec<Vec<(f64, f64)>> {
+    let mut loops = Vec::new();
+    if let Some(o) = &geo.outline {
+        loops.push(xy(&o.points));
+    }
+    loops.extend(geo.holes.iter().map(|(_, h)| xy(&h.polygon())));
+    loops
+}
+
+/// Tip path as plot points.
+fn path_line(p: &TipPath) -> Vec<(f64, f64)> {
+    p.points.iter().map(|q| (q.x, q.y)).collect()
+}
+
+/// The crack-path figure of one run.
+pub fn paths_plot(scene: &Scene, h: &GrowthHistory) -> PathsPlot {
+    let geo = SceneGeometry::of(scene);
+    let groups = h
+        .paths
+        .iter()
+        .map(|p| PathGroup {
+            label: format!("{} ({})", p.name, h.mode),
+            lines: vec![path_line(p)],
+        })
+        .collect();
+    PathsPlot {
+        title: format!("{}: crack paths ({})", scene.name, h.mode),
+        unit: "m".into(),
+        loops: body_loops(&geo),
+        cracks: geo.cracks.iter().map(|c| xy(&c.points)).collect(),
+        windows: h
+            .windows
+            .iter()
+            .map(|w| w.corners.iter().map(|c| (c[0], c[1])).collect())
+            .collect(),
+        groups,
+    }
+}
+
+/// Load factor against CMOD (`None` when no step has a CMOD).
+fn load_cmod_plot(scene: &Scene, h: &GrowthHistory) -> Option<XyPlot> {
+    let pts: Vec<(f64, f64)> = h
+        .steps
+        .iter()
+        .filter_map(|s| s.cmod.map(|c| (c, s.load)))
+        .collect();
+    if pts.is_empty() {
+        return None;
+    }
+    let mut p = XyPlot::new(
+        format!("{}: load against CMOD ({})", scene.name, h.mode),
+        "CMOD (m)",
+        "load factor (-)",
+    );
+    p.series
+        .push(Series::new(h.mode.clone(), pts, SeriesStyle::LineMarkers));
+    Some(p)
+}
+
+/// Load factor against the length grown at each tip.
+fn load_extension_plot(scene: &Scene, h: &GrowthHistory) -> XyPlot {
+    let mut p = XyPlot::new(
+        format!("{}: crack extension ({})", scene.name, h.mode),
+        "crack extension (m)",
+        "load factor (-)",
+    );
+    for path in &h.paths {
+        let mut len = 0.0;
+        let mut pts = Vec::with_capacity(path.points.len());
+        for (i, q) in path.points.iter().enumerate() {
+            if i > 0 {
+                let a = &path.points[i - 1];
+                len += (q.x - a.x).hypot(q.y - a.y);
+            }
+            pts.push((len, q.load));
+        }
+        p.series.push(Series::new(
+            path.name.clone(),
+            pts,
+            SeriesStyle::LineMarkers,
+        ));
+    }
+    p
+}
+
+/// A field snapshot as a scatter plot: damage in [0, 1], other fields scaled by a power
+/// of 1000 so the colour bar reads well; drawn over the body outline and holes (the field
+/// itself shows the cracks) except window snapshots (`*window*` labels: the window is
+/// small against the body).
+fn snapshot_plot(scene: &Scene, h: &GrowthHistory, s: &FieldSnapshot) -> ScatterField {
+    let damage = s.label.starts_with("damage");
+    let loops = if s.label.contains("window") {
+        Vec::new()
+    } else {
+        body_loops(&SceneGeometry::of(scene))
+    };
+    let (label, range, scale) = if damage {
+        ("damage phi (-)".to_string(), Some((0.0, 1.0)), 1.0)
+    } else {
+        let (exp, scale) = engineering_scale(s.values.iter().copied());
+        let unit = if exp == 0 {
+            "m".to_string()
+        } else {
+            format!("1e{exp} m")
+        };
+        let name = if s.label.starts_with("displacement") {
+            "|u|"
+        } else {
+            s.label.as_str()
+        };
+        (format!("{name} ({unit})"), None, scale)
+    };
+    ScatterField {
+        title: format!(
+            "{}: {} at step {} ({})",
+            scene.name, s.label, s.step, h.mode
+        ),
+        unit: "m".into(),
+        value_label: label,
+        points: s.points.iter().map(|p| (p[0], p[1])).collect(),
+        values: s.values.iter().map(|v| v * scale).collect(),
+        range,
+        loops,
+        marker_px: 0,
+    }
+}
+
+/// Exponent (a multiple of 3) and factor 10^-exponent that bring the largest magnitude of
+/// `values` into [1, 1000).
+fn engineering_scale(values: impl Iterator<Item = f64>) -> (i32, f64) {
+    let max = values
+        .filter(|v| v.is_finite())
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    if max == 0.0 {
+        return (0, 1.0);
+    }
+    let exp = 3 * (max.log10() / 3.0).floor() as i32;
+    (exp, 10f64.powi(-exp))
+}
+
+fn write_plots(
+    scene: &Scene,
+    ctx: &RunContext,
+    h: &GrowthHistory,
+    summary: &mut RunSummary,
+) -> Result<()> {
+    let (w, formats) = (&ctx.writer, &scene.outputs.formats);
+    save_plot(w, "paths", &paths_plot(scene, h), formats, summary)?;
+    if let Some(p) = load_cmod_plot(scene, h) {
+        save_plot(w, "load_cmod", &p, formats, summary)?;
+    }
+    save_plot(
+        w,
+        "load_extension",
+        &load_extension_plot(scene, h),
+        formats,
+        summary,
+    )?;
+    for s in &h.snapshots {
+        let stem = if s.label.contains("step") {
+            format!("snapshot_{}", s.label)
+        } else {
+            format!("snapshot_{}_step{:03}", s.label, s.step)
+        };
+        save_plot(w, &stem, &snapshot_plot(scene, h, s), formats, summary)?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::growth::{PathPoint, StepRecord};
+
+    fn pp(x: f64, y: f64, step: usize, load: f64) -> PathPoint {
+        PathPoint { x, y, step, load }
+    }
+
+    #[test]
+    fn tables_have_the_documented_columns() {
+        let h = GrowthHistory {
+            mode: "bem-only".into(),
+            paths: vec![TipPath {
+                name: "c.end".into(),
+                points: vec![pp(0.0, 0.0, 0, 1.0), pp(3.0, 4.0, 2, 1.2)],
+                ended: Some("outline".into()),
+            }],
+            steps: vec![StepRecord {
+                step: 0,
+                load: 1.0,
+                cmod: Some(1e-6),
+                tips: vec![[0.0, 0.0]],
+                ..Default::default()
+            }],
+            ..Default::default()
+        };
+        let p = path_table(&h.paths[0]).to_csv();
+        assert!(p.starts_with("x,y,step,load\n0,0,0,1\n3,4,2,1.2\n"), "{p}");
+        let s = steps_table(&h).to_csv();
+        assert!(s.starts_with(
+            "step,load,cmod,coupling_iterations,coupling_residual,broken_bonds,wall_time_s,c.end.x,c.end.y\n"
+        ), "{s}");
+        assert!((extension(&h.paths[0]) - 5.0).abs() < 1e-15);
+        assert_eq!(path_file("c.end"), "path_c.end.csv");
+        assert_eq!(engineering_scale([2e-5, -1e-6].into_iter()), (-6, 1e6));
+        assert_eq!(engineering_scale([0.0].into_iter()), (0, 1.0));
+    }
+}

@@ -1,0 +1,251 @@
+//! Crack-path plot: body outline and holes, the initial cracks, PD window outlines, and
+//! groups of crack paths (one colour and one legend entry per group: a run, or a mode), with
+//! a marker at the end of every path; equal aspect, axes in the scene's length unit.
+
+use plotters::coord::Shift;
+use plotters::element::DashedPathElement;
+use plotters::prelude::*;
+
+use super::style::{series_color, CAPTION_SIZE, CRACK, FONT, LABEL_SIZE};
+use super::{equal_aspect, msg, span, Figure};
+
+/// Paths drawn in one colour with one legend entry.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PathGroup {
+    /// Legend text.
+    pub label: String,
+    /// Polylines (one per tip).
+    pub lines: Vec<Vec<(f64, f64)>>,
+}
+
+/// A crack-path figure.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PathsPlot {
+    /// Caption.
+    pub title: String,
+    /// Length unit for the axis labels (e.g. `m`).
+    pub unit: String,
+    /// Closed loops: outline and holes.
+    pub loops: Vec<Vec<(f64, f64)>>,
+    /// Initial cracks (open polylines).
+    pub cracks: Vec<Vec<(f64, f64)>>,
+    /// PD window outlines (closed), drawn dashed.
+    pub windows: Vec<Vec<(f64, f64)>>,
+    /// Path groups, in legend order.
+    pub groups: Vec<PathGroup>,
+}
+
+const SIZE: (u32, u32) = (1000, 850);
+const MARGIN: u32 = 20;
+const X_AREA: u32 = 55;
+const Y_AREA: u32 = 95;
+const CAPTION: u32 = 45;
+const WINDOW: RGBColor = RGBColor(120, 120, 120);
+
+type Chart<'a, DB> = ChartContext<
+    'a,
+    DB,
+    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+>;
+
+fn closed(l: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    let mut p = l.to_vec();
+    if let Some(f) = l.first() {
+        p.push(*f);
+    }
+    p
+}
+
+impl PathsPlot {
+    fn ranges(&self, labels: bool) -> ((f64, f64), (f64, f64)) {
+        let mut pts: Vec<(f64, f64)> = self.loops.iter().flatten().copied().collect();
+        pts.extend(self.cracks.iter().flatten().copied());
+        pts.extend(self.windows.iter().flatten().copied());
+        pts.extend(
+            self.groups
+                .iter()
+                .flat_map(|g| g.lines.iter().flatten().copied()),
+        );
+        pts.retain(|q| q.0.is_finite() && q.1.is_finite());
+        let (xs, ys) = (span(pts.iter().map(|p| p.0)), span(pts.iter().map(|p| p.1)));
+        let (w, h) = if labels {
+            (
+                SIZE.0 - 2 * MARGIN - Y_AREA,
+                SIZE.1 - 2 * MARGIN - X_AREA - CAPTION,
+            )
+        } else {
+            (SIZE.0 - 2 * MARGIN, SIZE.1 - 2 * MARGIN)
+        };
+        equal_aspect((xs.0, ys.0), (xs.1, ys.1), w, h)
+    }
+
+    fn draw_body<DB: DrawingBackend>(
+        &self,
+        chart: &mut Chart<'_, DB>,
+        labels: bool,
+    ) -> Result<(), String> {
+        for (i, l) in self.loops.iter().enumerate() {
+            let a = chart
+                .draw_series(std::iter::once(PathElement::new(
+                    closed(l),
+                    BLACK.stroke_width(2),
+                )))
+                .map_err(msg)?;
+            if labels && i == 0 {
+                a.label("body").legend(|(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], BLACK.stroke_width(2))
+                });
+            }
+        }
+        for (i, w) in self.windows.iter().enumerate() {
+            let a = chart
+                .draw_series(std::iter::once(DashedPathElement::new(
+                    closed(w),
+                    5,
+                    4,
+                    WINDOW.stroke_width(1),
+                )))
+                .map_err(msg)?;
+            if labels && i == 0 {
+                a.label("PD window").legend(|(x, y)| {
+                    DashedPathElement::new(vec![(x, y), (x + 20, y)], 5, 4, WINDOW.stroke_width(1))
+                });
+            }
+        }
+        for (i, c) in self.cracks.iter().enumerate() {
+            let a = chart
+                .draw_series(std::iter::once(PathElement::new(
+                    c.clone(),
+                    CRACK.stroke_width(4),
+                )))
+                .map_err(msg)?;
+            if labels && i == 0 {
+                a.label("initial crack").legend(|(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], CRACK.stroke_width(4))
+                });
+            }
+        }
+        Ok(())
+    }
+
+    fn draw_groups<DB: DrawingBackend>(
+        &self,
+        chart: &mut Chart<'_, DB>,
+        labels: bool,
+    ) -> Result<(), String> {
+        for (gi, g) in self.groups.iter().enumerate() {
+            // Skip black (the body colour) in the palette.
+            let color = series_color(if gi >= 6 { gi + 1 } else { gi });
+            for (li, line) in g.lines.iter().enumerate() {
+                let a = chart
+                    .draw_series(std::iter::once(PathElement::new(
+                        line.clone(),
+                        color.stroke_width(2),
+                    )))
+                    .map_err(msg)?;
+                if labels && li == 0 {
+                    a.label(&g.label).legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                    });
+                }
+            }
+            chart
+                .draw_series(
+                    g.lines
+                        .iter()
+                        .filter_map(|l| l.last())
+                        .map(|p| Circle::new(*p, 4, color.filled())),
+                )
+                .map_err(msg)?;
+        }
+        Ok(())
+    }
+}
+
+impl Figure for PathsPlot {
+    fn size(&self) -> (u32, u32) {
+        SIZE
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        labels: bool,
+    ) -> Result<(), String> {
+        root.fill(&WHITE).map_err(msg)?;
+        let ((x0, x1), (y0, y1)) = self.ranges(labels);
+        let mut builder = ChartBuilder::on(root);
+        builder.margin(MARGIN);
+        if labels {
+            builder
+                .caption(&self.title, (FONT, CAPTION_SIZE))
+                .x_label_area_size(X_AREA)
+                .y_label_area_size(Y_AREA);
+        }
+        let mut chart = builder.build_cartesian_2d(x0..x1, y0..y1).map_err(msg)?;
+        let mut mesh = chart.configure_mesh();
+        if labels {
+            mesh.x_desc(format!("x ({})", self.unit))
+                .y_desc(format!("y ({})", self.unit))
+                .axis_desc_style((FONT, LABEL_SIZE))
+                .label_style((FONT, LABEL_SIZE - 4));
+        } else {
+            mesh.x_labels(0).y_labels(0);
+        }
+        mesh.light_line_style(RGBColor(240, 240, 240))
+            .draw()
+            .map_err(msg)?;
+        self.draw_body(&mut chart, labels)?;
+        self.draw_groups(&mut chart, labels)?;
+        if labels {
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .label_font((FONT, LABEL_SIZE - 4))
+                .position(SeriesLabelPosition::UpperRight)
+                .draw()
+                .map_err(msg)?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn draws_png_and_svg_with_an_empty_group() {
+        let dir = std::env::temp_dir().join(format!("pdbem-paths-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("dir");
+        let p = PathsPlot {
+            title: "paths".into(),
+            unit: "m".into(),
+            loops: vec![vec![(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]],
+            cracks: vec![vec![(0.0, 0.5), (0.2, 0.5)]],
+            windows: vec![vec![(0.1, 0.4), (0.3, 0.4), (0.3, 0.6), (0.1, 0.6)]],
+            groups: vec![
+                PathGroup {
+                    label: "bem-only".into(),
+                    lines: vec![vec![(0.2, 0.5), (0.6, 0.52), (1.0, 0.55)]],
+                },
+                PathGroup {
+                    label: "empty".into(),
+                    lines: vec![],
+                },
+            ],
+        };
+        let saved = crate::plot::save(
+            &p,
+            &dir.join("paths"),
+            &[crate::scene::PlotFormat::Png, crate::scene::PlotFormat::Svg],
+        )
+        .expect("saved");
+        assert_eq!(saved.files.len(), 2);
+        for f in saved.files {
+            assert!(std::fs::metadata(f).expect("file").len() > 1000);
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

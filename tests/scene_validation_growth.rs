@@ -1,0 +1,185 @@
+//! Validation of growth scenes (issue 5): one test per rule; every message names the file,
+//! the dotted field path and the reason. Same style as tests/scene_validation.rs.
+
+use pdbem::scene::{GrowthMode, Scene, SceneError};
+
+const FILE: &str = "cases/g.ron";
+const BODY: &str = "(outline: Rectangle(x0: 0, y0: 0, width: 10, height: 20))";
+const CRACKS: &str = r#"[(name: "c", start: (0, 10), angle_deg: 0, length: 3)]"#;
+const BOUNDARY: &str = r#"[(on: "top", y: Traction(1)), (on: "bottom", y: Traction(-1))]"#;
+const MAT_GC: &str = "(E: 1e4, nu: 0.3, plane: Stress, fracture: (g_c: 1))";
+
+fn scene(mat: &str, cracks: &str, extra: &str) -> String {
+    format!(
+        "(name: \"g\", material: {mat}, body: {BODY}, cracks: {cracks}, boundary: {BOUNDARY}, {extra})"
+    )
+}
+
+fn load(src: &str) -> Result<Scene, SceneError> {
+    Scene::from_ron_str(src, FILE)
+}
+
+/// The error text, which must name the file and contain `path` and `reason`.
+fn assert_invalid(src: &str, path: &str, reason: &str) -> String {
+    let text = match load(src) {
+        Ok(_) => panic!("scene should be invalid ({path}):\n{src}"),
+        Err(e) => e.to_string(),
+    };
+    assert!(
+        text.contains(&format!("{FILE}: {path}")),
+        "no '{FILE}: {path}' in:\n{text}"
+    );
+    assert!(text.contains(reason), "no '{reason}' in:\n{text}");
+    text
+}
+
+const PD_BEM: &str = "pd: (failure: FromGc), coupling: (side: 2, n: 20)";
+
+#[test]
+fn valid_growth_scenes_of_each_mode_load() {
+    for mode in ["PdBem", "BemOnly", "FullPd"] {
+        let src = scene(
+            MAT_GC,
+            CRACKS,
+            &format!("{PD_BEM}, growth: (mode: {mode}, da: 0.5)"),
+        );
+        let s = load(&src).unwrap_or_else(|e| panic!("{mode}: {e}"));
+        assert!(s.growth.is_some());
+    }
+    // BEM-only needs neither pd nor coupling.
+    let s = load(&scene(MAT_GC, CRACKS, "growth: (mode: BemOnly)")).expect("valid");
+    assert_eq!(s.growth.map(|g| g.mode), Some(GrowthMode::BemOnly));
+}
+
+#[test]
+fn move_distance_larger_than_the_window() {
+    let src = scene(
+        MAT_GC,
+        CRACKS,
+        &format!("{PD_BEM}, growth: (move_distance: 2.5)"),
+    );
+    assert_invalid(
+        &src,
+        "growth.move_distance = 2.5",
+        "move distance larger than the window",
+    );
+}
+
+#[test]
+fn trigger_ratio_outside_zero_one() {
+    for t in ["0", "1", "-0.5", "1.5"] {
+        let src = scene(
+            MAT_GC,
+            CRACKS,
+            &format!("{PD_BEM}, growth: (trigger_ratio: {t})"),
+        );
+        assert_invalid(
+            &src,
+            &format!("growth.trigger_ratio = {t}"),
+            "trigger ratio must lie in (0, 1)",
+        );
+    }
+}
+
+#[test]
+fn window_larger_than_the_remaining_ligament() {
+    // Tip at x = 8 in a 10 m wide plate: 2 m of ligament ahead, window side 3 m.
+    let cracks = r#"[(name: "c", start: (0, 10), angle_deg: 0, length: 8)]"#;
+    let src = scene(
+        MAT_GC,
+        cracks,
+        "pd: (failure: FromGc), coupling: (side: 3, n: 20), growth: ()",
+    );
+    let text = assert_invalid(
+        &src,
+        "coupling.side = 3",
+        "window larger than the remaining ligament: tip c.end is 2.000000 m from the boundary ahead",
+    );
+    assert!(text.contains("cases/g.ron"));
+    // A hole ahead counts as boundary: hole edge 1.5 m ahead of the tip at x = 3.
+    let src = format!(
+        "(name: \"g\", material: {MAT_GC}, body: (outline: Rectangle(x0: 0, y0: 0, width: 10, height: 20), holes: [Circle(center: (5.5, 10), radius: 1)]), cracks: {CRACKS}, boundary: {BOUNDARY}, {PD_BEM}, growth: ())"
+    );
+    assert_invalid(
+        &src,
+        "coupling.side = 2",
+        "tip c.end is 1.500000 m from the boundary ahead",
+    );
+    // The same window in BEM-only mode is not used: valid.
+    let src = scene(
+        MAT_GC,
+        cracks,
+        "pd: (failure: FromGc), coupling: (side: 3, n: 20), growth: (mode: BemOnly)",
+    );
+    assert!(load(&src).is_ok());
+}
+
+#[test]
+fn pd_modes_need_a_coupling_section() {
+    let src = scene(MAT_GC, CRACKS, "pd: (dx: 0.1), growth: (mode: PdBem)");
+    assert_invalid(
+        &src,
+        "growth.mode",
+        "PdBem growth needs a `coupling` section",
+    );
+    let src = scene(MAT_GC, CRACKS, "pd: (dx: 0.1), growth: (mode: FullPd)");
+    assert_invalid(
+        &src,
+        "growth.mode",
+        "FullPd growth needs a `coupling` section: its grid spacing is the window's",
+    );
+}
+
+#[test]
+fn bem_only_needs_the_toughness() {
+    let mat = "(E: 1e4, nu: 0.3, plane: Stress)";
+    let src = scene(mat, CRACKS, "growth: (mode: BemOnly)");
+    assert_invalid(
+        &src,
+        "material.fracture",
+        "BemOnly growth needs the toughness: give g_c (J/m^2) or k_c (Pa m^0.5)",
+    );
+    let mat = "(E: 1e4, nu: 0.3, plane: Stress, fracture: (g_c: 0))";
+    let src = scene(mat, CRACKS, "growth: (mode: BemOnly)");
+    assert_invalid(
+        &src,
+        "material.fracture.g_c = 0",
+        "BemOnly growth needs G_c > 0",
+    );
+    // K_c alone is enough.
+    let mat = "(E: 1e4, nu: 0.3, plane: Stress, fracture: (k_c: 5))";
+    assert!(load(&scene(mat, CRACKS, "growth: (mode: BemOnly)")).is_ok());
+}
+
+#[test]
+fn growth_needs_a_crack_and_a_positive_increment() {
+    let src = scene(MAT_GC, "[]", "growth: (mode: BemOnly)");
+    assert_invalid(&src, "growth", "growth needs at least one crack");
+    let src = scene(MAT_GC, CRACKS, "growth: (mode: BemOnly, da: -1)");
+    assert_invalid(&src, "growth.da = -1", "crack increment da must be > 0");
+}
+
+#[test]
+fn full_pd_needs_a_finite_body() {
+    let src = format!(
+        "(name: \"g\", material: {MAT_GC}, body: (outline: Infinite(syy: 1)), cracks: [(name: \"c\", center: (0, 0), angle_deg: 0, length: 2)], {PD_BEM}, growth: (mode: FullPd))"
+    );
+    assert_invalid(&src, "growth.mode", "FullPd growth needs a finite body");
+}
+
+#[test]
+fn every_growth_case_loads_and_validates() {
+    let dir = format!("{}/cases", env!("CARGO_MANIFEST_DIR"));
+    let mut n = 0;
+    for e in std::fs::read_dir(&dir).expect("cases") {
+        let p = e.expect("entry").path();
+        let name = p.file_name().and_then(|n| n.to_str()).unwrap_or_default();
+        if name.starts_with("growth_") && name.ends_with(".ron") {
+            let s = Scene::load(&p).unwrap_or_else(|e| panic!("{e}"));
+            assert!(s.growth.is_some(), "{name} has no growth section");
+            n += 1;
+        }
+    }
+    // Measured: the seed-001 cases, the hole case and helper A's edge cases.
+    assert!(n >= 5, "only {n} growth cases");
+}
