@@ -112,6 +112,7 @@ pub fn resolve_overlaps(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::growth::fixtures::body;
 
     fn spec(cx: f64, cy: f64, angle: f64) -> WindowSpec {
         WindowSpec {
@@ -121,18 +122,6 @@ mod tests {
             nx: 20,
             ny: 20,
             horizon_factor: 3.015,
-        }
-    }
-
-    fn body() -> Body {
-        Body {
-            outline: vec![
-                V2::new(0.0, 0.0),
-                V2::new(20.0, 0.0),
-                V2::new(20.0, 10.0),
-                V2::new(0.0, 10.0),
-            ],
-            holes: vec![],
         }
     }
 

@@ -62,3 +62,37 @@ pub use records::{
 };
 pub use tips::{TipEnd, TipSpec, TipState};
 pub use transfer::TransferInfo;
+
+/// Shared test fixtures: the seed 002 plate (20 m x 10 m) and a 1 m window in it.
+#[cfg(test)]
+pub(crate) mod fixtures {
+    use pdbem_bem::V2;
+
+    use crate::window::{Body, Window, WindowSpec};
+
+    /// The 20 m x 10 m plate of seed 002 section 3.2.
+    pub(crate) fn body() -> Body {
+        Body {
+            outline: vec![
+                V2::new(0.0, 0.0),
+                V2::new(20.0, 0.0),
+                V2::new(20.0, 10.0),
+                V2::new(0.0, 10.0),
+            ],
+            holes: vec![],
+        }
+    }
+
+    /// A 20 x 20 window of dx = 0.05 m centred at (cx, cy).
+    pub(crate) fn window(cx: f64, cy: f64) -> Window {
+        let spec = WindowSpec {
+            center: V2::new(cx, cy),
+            angle: 0.0,
+            dx: 0.05,
+            nx: 20,
+            ny: 20,
+            horizon_factor: 3.015,
+        };
+        Window::place(0, spec, &body()).unwrap()
+    }
+}

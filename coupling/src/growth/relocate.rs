@@ -186,30 +186,7 @@ pub fn extend_crack(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn body() -> Body {
-        Body {
-            outline: vec![
-                V2::new(0.0, 0.0),
-                V2::new(20.0, 0.0),
-                V2::new(20.0, 10.0),
-                V2::new(0.0, 10.0),
-            ],
-            holes: vec![],
-        }
-    }
-
-    fn window(cx: f64, cy: f64) -> Window {
-        let spec = WindowSpec {
-            center: V2::new(cx, cy),
-            angle: 0.0,
-            dx: 0.05,
-            nx: 20,
-            ny: 20,
-            horizon_factor: 3.015,
-        };
-        Window::place(0, spec, &body()).unwrap()
-    }
+    use crate::growth::fixtures::{body, window};
 
     #[test]
     fn window_moves_on_the_lattice_and_stays_in_the_body() {

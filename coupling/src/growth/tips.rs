@@ -202,7 +202,7 @@ pub fn ran_into(tip: &TipState, other: &TipState, positions: &[[f64; 2]], reach:
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::window::WindowSpec;
+    use crate::growth::fixtures::window;
 
     fn body() -> Body {
         Body {
@@ -219,18 +219,6 @@ mod tests {
                 V2::new(15.0, 3.0),
             ]],
         }
-    }
-
-    fn window(cx: f64, cy: f64) -> Window {
-        let spec = WindowSpec {
-            center: V2::new(cx, cy),
-            angle: 0.0,
-            dx: 0.05,
-            nx: 20,
-            ny: 20,
-            horizon_factor: 3.015,
-        };
-        Window::place(0, spec, &body()).unwrap()
     }
 
     #[test]
