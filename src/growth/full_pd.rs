@@ -421,10 +421,11 @@ fn equilibrate(
 /// (one bond pair per round took minutes on a 100 x 100 grid).
 const BONDS_PER_ROUND: usize = 20;
 
-/// One load step. Brittle bonds (PMB with s0): sequentially linear rounds (Rots et al.
-/// 2008, sequentially linear analysis): equilibrium at the step's load f; if the largest
-/// stretch passes s0, the state is scaled down to the load at which only the most
-/// stretched bonds pass s0 (the response is nearly linear for a fixed set of bonds),
+/// One load step. Brittle bonds (PMB with s0): sequentially linear rounds (sequentially
+/// linear analysis, Rots, Belletti & Invernizzi 2008, Eng. Fract. Mech. 75:590):
+/// equilibrium at the step's load f; if the largest stretch passes s0, the state is
+/// scaled down to the load at which only the most stretched bonds pass s0 (the response
+/// is nearly linear for a fixed set of bonds),
 /// those bonds break (`commit_history` at the scaled state), and equilibrium at f is
 /// sought again. Breaking every bond past s0 at once (Jacobi rounds) instead smears the
 /// damage over a wide zone as soon as growth turns unstable under load control (measured on
