@@ -122,7 +122,7 @@ fn bem_only_sent_mode_one_stays_straight_and_initiates_at_the_tada_load() {
     let path = &h.paths[0];
     assert_eq!(path.ended.as_deref(), Some("outline"));
     // Straight: every point within 1e-3 of the plate height of y = 2 (measured 0: K_II of
-    // the symmetric strip vanishes, the kink is exactly 0; 8 path points).
+    // the symmetric strip vanishes, the kink is exactly 0; 7 path points).
     let dev = path
         .points
         .iter()

@@ -8,10 +8,10 @@
 //! 2. For every growing tip, the maximum-circumferential-stress kink angle theta and the
 //!    equivalent K_eq ([`super::criterion`]) at load f. Tips with K_eq >= K_c =
 //!    sqrt(E' G_c) (or the scene's `fracture.k_c`) each get one straight increment `da`
-//!    along the kink direction ([`Front::step_ahead`] with a margin of one increment:
-//!    a tip that would end within `da` of the outline is taken onto it, one that would end
-//!    within `da` of a hole or another crack stops; closer, the crack-opening fit has no
-//!    element left in the ligament and gives a closing K), then the body is re-meshed and
+//!    along the kink direction ([`Front::step_ahead`] with a margin of 1.5 increments:
+//!    a tip that would end within 1.5 da of the outline is taken onto it, one that would
+//!    end within 1.5 da of a hole or another crack stops; closer, the crack-opening fit has
+//!    too few elements left in the ligament), then the body is re-meshed and
 //!    re-solved and 2. is repeated at the same load (unstable growth under load control
 //!    runs within one step).
 //! 3. When no tip is critical the step is recorded and the load grows. The run ends when
@@ -88,6 +88,13 @@ struct Sizes {
     /// Increment of each crack (m).
     da: Vec<f64>,
 }
+
+/// A tip whose next increment would leave less than this many increments of ligament to
+/// the outline is taken onto the outline (a hole or another crack: stops). With one
+/// increment of margin, a tip 0.2000390 m from the edge (da = 0.1) stepped to 0.1 m, one
+/// element, where the crack-opening fit returned K_I = -6.8e4 (closing) and growth
+/// stopped short of failure.
+const LIGAMENT_MARGIN: f64 = 1.5;
 
 /// Crack-opening stations wanted within one increment once cracks have grown: the fit
 /// over them then has its full four terms (`cod_sif` uses 4 terms from 7 stations).
@@ -483,7 +490,7 @@ fn grow_tip(
     let dir = rotate(front.tip_direction(tip), t.theta);
     let crack = front.tips[tip].crack;
     let da = sizes.da[crack];
-    let hit = front.step_ahead(tip, dir, da, da);
+    let hit = front.step_ahead(tip, dir, da, LIGAMENT_MARGIN * da);
     let to = front.tip_position(tip);
     if to != from {
         history.paths[tip].points.push(point(to, step, f));
