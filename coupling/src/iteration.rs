@@ -633,6 +633,26 @@ fn factor_bem(problem: &mut CoupledProblem) -> Result<BemSystem, CouplingError> 
     Ok(sys)
 }
 
+/// One evaluation of the fixed-point map $\tilde x = H(x)$ at load scale 1, for analysis
+/// (e.g. [`crate::spectrum`]): the windows are solved from `x` with `params.pd_solve`
+/// and keep the resulting state.
+pub fn interface_map(
+    problem: &mut CoupledProblem,
+    bem: &PreparedBem,
+    x: &[f64],
+    params: &CouplingParams,
+) -> Result<Vec<f64>, CouplingError> {
+    let n: usize = problem.windows.iter().map(|w| w.interface.len()).sum();
+    if x.len() != n {
+        return Err(CouplingError::InvalidStep {
+            message: format!("{} values for {n} interface unknowns", x.len()),
+        });
+    }
+    let mut info = CouplingInfo::default();
+    let pd_solve = pd_solve_at(&params.pd_solve, 1.0);
+    Ok(evaluate(problem, bem, x, params, &pd_solve, 1.0, &mut info)?.1)
+}
+
 /// One evaluation of the fixed-point map: PD (parallel) -> tractions -> BEM -> x~, at load
 /// scale `scale`; also returns the bond pairs broken in the PD solves.
 fn evaluate(

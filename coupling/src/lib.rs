@@ -17,6 +17,8 @@
 //! - [`iteration`]: Algorithm 1 ([`iteration::solve`]: params in, `Result<(solution, info), CouplingError>` out).
 //! - [`relaxation`]: interface acceleration behind one trait: constant, Aitken (seed 002
 //!   Eqs. 25-28) and IQN-ILS.
+//! - [`spectrum`]: Ritz values of the interface operator (why a scheme needs the
+//!   iterations it needs).
 //! - [`breaking`]: progressive bond breaking at converged interface states.
 //! - [`growth`]: Algorithm 2 (seed 002 sections 2.3.2-2.3.3): load steps with moving
 //!   tip windows, crack extension and structural failure ([`growth::Growth`]).
@@ -31,12 +33,13 @@ pub mod maps;
 pub mod pd_window;
 pub mod relaxation;
 pub mod setup;
+pub mod spectrum;
 pub mod window;
 
 pub use error::CouplingError;
 pub use iteration::{
-    solve, solve_prepared, Acceleration, CoupledProblem, CoupledSolution, CouplingInfo,
-    CouplingParams, PdSolve, PreparedBem, StaggeredParams, StepOptions, Timings,
+    interface_map, solve, solve_prepared, Acceleration, CoupledProblem, CoupledSolution,
+    CouplingInfo, CouplingParams, PdSolve, PreparedBem, StaggeredParams, StepOptions, Timings,
 };
 pub use maps::{DisplacementMap, TractionMap};
 pub use setup::{build, Built, Layout, MacroCrack, WindowModel};
