@@ -82,6 +82,38 @@ fn trigger_ratio_outside_zero_one() {
 }
 
 #[test]
+fn trigger_ratio_that_moves_the_window_at_once() {
+    // side 2, n 20: dx = 0.1, delta = 0.3015; the trigger distance
+    // (1 - t) 2 + 0.4015 must stay below 1 m: t above 0.701. The growth driver rejects
+    // anything at or below 0.5 as well; the scene check names the real bound.
+    for t in ["0.3", "0.5", "0.7"] {
+        let src = scene(
+            MAT_GC,
+            CRACKS,
+            &format!("{PD_BEM}, growth: (trigger_ratio: {t})"),
+        );
+        assert_invalid(
+            &src,
+            &format!("growth.trigger_ratio = {t}"),
+            "the window would move as soon as it is placed",
+        );
+    }
+    let ok = scene(
+        MAT_GC,
+        CRACKS,
+        &format!("{PD_BEM}, growth: (trigger_ratio: 0.75)"),
+    );
+    load(&ok).expect("0.75 is valid");
+    // BEM-only growth has no window: any ratio in (0, 1) is accepted.
+    let bem = scene(
+        MAT_GC,
+        CRACKS,
+        "growth: (mode: BemOnly, trigger_ratio: 0.3)",
+    );
+    load(&bem).expect("BEM-only ignores the trigger");
+}
+
+#[test]
 fn window_larger_than_the_remaining_ligament() {
     // Tip at x = 8 in a 10 m wide plate: 2 m of ligament ahead, window side 3 m.
     let cracks = r#"[(name: "c", start: (0, 10), angle_deg: 0, length: 8)]"#;
