@@ -5,9 +5,10 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::style::{series_color, CAPTION_SIZE, CRACK, FONT, LABEL_SIZE};
+use super::map::{draw_map, map_ranges, MapChart};
+use super::style::{series_color, CRACK, FONT, LABEL_SIZE};
 use super::xy::Series;
-use super::{equal_aspect, msg, Figure};
+use super::{msg, Figure};
 
 /// A geometry plot.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -29,10 +30,6 @@ pub struct GeometryPlot {
 }
 
 const SIZE: (u32, u32) = (1000, 800);
-const MARGIN: u32 = 20;
-const X_AREA: u32 = 55;
-const Y_AREA: u32 = 85;
-const CAPTION: u32 = 45;
 
 impl GeometryPlot {
     fn all_points(&self) -> Vec<(f64, f64)> {
@@ -46,20 +43,7 @@ impl GeometryPlot {
     }
 
     fn ranges(&self, labels: bool) -> ((f64, f64), (f64, f64)) {
-        let pts = self.all_points();
-        let (xs, ys) = (
-            super::span(pts.iter().map(|p| p.0)),
-            super::span(pts.iter().map(|p| p.1)),
-        );
-        let (w, h) = if labels {
-            (
-                SIZE.0 - 2 * MARGIN - Y_AREA,
-                SIZE.1 - 2 * MARGIN - X_AREA - CAPTION,
-            )
-        } else {
-            (SIZE.0 - 2 * MARGIN, SIZE.1 - 2 * MARGIN)
-        };
-        equal_aspect((xs.0, ys.0), (xs.1, ys.1), w, h)
+        map_ranges(self.all_points().into_iter(), SIZE, labels)
     }
 }
 
@@ -73,54 +57,21 @@ impl Figure for GeometryPlot {
         root: &DrawingArea<DB, Shift>,
         labels: bool,
     ) -> Result<(), String> {
-        root.fill(&WHITE).map_err(msg)?;
-        let ((x0, x1), (y0, y1)) = self.ranges(labels);
-        let mut builder = ChartBuilder::on(root);
-        builder.margin(MARGIN);
-        if labels {
-            builder
-                .caption(&self.title, (FONT, CAPTION_SIZE))
-                .x_label_area_size(X_AREA)
-                .y_label_area_size(Y_AREA);
-        }
-        let mut chart = builder.build_cartesian_2d(x0..x1, y0..y1).map_err(msg)?;
-        let mut mesh = chart.configure_mesh();
-        if labels {
-            mesh.x_desc(format!("x ({})", self.unit))
-                .y_desc(format!("y ({})", self.unit))
-                .axis_desc_style((FONT, LABEL_SIZE))
-                .label_style((FONT, LABEL_SIZE - 4));
-        } else {
-            mesh.x_labels(0).y_labels(0);
-        }
-        mesh.light_line_style(RGBColor(240, 240, 240))
-            .draw()
-            .map_err(msg)?;
-        self.draw_body(&mut chart, labels)?;
-        if labels {
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .label_font((FONT, LABEL_SIZE - 4))
-                .position(SeriesLabelPosition::UpperRight)
-                .draw()
-                .map_err(msg)?;
-        }
-        Ok(())
+        draw_map(
+            root,
+            labels,
+            &self.title,
+            &self.unit,
+            self.ranges(labels),
+            |chart| self.draw_body(chart, labels),
+        )
     }
 }
-
-type Chart<'a, DB> = ChartContext<
-    'a,
-    DB,
-    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
->;
 
 impl GeometryPlot {
     fn draw_body<DB: DrawingBackend>(
         &self,
-        chart: &mut Chart<'_, DB>,
+        chart: &mut MapChart<'_, DB>,
         labels: bool,
     ) -> Result<(), String> {
         for (i, l) in self.loops.iter().enumerate() {

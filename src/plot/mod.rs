@@ -17,6 +17,7 @@
 
 pub mod field;
 pub mod geometry;
+mod map;
 pub mod paths;
 pub mod style;
 pub mod xy;

@@ -6,8 +6,9 @@ use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
-use super::style::{series_color, CAPTION_SIZE, CRACK, FONT, LABEL_SIZE};
-use super::{equal_aspect, msg, span, Figure};
+use super::map::{draw_map, map_ranges, MapChart};
+use super::style::{series_color, CRACK};
+use super::{msg, Figure};
 
 /// Paths drawn in one colour with one legend entry.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -36,17 +37,7 @@ pub struct PathsPlot {
 }
 
 const SIZE: (u32, u32) = (1000, 850);
-const MARGIN: u32 = 20;
-const X_AREA: u32 = 55;
-const Y_AREA: u32 = 95;
-const CAPTION: u32 = 45;
 const WINDOW: RGBColor = RGBColor(120, 120, 120);
-
-type Chart<'a, DB> = ChartContext<
-    'a,
-    DB,
-    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
->;
 
 fn closed(l: &[(f64, f64)]) -> Vec<(f64, f64)> {
     let mut p = l.to_vec();
@@ -66,22 +57,12 @@ impl PathsPlot {
                 .iter()
                 .flat_map(|g| g.lines.iter().flatten().copied()),
         );
-        pts.retain(|q| q.0.is_finite() && q.1.is_finite());
-        let (xs, ys) = (span(pts.iter().map(|p| p.0)), span(pts.iter().map(|p| p.1)));
-        let (w, h) = if labels {
-            (
-                SIZE.0 - 2 * MARGIN - Y_AREA,
-                SIZE.1 - 2 * MARGIN - X_AREA - CAPTION,
-            )
-        } else {
-            (SIZE.0 - 2 * MARGIN, SIZE.1 - 2 * MARGIN)
-        };
-        equal_aspect((xs.0, ys.0), (xs.1, ys.1), w, h)
+        map_ranges(pts.into_iter(), SIZE, labels)
     }
 
     fn draw_body<DB: DrawingBackend>(
         &self,
-        chart: &mut Chart<'_, DB>,
+        chart: &mut MapChart<'_, DB>,
         labels: bool,
     ) -> Result<(), String> {
         for (i, l) in self.loops.iter().enumerate() {
@@ -130,7 +111,7 @@ impl PathsPlot {
 
     fn draw_groups<DB: DrawingBackend>(
         &self,
-        chart: &mut Chart<'_, DB>,
+        chart: &mut MapChart<'_, DB>,
         labels: bool,
     ) -> Result<(), String> {
         for (gi, g) in self.groups.iter().enumerate() {
@@ -172,42 +153,17 @@ impl Figure for PathsPlot {
         root: &DrawingArea<DB, Shift>,
         labels: bool,
     ) -> Result<(), String> {
-        root.fill(&WHITE).map_err(msg)?;
-        let ((x0, x1), (y0, y1)) = self.ranges(labels);
-        let mut builder = ChartBuilder::on(root);
-        builder.margin(MARGIN);
-        if labels {
-            builder
-                .caption(&self.title, (FONT, CAPTION_SIZE))
-                .x_label_area_size(X_AREA)
-                .y_label_area_size(Y_AREA);
-        }
-        let mut chart = builder.build_cartesian_2d(x0..x1, y0..y1).map_err(msg)?;
-        let mut mesh = chart.configure_mesh();
-        if labels {
-            mesh.x_desc(format!("x ({})", self.unit))
-                .y_desc(format!("y ({})", self.unit))
-                .axis_desc_style((FONT, LABEL_SIZE))
-                .label_style((FONT, LABEL_SIZE - 4));
-        } else {
-            mesh.x_labels(0).y_labels(0);
-        }
-        mesh.light_line_style(RGBColor(240, 240, 240))
-            .draw()
-            .map_err(msg)?;
-        self.draw_body(&mut chart, labels)?;
-        self.draw_groups(&mut chart, labels)?;
-        if labels {
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .label_font((FONT, LABEL_SIZE - 4))
-                .position(SeriesLabelPosition::UpperRight)
-                .draw()
-                .map_err(msg)?;
-        }
-        Ok(())
+        draw_map(
+            root,
+            labels,
+            &self.title,
+            &self.unit,
+            self.ranges(labels),
+            |chart| {
+                self.draw_body(chart, labels)?;
+                self.draw_groups(chart, labels)
+            },
+        )
     }
 }
 

@@ -1,0 +1,87 @@
+//! The frame shared by the map-like figures (body geometry, crack paths): equal aspect,
+//! caption, axes in the scene's length unit, a light grid, the content, a legend.
+
+use plotters::coord::types::RangedCoordf64;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::style::{CAPTION_SIZE, FONT, LABEL_SIZE};
+use super::{equal_aspect, msg, span};
+
+/// Chart of a map figure (metres on both axes).
+pub(crate) type MapChart<'a, DB> =
+    ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+const MARGIN: u32 = 20;
+const X_AREA: u32 = 55;
+const Y_AREA: u32 = 95;
+const CAPTION: u32 = 45;
+
+/// Equal-aspect data ranges covering the finite `points` in a figure of `size` pixels.
+pub(crate) fn map_ranges(
+    points: impl Iterator<Item = (f64, f64)>,
+    size: (u32, u32),
+    labels: bool,
+) -> ((f64, f64), (f64, f64)) {
+    let pts: Vec<(f64, f64)> = points
+        .filter(|q| q.0.is_finite() && q.1.is_finite())
+        .collect();
+    let (xs, ys) = (span(pts.iter().map(|p| p.0)), span(pts.iter().map(|p| p.1)));
+    let (w, h) = if labels {
+        (
+            size.0 - 2 * MARGIN - Y_AREA,
+            size.1 - 2 * MARGIN - X_AREA - CAPTION,
+        )
+    } else {
+        (size.0 - 2 * MARGIN, size.1 - 2 * MARGIN)
+    };
+    equal_aspect((xs.0, ys.0), (xs.1, ys.1), w, h)
+}
+
+/// Draws a map figure on `root` over `ranges`: `content` draws the data (and registers
+/// its legend entries); the legend goes to the upper right. Without `labels`: no
+/// caption, axes text or legend.
+pub(crate) fn draw_map<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    labels: bool,
+    title: &str,
+    unit: &str,
+    ranges: ((f64, f64), (f64, f64)),
+    content: impl FnOnce(&mut MapChart<'_, DB>) -> Result<(), String>,
+) -> Result<(), String> {
+    root.fill(&WHITE).map_err(msg)?;
+    let ((x0, x1), (y0, y1)) = ranges;
+    let mut builder = ChartBuilder::on(root);
+    builder.margin(MARGIN);
+    if labels {
+        builder
+            .caption(title, (FONT, CAPTION_SIZE))
+            .x_label_area_size(X_AREA)
+            .y_label_area_size(Y_AREA);
+    }
+    let mut chart = builder.build_cartesian_2d(x0..x1, y0..y1).map_err(msg)?;
+    let mut mesh = chart.configure_mesh();
+    if labels {
+        mesh.x_desc(format!("x ({unit})"))
+            .y_desc(format!("y ({unit})"))
+            .axis_desc_style((FONT, LABEL_SIZE))
+            .label_style((FONT, LABEL_SIZE - 4));
+    } else {
+        mesh.x_labels(0).y_labels(0);
+    }
+    mesh.light_line_style(RGBColor(240, 240, 240))
+        .draw()
+        .map_err(msg)?;
+    content(&mut chart)?;
+    if labels {
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font((FONT, LABEL_SIZE - 4))
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()
+            .map_err(msg)?;
+    }
+    Ok(())
+}
