@@ -224,7 +224,7 @@ fn check_growth(c: &mut Checker, scene: &Scene, g: &crate::scene::Growth) {
             "trigger ratio must lie in (0, 1)",
         );
     } else if g.mode == GrowthMode::PdBem {
-        check_trigger_distance(c, scene, t);
+        check_trigger_band(c, t);
     }
     c.at_least(
         "growth.elements_per_extension",
@@ -282,29 +282,16 @@ fn check_growth(c: &mut Checker, scene: &Scene, g: &crate::scene::Growth) {
     }
 }
 
-/// A window is centred on its tip and moves once the tip comes within the trigger
-/// distance (1 - trigger_ratio) side + delta + dx of an interface side
-/// (`pdbem_coupling::growth::tips::margins`); that distance must stay below half the side,
-/// or every window would move as soon as it is placed.
-fn check_trigger_distance(c: &mut Checker, scene: &Scene, ratio: f64) {
-    let (Some(co), Some(pd)) = (&scene.coupling, &scene.pd) else {
-        return;
-    };
-    if !(co.side > 0.0 && co.n > 0 && pd.horizon_factor.is_finite()) {
-        return; // reported by the coupling and pd checks
-    }
-    let dx = co.side / co.n as f64;
-    let reach = pd.horizon_factor * dx + dx;
-    let trigger = (1.0 - ratio) * co.side + reach;
-    if trigger >= 0.5 * co.side {
-        let lowest = 1.0 - (0.5 * co.side - reach) / co.side;
+/// The no-fail band of a window is (1 - trigger_ratio) times its side wide on every
+/// interface side (`pdbem_coupling::growth::tips::margins`); a ratio of 0.5 or less makes
+/// the band cover the whole window, and the growth driver refuses it. Scene check and
+/// driver share the bound.
+fn check_trigger_band(c: &mut Checker, ratio: f64) {
+    if ratio <= 0.5 {
         c.fail(
             "growth.trigger_ratio",
             ratio,
-            format!(
-                "the window would move as soon as it is placed: its trigger distance (1 - trigger_ratio) side + delta + dx = {trigger:.4} m reaches half the window side ({:.4} m); use a ratio above {lowest:.3} (seed 002: 0.9)",
-                0.5 * co.side
-            ),
+            "PD-BEM growth needs a trigger ratio above 0.5: the no-fail band, (1 - trigger_ratio) of the window side on each interface side, would cover the whole window (seed 002: 0.9)",
         );
     }
 }
