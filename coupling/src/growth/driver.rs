@@ -11,10 +11,13 @@
 //!    edge cracks that meet, or a window that would have to reach the outline while its
 //!    crack is held at the outline at its other end (the BEM body would be cut in two;
 //!    the relocation is not attempted). Tips at a hole or running into another crack end
-//!    and the run goes on with the others.
+//!    and the run goes on with the others (the run ends when no tip is left).
 //! 3. Tips past their margin are relocated ([`Growth::relocate`], steps 7 and 10): new
-//!    window, extended crack, overlapping windows merged, mesh rebuilt and refactored,
-//!    state transferred; then 1. again at the same load.
+//!    window (one covering all the tips of a window that moves), extended cracks,
+//!    overlapping windows merged, mesh rebuilt and refactored, state transferred; then 1.
+//!    again at the same load. A tip whose window cannot move on because a hole is in the
+//!    way ends at that hole ([`TipEnd::Hole`], noted through the observer) and the others
+//!    go on.
 //! 4. Otherwise the step converged (interface residual below psi and no bond broke in the
 //!    last PD solves) and is recorded; the load grows.
 //!
@@ -323,6 +326,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
             .start
             .as_ref()
             .map(|(x, f)| x.iter().map(|v| v * load / f).collect());
+        let holes = self.hole_names();
         let tips = &self.tips;
         let (body, params) = (&self.body, &self.params);
         let mut positions: Vec<V2> = tips.iter().map(TipState::position).collect();
@@ -334,7 +338,13 @@ impl<'s, S: Scenario> Growth<'s, S> {
                 match track(wm, tip.window, tip.entry, &params.path) {
                     Ok(p) if !p.is_empty() => {
                         positions[t] = V2::new(p.tip()[0], p.tip()[1]);
-                        stop |= needs_attention(&wm.window, tip.entry, positions[t], body, params);
+                        stop |= needs_attention(
+                            &wm.window,
+                            tip.entry,
+                            positions[t],
+                            (body, &holes),
+                            params,
+                        );
                     }
                     Ok(_) => {}
                     Err(e) => {
@@ -382,6 +392,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
     /// cut the body (reached the outline), if any.
     fn end_tips(&mut self, observer: &mut dyn Observer) -> Option<usize> {
         let mut cut = None;
+        let holes = self.hole_names();
         for t in 0..self.tips.len() {
             if !self.tips[t].active() || self.tips[t].path.is_empty() {
                 continue;
@@ -389,7 +400,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
             let dx = self.problem.windows[self.tips[t].window].window.spec.dx;
             let reach = self.params.boundary_reach * dx;
             let p = self.tips[t].position();
-            let end = reached_boundary(&self.body, p, reach).or_else(|| {
+            let end = reached_boundary(&self.body, &holes, p, reach).or_else(|| {
                 let wm = &self.problem.windows[self.tips[t].window];
                 self.tips
                     .iter()
@@ -508,6 +519,13 @@ impl<'s, S: Scenario> Growth<'s, S> {
                     break (false, o.residual, Some(t));
                 }
                 let recs = self.apply(plan, k, load, observer)?;
+                if recs.is_empty() {
+                    // Every triggered tip ended at a hole: iterate on with the others.
+                    if o.converged || self.tips.iter().all(|t| !t.active()) {
+                        break (o.converged, o.residual, None);
+                    }
+                    continue;
+                }
                 relocations += recs.len();
                 out.relocations.extend(recs);
             };
@@ -555,10 +573,16 @@ impl<'s, S: Scenario> Growth<'s, S> {
 }
 
 /// Whether a traced tip at `p` (entry `entry`) in `w` is past the margin or at the outline
-/// or a hole.
-fn needs_attention(w: &Window, entry: V2, p: V2, body: &Body, params: &GrowthParams) -> bool {
+/// or a hole (`body` with its hole names).
+fn needs_attention(
+    w: &Window,
+    entry: V2,
+    p: V2,
+    (body, holes): (&Body, &[String]),
+    params: &GrowthParams,
+) -> bool {
     passed_margin(w, p, entry, params.trigger_ratio)
-        || reached_boundary(body, p, params.boundary_reach * w.spec.dx).is_some()
+        || reached_boundary(body, holes, p, params.boundary_reach * w.spec.dx).is_some()
 }
 
 /// Adds the step and load to an error of a step.
@@ -600,4 +624,72 @@ fn tip_windows(setup: &GrowthSetup, body: &Body) -> Result<Vec<usize>, CouplingE
                 })
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::growth::fixtures::{plate_setup, PlateScenario};
+    use crate::growth::params::LoadSteps;
+
+    /// Collects the notes.
+    #[derive(Default)]
+    struct Notes(Vec<String>);
+
+    impl Observer for Notes {
+        fn note(&mut self, message: &str) {
+            self.0.push(message.to_string());
+        }
+    }
+
+    #[test]
+    fn tip_growing_into_a_hole_ends_there() {
+        // A 10 m x 5 m plate pulled along x, an edge crack from (5, 0) up to (5, 1.5) and
+        // a hole of radius 0.5 m centred at (5, 3.3) straight ahead. The 1 m window
+        // follows the crack up until it cannot move on without covering the hole.
+        let hole: Vec<V2> = (0..16)
+            .map(|k| {
+                let a = -(k as f64) * std::f64::consts::TAU / 16.0;
+                V2::new(5.0 + 0.5 * a.cos(), 3.3 + 0.5 * a.sin())
+            })
+            .collect();
+        let setup = plate_setup(
+            (10.0, 5.0),
+            vec![hole],
+            vec![vec![V2::new(5.0, 0.0), V2::new(5.0, 1.5)]],
+            Some(3e-3),
+        );
+        let loads = LoadSteps {
+            initial: 1.0,
+            step: 0.5,
+            count: 4,
+        };
+        let mut params = GrowthParams::new(loads, 0.5);
+        // The scenes' relaxation (Aitken from 0.3 diverges here once bonds break).
+        params.coupling.acceleration = crate::iteration::Acceleration::IqnIls(0.5);
+        let mut g = Growth::new(setup, &PlateScenario, params).unwrap();
+        let mut notes = Notes::default();
+        let out = g.run(&mut notes).unwrap();
+        // Measured: the window moves three times in step 0 (the tip at y = 1.725, 1.975,
+        // 2.225); with the tip at y = 2.525 the next window would cover the hole, whose
+        // lowest point is at y = 2.8.
+        assert_eq!(g.tips()[0].ended, Some(TipEnd::Hole("hole0".into())));
+        let tip = g.tips()[0].position();
+        assert!(tip.y > 2.0 && tip.y < 2.8, "tip at {tip:?}");
+        assert!(out.failure.is_none());
+        assert!(!out.relocations.is_empty());
+        assert!(
+            notes
+                .0
+                .iter()
+                .any(|n| n.contains("c0.end") && n.contains("hole0")),
+            "{:?}",
+            notes.0
+        );
+        assert!(
+            out.notes.iter().any(|n| n.contains("every tip ended")),
+            "{:?}",
+            out.notes
+        );
+    }
 }

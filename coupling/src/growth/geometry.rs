@@ -1,8 +1,9 @@
 //! The geometry iteration of Algorithm 2 on a [`Growth`] run (seed 002 section 2.3.3,
 //! Fig. 9, Algorithm 2 steps 7 and 10): [`Growth::plan`] works out the moved windows
-//! ([`crate::growth::relocate::moved_spec`]), the extended cracks
-//! ([`crate::growth::relocate::extend_crack`]) and the merges, and whether the result
-//! would cut the BEM body ([`crate::growth::topology`]); [`Growth::apply`] rebuilds mesh,
+//! ([`crate::growth::relocate::moved_spec`]; a window holding several moved tips covers
+//! all of them), the extended cracks ([`crate::growth::relocate::extend_crack`]), the
+//! merges, the tips whose window a hole stops, and whether the result would cut the BEM
+//! body ([`crate::growth::topology`]); [`Growth::apply`] rebuilds mesh,
 //! BEM factorization and windows and transfers the state
 //! ([`crate::growth::transfer`]).
 
@@ -13,42 +14,69 @@ use pdbem_bem::V2;
 
 use crate::error::CouplingError;
 use crate::growth::driver::{build_geometry, Growth};
-use crate::growth::merge::resolve_overlaps;
+use crate::growth::merge::{cover_box, merge_specs, resolve_overlaps};
 use crate::growth::polyline;
 use crate::growth::records::{Observer, RelocationPlan, RelocationRecord, Scenario};
 use crate::growth::relocate::{extend_crack, moved_spec};
-use crate::growth::tips::{entry_point, towards_tip, TipState};
+use crate::growth::tips::{entry_point, hole_name, margins, towards_tip, TipEnd, TipState};
 use crate::growth::topology::cuts_body;
 use crate::growth::transfer::transfer_state;
 use crate::setup::Layout;
-use crate::window::Window;
+use crate::window::{Window, WindowSpec};
+
+/// Per moved tip: (tip, (old window centre, tip position, BEM elements added per face)).
+type Moves = Vec<(usize, (V2, V2, usize))>;
 
 impl<S: Scenario> Growth<'_, S> {
     /// The geometry of the next relocation of tips `which`: windows moved along the growth
     /// directions, cracks extended along the traced paths, overlapping windows merged.
     /// Nothing changes until [`Growth::apply`].
+    ///
+    /// The tips of one window move it together: each gives a moved window
+    /// ([`moved_spec`]); the new window is the smallest rectangle covering all of them and,
+    /// for the window's other tips, their entry and the trigger distance around them within
+    /// the old window ([`cover_box`]); every moved tip's crack is then extended into that
+    /// window. A tip whose moved window would lie over a hole is left out and ends at the
+    /// hole ([`RelocationPlan::blocked`]); if the covering window lies over a hole, all
+    /// the window's moved tips do.
     pub fn plan(&self, which: &[usize]) -> Result<RelocationPlan, CouplingError> {
         let mut layout = self.setup.layout.clone();
         let mut moves = Vec::new();
+        let mut blocked = Vec::new();
+        let mut windows: Vec<usize> = Vec::new();
         for &t in which {
-            moves.push((t, self.plan_move(t, &mut layout)?));
+            if !windows.contains(&self.tips[t].window) {
+                windows.push(self.tips[t].window);
+            }
+        }
+        for w in windows {
+            let group: Vec<usize> = which
+                .iter()
+                .copied()
+                .filter(|&t| self.tips[t].window == w)
+                .collect();
+            let (m, b) = self.plan_window(w, &group, &mut layout)?;
+            moves.extend(m);
+            blocked.extend(b);
         }
         let names: Vec<String> = self.tips.iter().map(|t| t.spec.name.clone()).collect();
         let mut owner: Vec<usize> = self.tips.iter().map(|t| t.window).collect();
         let merges = resolve_overlaps(&mut layout.windows, &mut owner, &names, &self.body)?;
-        let cuts_body = cuts_body(&layout, &self.body);
+        let cuts_body = !moves.is_empty() && cuts_body(&layout, &self.body);
         Ok(RelocationPlan {
             layout,
             owner,
             moves,
+            blocked,
             merges,
             cuts_body,
         })
     }
 
-    /// Carries out a relocation plan at load `load` (step `step`): mesh rebuilt and
+    /// Carries out a relocation plan at load `load` (step `step`): blocked tips ended at
+    /// their hole (noted through the observer), then, unless no tip moves, mesh rebuilt and
     /// refactored, windows rebuilt with their state transferred, tips re-traced. Returns
-    /// one record per relocated tip.
+    /// one record per relocated tip (none when every tip was blocked).
     pub fn apply(
         &mut self,
         plan: RelocationPlan,
@@ -66,6 +94,18 @@ impl<S: Scenario> Growth<'_, S> {
                     .map_or_else(String::new, |m| names[m.0].clone()),
                 reason: "the moved windows and the cracks would cut the BEM body in two".into(),
             });
+        }
+        for (t, hole) in &plan.blocked {
+            let p = self.tips[*t].position();
+            observer.note(&format!(
+                "tip {} ended at ({:.4}, {:.4}): its window cannot move on, hole {hole} is in \
+                 the way",
+                names[*t], p.x, p.y
+            ));
+            self.tips[*t].ended = Some(TipEnd::Hole(hole.clone()));
+        }
+        if plan.moves.is_empty() {
+            return Ok(Vec::new());
         }
         observer.before_relocation(step, &self.problem.windows);
         if plan.merges > 0 {
@@ -181,46 +221,124 @@ impl<S: Scenario> Growth<'_, S> {
             })
     }
 
-    /// New window and extended crack of tip `t` written into `layout`; returns the old
-    /// window centre, the tip position and the elements added per face.
-    fn plan_move(&self, t: usize, layout: &mut Layout) -> Result<(V2, V2, usize), CouplingError> {
-        let tip = &self.tips[t];
-        let w = &self.problem.windows[tip.window].window;
-        let dx = w.spec.dx;
-        let spec_crack = &layout.cracks[tip.spec.crack];
-        let line = towards_tip(&spec_crack.points, tip.spec.at_end);
-        let dir = self.growth_direction(t, &line)?;
-        let pos = tip.position();
-        let spec = moved_spec(
-            w,
-            pos,
-            dir,
-            self.params.move_distance,
-            self.params.trigger_ratio,
-            &self.body,
-            &tip.spec.name,
-        )?;
-        let new = Window::place(tip.window, spec.clone(), &self.body)?;
-        let s_entry = polyline::entry_length(&line, w).unwrap_or(0.0);
-        // Until its first extension a crack is meshed by size (capped at dx in windows).
-        let base_size = (!spec_crack.segment_elements).then(|| spec_crack.element_size.min(dx));
-        let (mut pts, added) = extend_crack(
-            &line,
-            s_entry,
-            &tip.path_points(),
-            &new,
-            self.params.elements_per_extension,
-            base_size,
-            &tip.spec.name,
-        )?;
-        if !tip.spec.at_end {
-            pts.reverse();
+    /// Moves window `w` for its triggered tips `group` (see [`Growth::plan`]): the new
+    /// window and the extended cracks are written into `layout`. Returns per moved tip
+    /// (tip, (old window centre, tip position, BEM elements added per face)) and the tips
+    /// blocked by a hole with the hole's name.
+    fn plan_window(
+        &self,
+        w: usize,
+        group: &[usize],
+        layout: &mut Layout,
+    ) -> Result<(Moves, Vec<(usize, String)>), CouplingError> {
+        let old = &self.problem.windows[w].window;
+        let dx = old.spec.dx;
+        let holes = self.hole_names();
+        let mut blocked = Vec::new();
+        let mut specs: Vec<WindowSpec> = Vec::new();
+        let mut movers = Vec::new();
+        for &t in group {
+            let tip = &self.tips[t];
+            let line = towards_tip(
+                &self.setup.layout.cracks[tip.spec.crack].points,
+                tip.spec.at_end,
+            );
+            let dir = self.growth_direction(t, &line)?;
+            match moved_spec(
+                old,
+                tip.position(),
+                dir,
+                self.params.move_distance,
+                self.params.trigger_ratio,
+                &self.body,
+                &tip.spec.name,
+            ) {
+                Ok(s) => {
+                    specs.push(s);
+                    movers.push(t);
+                }
+                Err(CouplingError::OverHole { hole, .. }) => {
+                    blocked.push((t, hole_name(&holes, hole)));
+                }
+                Err(e) => return Err(e),
+            }
         }
-        layout.cracks[tip.spec.crack].points = pts;
-        layout.cracks[tip.spec.crack].segment_elements = true;
-        let from = w.spec.center;
-        layout.windows[tip.window] = spec;
-        Ok((from, pos, added))
+        let Some(first) = specs.first() else {
+            return Ok((Vec::new(), blocked));
+        };
+        let mut spec = first.clone();
+        for s in &specs[1..] {
+            spec = merge_specs(&spec, s).map_err(|reason| CouplingError::Relocation {
+                tip: self.tips[movers[0]].spec.name.clone(),
+                reason,
+            })?;
+        }
+        let (_, trigger) = margins(old, self.params.trigger_ratio);
+        for (t, tip) in self.tips.iter().enumerate() {
+            if tip.window == w && !movers.contains(&t) {
+                spec = cover_box(&spec, old, tip.position(), tip.entry, trigger);
+            }
+        }
+        let new = match Window::place(w, spec.clone(), &self.body) {
+            Ok(n) => n,
+            Err(CouplingError::OverHole { hole, .. }) => {
+                let h = hole_name(&holes, hole);
+                blocked.extend(movers.iter().map(|&t| (t, h.clone())));
+                return Ok((Vec::new(), blocked));
+            }
+            Err(e) => {
+                return Err(CouplingError::Relocation {
+                    tip: self.tips[movers[0]].spec.name.clone(),
+                    reason: format!(
+                        "the moved window centred at ({:.4}, {:.4}) ({} x {} nodes) is not \
+                         admissible: {e}",
+                        spec.center.x, spec.center.y, spec.nx, spec.ny
+                    ),
+                })
+            }
+        };
+        let mut moves = Moves::new();
+        for &t in &movers {
+            let tip = &self.tips[t];
+            let crack = &layout.cracks[tip.spec.crack];
+            let line = towards_tip(&crack.points, tip.spec.at_end);
+            let s_entry = polyline::entry_length(&line, old).unwrap_or(0.0);
+            // Until its first extension a crack is meshed by size (capped at dx in windows).
+            let base_size = (!crack.segment_elements).then(|| crack.element_size.min(dx));
+            let (mut pts, added) = extend_crack(
+                &line,
+                s_entry,
+                &tip.path_points(),
+                &new,
+                self.params.elements_per_extension,
+                base_size,
+                &tip.spec.name,
+            )?;
+            if !tip.spec.at_end {
+                pts.reverse();
+            }
+            layout.cracks[tip.spec.crack].points = pts;
+            layout.cracks[tip.spec.crack].segment_elements = true;
+            moves.push((t, (old.spec.center, tip.position(), added)));
+        }
+        layout.windows[w] = spec;
+        Ok((moves, blocked))
+    }
+
+    /// Names of the holes (the BEM group of each hole's edges).
+    pub(super) fn hole_names(&self) -> Vec<String> {
+        self.setup
+            .layout
+            .holes
+            .iter()
+            .enumerate()
+            .map(|(i, h)| {
+                h.edge_groups
+                    .first()
+                    .cloned()
+                    .unwrap_or_else(|| i.to_string())
+            })
+            .collect()
     }
 }
 
@@ -237,4 +355,100 @@ fn max_distance(a: &[V2], b: &[V2]) -> f64 {
                 .fold(f64::INFINITY, f64::min)
         })
         .fold(0.0, f64::max)
+}
+
+#[cfg(test)]
+mod tests {
+    use pdbem_pd::crack_path::CrackPath;
+
+    use super::*;
+    use crate::growth::fixtures::{plate_setup, PlateScenario};
+    use crate::growth::records::Silent;
+    use crate::growth::{GrowthParams, LoadSteps};
+
+    /// A traced path through `pts`, every 0.05 m.
+    fn path(pts: &[V2]) -> CrackPath {
+        let fine = polyline::resample_spacing(pts, 0.0, polyline::length(pts), 0.05);
+        CrackPath {
+            points: fine.iter().map(|p| [p.x, p.y]).collect(),
+            nodes: Vec::new(),
+            tip_node: Some(0),
+            length: polyline::length(pts),
+        }
+    }
+
+    #[test]
+    fn two_tips_of_one_window_moving_at_once_both_move() {
+        // Two parallel cracks 0.4 m apart ending at x = 9.5; their windows merge into
+        // [9, 10] x [4.3, 5.7] (20 x 28 nodes), entries at (9, 4.8) and (9, 5.2).
+        let setup = plate_setup(
+            (20.0, 10.0),
+            vec![],
+            vec![
+                vec![V2::new(7.0, 4.8), V2::new(9.5, 4.8)],
+                vec![V2::new(7.0, 5.2), V2::new(9.5, 5.2)],
+            ],
+            None,
+        );
+        let loads = LoadSteps {
+            initial: 1.0,
+            step: 0.0,
+            count: 1,
+        };
+        let mut g = Growth::new(setup, &PlateScenario, GrowthParams::new(loads, 0.5)).unwrap();
+        assert_eq!(g.problem().windows.len(), 1);
+        assert_eq!((g.tips[0].window, g.tips[1].window), (0, 0));
+        g.solve_at(0, 1.0, &mut Silent).unwrap();
+        // Both tips past the margin in the same iteration, diverging: c0 down to
+        // (9.8, 4.5), c1 up to (9.8, 5.5). Alone each would move the window by
+        // (0.35, -+0.35): [9.35, 10.35] x [3.95, 5.35] and [9.35, 10.35] x [4.65, 6.05].
+        g.tips[0].path = path(&[V2::new(9.0, 4.8), V2::new(9.5, 4.8), V2::new(9.8, 4.5)]);
+        g.tips[1].path = path(&[V2::new(9.0, 5.2), V2::new(9.5, 5.2), V2::new(9.8, 5.5)]);
+        let before = g.layout().cracks.clone();
+        let recs = g.relocate(&[0, 1], 0, 1.0, &mut Silent).unwrap();
+        assert_eq!(recs.len(), 2);
+        assert!(recs.iter().all(|r| r.elements_added == 5), "{recs:?}");
+        // One window covering both moved windows: [9.35, 10.35] x [3.95, 6.05].
+        assert_eq!(g.problem().windows.len(), 1);
+        let w = &g.problem().windows[0].window;
+        assert_eq!((w.spec.nx, w.spec.ny), (20, 42));
+        assert!(
+            (w.spec.center - V2::new(9.85, 5.0)).norm() < 1e-9,
+            "{:?}",
+            w.spec.center
+        );
+        for (t, (y, tip)) in [(4.8, V2::new(9.8, 4.5)), (5.2, V2::new(9.8, 5.5))]
+            .into_iter()
+            .enumerate()
+        {
+            assert!(w.contains(tip, 0.0), "tip {t} outside the window");
+            assert_eq!(g.tips[t].window, 0);
+            // Each crack's BEM part now runs to the new window: it enters at x = 9.35.
+            assert!(
+                (g.tips[t].entry - V2::new(9.35, y)).norm() < 1e-9,
+                "entry of tip {t}: {:?}",
+                g.tips[t].entry
+            );
+            let pts = &g.layout().cracks[t].points;
+            assert!(pts.len() > before[t].points.len());
+            assert!(
+                pts.iter().any(|p| (p - V2::new(9.35, y)).norm() < 1e-9),
+                "crack {t}: {pts:?}"
+            );
+            // Its pre-crack follows the path to one dx short of the tip.
+            let end = *pts.last().unwrap();
+            assert!((end - tip).norm() < 0.06, "crack {t} ends at {end:?}");
+            // The BEM faces reach the new window.
+            let mesh = &g.problem().mesh;
+            let gi = mesh.group(&format!("c{t}.upper")).unwrap();
+            let reach = mesh
+                .group_elements(gi)
+                .flat_map(|e| [mesh.elements[e].a.x, mesh.elements[e].b.x])
+                .fold(f64::NEG_INFINITY, f64::max);
+            assert!(
+                (reach - 9.35).abs() < 1e-9,
+                "crack {t} faces reach x = {reach}"
+            );
+        }
+    }
 }

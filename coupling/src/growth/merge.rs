@@ -1,6 +1,10 @@
 //! Several tips: windows that would overlap are merged into one rectangle covering both
 //! (same orientation and spacing, on the lattice of the first), which then holds both
 //! tips; if that is impossible the run stops with an error naming the tips.
+//!
+//! A merged window moves as one ([`crate::growth::Growth::plan`]): each of its tips past
+//! the margin gives a moved window, and the new window is the smallest rectangle covering
+//! all of them ([`merge_specs`]) and the tips that did not move ([`cover_box`]).
 
 use pdbem_bem::V2;
 
@@ -52,6 +56,34 @@ pub fn merge_specs(a: &WindowSpec, b: &WindowSpec) -> Result<WindowSpec, String>
         ny: ((y1 - y0) / dx).round() as usize,
         horizon_factor: a.horizon_factor,
     })
+}
+
+/// The smallest rectangle on the lattice of `a` covering `a` and the points `pts`.
+pub fn cover_points(a: &WindowSpec, pts: &[V2]) -> WindowSpec {
+    pts.iter().fold(a.clone(), |acc, &p| {
+        let point = WindowSpec {
+            center: p,
+            nx: 0,
+            ny: 0,
+            ..acc.clone()
+        };
+        merge_specs(&acc, &point).expect("same orientation and spacing")
+    })
+}
+
+/// `a` grown (on its lattice) to cover the square of half-side `r` around `tip`, clipped
+/// to window `old`, and the point `entry`: what a tip that did not move needs of the
+/// moved window it shares (its crack entry and its trigger distance around the tip, as
+/// far as the old window gave it).
+pub fn cover_box(a: &WindowSpec, old: &Window, tip: V2, entry: V2, r: f64) -> WindowSpec {
+    let (lx, ly) = old.size();
+    let (e1, e2) = old.axes();
+    let q = old.to_local(tip);
+    let (x0, x1) = ((q.x - r).max(0.0), (q.x + r).min(lx));
+    let (y0, y1) = ((q.y - r).max(0.0), (q.y + r).min(ly));
+    let c0 = old.corners()[0];
+    let at = |x: f64, y: f64| c0 + x * e1 + y * e2;
+    cover_points(a, &[at(x0, y0), at(x1, y0), at(x1, y1), at(x0, y1), entry])
 }
 
 /// Merges overlapping windows until none overlap. `owner[t]` is the window of tip `t`
@@ -156,6 +188,29 @@ mod tests {
         resolve_overlaps(&mut specs, &mut owner, &names, &body()).unwrap();
         assert_eq!(owner, vec![0, 0]);
         assert_eq!((specs[0].nx, specs[0].ny), (36, 20));
+    }
+
+    #[test]
+    fn cover_box_is_clipped_to_the_old_window() {
+        // Old window [9.5, 10.5] x [4.5, 5.5]; a moved one [10.0, 11.0] x [4.5, 5.5]; a
+        // tip at (9.6, 5.0) with a 0.3 m margin clipped at x = 9.5 and entry (9.5, 5.2).
+        let old = Window::place(0, spec(10.0, 5.0, 0.0), &body()).unwrap();
+        let m = cover_box(
+            &spec(10.5, 5.0, 0.0),
+            &old,
+            V2::new(9.6, 5.0),
+            V2::new(9.5, 5.2),
+            0.3,
+        );
+        assert_eq!((m.nx, m.ny), (30, 20));
+        assert!(
+            (m.center - V2::new(10.25, 5.0)).norm() < 1e-9,
+            "{:?}",
+            m.center
+        );
+        // A point outside grows the window on the lattice.
+        let p = cover_points(&spec(10.0, 5.0, 0.0), &[V2::new(10.62, 5.0)]);
+        assert_eq!((p.nx, p.ny), (23, 20));
     }
 
     #[test]

@@ -28,7 +28,12 @@
 //!   meeting, or a relocation after which the remaining ligament would lie wholly in PD
 //!   windows ([`topology`]: the BEM body would be cut apart and a floating part cannot be
 //!   held by the Dirichlet-Neumann iteration). A tip reaching a hole or another crack
-//!   ends; the others go on.
+//!   ends; the others go on. Windows may not lie over a hole, so a tip growing towards
+//!   one ends at it ([`TipEnd::Hole`]) when its window cannot move on without covering
+//!   it ([`Growth::plan`]).
+//! - A window holding several tips (windows merged) moves for all of its tips past the
+//!   margin at once: the new window covers each one's moved window and the window's
+//!   other tips, and every moved tip's crack is extended into it.
 //!
 //! Map:
 //! - [`driver`]: [`Growth`] (the run: [`Growth::run`], [`Growth::solve_at`]).
@@ -63,11 +68,19 @@ pub use records::{
 pub use tips::{TipEnd, TipSpec, TipState};
 pub use transfer::TransferInfo;
 
-/// Shared test fixtures: the seed 002 plate (20 m x 10 m) and a 1 m window in it.
+/// Shared test fixtures: the seed 002 plate (20 m x 10 m) and a 1 m window in it; a
+/// rectangular plate scene ([`fixtures::PlateScenario`], [`fixtures::plate_setup`]) for
+/// growth runs.
 #[cfg(test)]
 pub(crate) mod fixtures {
-    use pdbem_bem::V2;
+    use pdbem_bem::mesh::{FaceMode, LoopSpec};
+    use pdbem_bem::post::Background;
+    use pdbem_bem::{Bc, Material, Mesh, SolveParams, V2};
 
+    use crate::growth::records::{GrowthSetup, Scenario};
+    use crate::growth::tips::TipSpec;
+    use crate::pd_window::{EdgeCondition, PdSettings};
+    use crate::setup::{Layout, MacroCrack};
     use crate::window::{Body, Window, WindowSpec};
 
     /// The 20 m x 10 m plate of seed 002 section 3.2.
@@ -85,14 +98,120 @@ pub(crate) mod fixtures {
 
     /// A 20 x 20 window of dx = 0.05 m centred at (cx, cy).
     pub(crate) fn window(cx: f64, cy: f64) -> Window {
-        let spec = WindowSpec {
-            center: V2::new(cx, cy),
+        Window::place(0, window_spec(V2::new(cx, cy)), &body()).unwrap()
+    }
+
+    /// The spec of [`window`].
+    pub(crate) fn window_spec(center: V2) -> WindowSpec {
+        WindowSpec {
+            center,
             angle: 0.0,
             dx: 0.05,
             nx: 20,
             ny: 20,
             horizon_factor: 3.015,
+        }
+    }
+
+    /// A plate `[0, w] x [0, h]` (edges `bottom`, `right`, `top`, `left`): the left edge
+    /// fixed, a traction of 1 MPa (times the load factor) along x on the right edge, the
+    /// rest free. E = 1 GPa, nu = 1/3, plane stress, thickness 1 m.
+    pub(crate) struct PlateScenario;
+
+    impl Scenario for PlateScenario {
+        fn bem_conditions(&self, mesh: &Mesh) -> Result<Vec<[Bc; 2]>, String> {
+            Ok(mesh
+                .elements
+                .iter()
+                .map(|e| match mesh.groups[e.group].as_str() {
+                    "left" => [Bc::Displacement(0.0), Bc::Displacement(0.0)],
+                    "right" => [Bc::Traction(1e6), Bc::Traction(0.0)],
+                    _ => [Bc::Traction(0.0), Bc::Traction(0.0)],
+                })
+                .collect())
+        }
+
+        fn outer_conditions(&self, _window: &Window) -> Vec<EdgeCondition> {
+            Vec::new()
+        }
+    }
+
+    /// Growth setup of a `w x h` plate ([`PlateScenario`]) with holes `holes` (polygons,
+    /// named `hole<i>`), cracks `cracks` (named `c<i>`, tip at the last point) and one
+    /// window ([`window_spec`]) at each tip; PD bonds break at stretch `s0` (None: never).
+    pub(crate) fn plate_setup(
+        (w, h): (f64, f64),
+        holes: Vec<Vec<V2>>,
+        cracks: Vec<Vec<V2>>,
+        s0: Option<f64>,
+    ) -> GrowthSetup {
+        let outline = vec![
+            V2::new(0.0, 0.0),
+            V2::new(w, 0.0),
+            V2::new(w, h),
+            V2::new(0.0, h),
+        ];
+        let tips = (0..cracks.len())
+            .map(|i| TipSpec {
+                name: format!("c{i}.end"),
+                crack: i,
+                at_end: true,
+            })
+            .collect();
+        let layout = Layout {
+            outline: LoopSpec {
+                points: outline,
+                edge_groups: ["bottom", "right", "top", "left"].map(String::from).into(),
+                edge_sizes: vec![0.5; 4],
+                is_hole: false,
+            },
+            holes: holes
+                .into_iter()
+                .enumerate()
+                .map(|(i, points)| LoopSpec {
+                    edge_groups: vec![format!("hole{i}"); points.len()],
+                    edge_sizes: vec![f64::INFINITY; points.len()],
+                    points,
+                    is_hole: true,
+                })
+                .collect(),
+            windows: cracks
+                .iter()
+                .map(|c| window_spec(*c.last().expect("points")))
+                .collect(),
+            cracks: cracks
+                .into_iter()
+                .enumerate()
+                .map(|(i, points)| MacroCrack {
+                    name: format!("c{i}"),
+                    points,
+                    faces: FaceMode::Coincident,
+                    element_size: 0.1,
+                    segment_elements: false,
+                })
+                .collect(),
+            pd: PdSettings {
+                youngs_modulus: 1e9,
+                thickness: 1.0,
+                plane: pdbem_pd::Plane::Stress,
+                failure: s0.map_or(pdbem_pd::Failure::None, |s0| {
+                    pdbem_pd::Failure::CriticalStretch { s0 }
+                }),
+                surface_correction: false,
+                bulk_correction: false,
+                crack_face_correction: false,
+            },
         };
-        Window::place(0, spec, &body()).unwrap()
+        GrowthSetup {
+            layout,
+            tips,
+            material: Material::new(1e9, 1.0 / 3.0, pdbem_bem::Plane::Stress).unwrap(),
+            bem_params: SolveParams {
+                estimate_condition: false,
+                ..Default::default()
+            },
+            background: Background::default(),
+            thickness: 1.0,
+        }
     }
 }

@@ -138,6 +138,10 @@ pub struct RelocationPlan {
     pub owner: Vec<usize>,
     /// Per relocated tip: (tip, (old window centre, tip position, BEM elements added)).
     pub moves: Vec<(usize, (V2, V2, usize))>,
+    /// Tips past their margin whose window cannot move on because a hole is in the way,
+    /// with the hole's name: [`Growth::apply`](crate::growth::Growth::apply) ends them at
+    /// the hole ([`crate::growth::TipEnd::Hole`]).
+    pub blocked: Vec<(usize, String)>,
     /// Windows merged.
     pub merges: usize,
     /// The new layout would cut the BEM body apart ([`crate::growth::topology`]).

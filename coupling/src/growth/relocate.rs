@@ -7,7 +7,10 @@
 //!   exactly ([`crate::growth::transfer`]). A window that would leave the body is pushed
 //!   back inside (against the outline, where its side becomes an outer side); the tip must
 //!   end up inside the new window, clear of its trigger distance
-//!   ([`crate::growth::tips::margins`]), or the window is centred on the tip.
+//!   ([`crate::growth::tips::margins`]), or the window is centred on the tip. A window
+//!   that cannot be placed either way because a hole is in the way gives
+//!   [`CouplingError::OverHole`] (the tip then ends at the hole); other failures give
+//!   [`CouplingError::Relocation`].
 //! - [`extend_crack`]: the macro crack is the old polyline up to the old window entry,
 //!   then the smoothed PD path: from the old entry to where the path enters the new window
 //!   it becomes BEM crack, split into `elements_per_extension` straight elements per face,
@@ -58,8 +61,8 @@ fn clamp_into(spec: &WindowSpec, body: &Body) -> WindowSpec {
     out
 }
 
-/// The window after one relocation of the window `w` whose tip is at `tip` (entry
-/// `entry`) and grows along unit `dir`; see the module docs.
+/// The window after one relocation of the window `w` whose tip is at `tip` and grows
+/// along unit `dir`; see the module docs.
 pub fn moved_spec(
     w: &Window,
     tip: V2,
@@ -85,14 +88,17 @@ pub fn moved_spec(
         c.center += snap(tip - w.spec.center, e1, e2, dx);
         spec = clamp_into(&c, body);
     }
-    Window::place(0, spec.clone(), body).map_err(|e| CouplingError::Relocation {
-        tip: tip_name.to_string(),
-        reason: format!(
-            "moved window centred at ({:.4}, {:.4}) is not admissible: {e}",
-            spec.center.x, spec.center.y
-        ),
-    })?;
-    Ok(spec)
+    match Window::place(0, spec.clone(), body) {
+        Ok(_) => Ok(spec),
+        Err(e @ CouplingError::OverHole { .. }) => Err(e),
+        Err(e) => Err(CouplingError::Relocation {
+            tip: tip_name.to_string(),
+            reason: format!(
+                "moved window centred at ({:.4}, {:.4}) is not admissible: {e}",
+                spec.center.x, spec.center.y
+            ),
+        }),
+    }
 }
 
 /// The point of the boundary of `w` nearest to `p` that is an interface element end

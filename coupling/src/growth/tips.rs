@@ -37,8 +37,9 @@ pub struct TipSpec {
 pub enum TipEnd {
     /// It reached the outer boundary: the body is cut (seed 002 Algorithm 2 step 9).
     Outline,
-    /// It reached hole `i`.
-    Hole(usize),
+    /// It reached the named hole (the BEM group of the hole's edges), or its window could
+    /// not move on because the hole was in the way.
+    Hole(String),
     /// It ran into the crack of the named tip.
     Coalescence(String),
 }
@@ -47,7 +48,7 @@ impl std::fmt::Display for TipEnd {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             TipEnd::Outline => write!(f, "outline"),
-            TipEnd::Hole(i) => write!(f, "hole:{i}"),
+            TipEnd::Hole(h) => write!(f, "hole:{h}"),
             TipEnd::Coalescence(t) => write!(f, "coalescence:{t}"),
         }
     }
@@ -174,14 +175,20 @@ pub fn protect_band(wm: &mut WindowModel, ratio: f64) -> usize {
 }
 
 /// What the tip reached, if anything: the outline or a hole within `reach` (m).
-pub fn reached_boundary(body: &Body, tip: V2, reach: f64) -> Option<TipEnd> {
+/// `hole_names[i]` names hole `i` of the body.
+pub fn reached_boundary(body: &Body, hole_names: &[String], tip: V2, reach: f64) -> Option<TipEnd> {
     if polygon_distance(tip, &body.outline) <= reach {
         return Some(TipEnd::Outline);
     }
     body.holes
         .iter()
         .position(|h| polygon_distance(tip, h) <= reach)
-        .map(TipEnd::Hole)
+        .map(|i| TipEnd::Hole(hole_name(hole_names, i)))
+}
+
+/// Name of hole `i`: `hole_names[i]`, else its index.
+pub fn hole_name(hole_names: &[String], i: usize) -> String {
+    hole_names.get(i).cloned().unwrap_or_else(|| i.to_string())
 }
 
 /// Whether the crack of `tip` ran into the crack of `other` (same window): the tip lies
@@ -238,15 +245,24 @@ mod tests {
     #[test]
     fn boundary_and_hole_are_detected() {
         let b = body();
+        let names = vec!["h".to_string()];
         assert_eq!(
-            reached_boundary(&b, V2::new(10.0, 0.04), 0.075),
+            reached_boundary(&b, &names, V2::new(10.0, 0.04), 0.075),
             Some(TipEnd::Outline)
         );
         assert_eq!(
-            reached_boundary(&b, V2::new(15.5, 1.95), 0.075),
-            Some(TipEnd::Hole(0))
+            reached_boundary(&b, &names, V2::new(15.5, 1.95), 0.075),
+            Some(TipEnd::Hole("h".into()))
         );
-        assert_eq!(reached_boundary(&b, V2::new(10.0, 5.0), 0.075), None);
+        assert_eq!(TipEnd::Hole("h".into()).to_string(), "hole:h");
+        assert_eq!(
+            reached_boundary(&b, &[], V2::new(15.5, 1.95), 0.075),
+            Some(TipEnd::Hole("0".into()))
+        );
+        assert_eq!(
+            reached_boundary(&b, &names, V2::new(10.0, 5.0), 0.075),
+            None
+        );
         assert_eq!(
             TipEnd::Coalescence("c.end".into()).to_string(),
             "coalescence:c.end"
