@@ -67,12 +67,15 @@ pub struct Exponents {
 }
 
 /// Runs a benchmark into `out` (`quick`: smaller sizes for CI).
-pub fn run(kind: BenchKind, out: &Path, quick: bool) -> Result<()> {
+pub fn run(kind: BenchKind, out: &Path, quick: bool, case: Option<&str>) -> Result<()> {
+    if case.is_some() && kind != BenchKind::Growth {
+        anyhow::bail!("--case applies to `bench growth` only");
+    }
     match kind {
         BenchKind::Bem => bench_bem(out, quick),
         BenchKind::Pd => bench_pd(out, quick),
         BenchKind::Coupling => bench_coupling(out, quick),
-        BenchKind::Growth => crate::growth::bench::run(out, quick),
+        BenchKind::Growth => crate::growth::bench::run(out, quick, case),
     }
 }
 

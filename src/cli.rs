@@ -70,6 +70,10 @@ pub enum Command {
         /// Smaller sizes.
         #[arg(long)]
         quick: bool,
+        /// `growth` only: the case to run three ways (a file stem in cases/). Default
+        /// growth_tension_edge.
+        #[arg(long)]
+        case: Option<String>,
     },
     /// Overlay the crack paths of several growth runs.
     PlotPaths {
@@ -132,7 +136,12 @@ pub fn execute(command: Command) -> anyhow::Result<()> {
             out,
             quiet,
         } => sweep(&scene, &vary, out, quiet),
-        Command::Bench { kind, out, quick } => crate::bench::run(kind, &out, quick),
+        Command::Bench {
+            kind,
+            out,
+            quick,
+            case,
+        } => crate::bench::run(kind, &out, quick, case.as_deref()),
         Command::PlotPaths { runs, out } => plot_paths(&runs, out),
     }
 }

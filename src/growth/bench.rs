@@ -78,6 +78,26 @@ pub struct GrowthBenchRun {
     pub tips: Vec<[f64; 2]>,
     /// Why the run failed (first line), `None` when it ran.
     pub error: Option<String>,
+    /// The run's history (paths), not written to `bench.json`.
+    #[serde(skip)]
+    pub history: Option<GrowthHistory>,
+}
+
+/// Deviation between the paths of one tip in two modes ([`super::compare`]).
+#[derive(Debug, Clone, Serialize)]
+pub struct PathDeviation {
+    /// First mode.
+    pub a: String,
+    /// Second mode.
+    pub b: String,
+    /// Tip name.
+    pub tip: String,
+    /// Hausdorff distance over the common length (m).
+    pub max_m: f64,
+    /// The same in node spacings dx.
+    pub max_dx: f64,
+    /// Common reach compared: distance from the initial tip (m).
+    pub common_reach_m: f64,
 }
 
 /// `bench.json` of `bench growth`.
@@ -97,6 +117,34 @@ pub struct GrowthBenchReport {
     pub runs: Vec<GrowthBenchRun>,
     /// Wall time of full PD over PD-BEM (`None` when either failed).
     pub ratio_full_pd_to_pd_bem: Option<f64>,
+    /// Path deviations between every two modes that ran, per tip.
+    pub path_deviations: Vec<PathDeviation>,
+}
+
+/// Deviations of the same-named tip paths between every two runs that succeeded.
+pub fn deviations(runs: &[GrowthBenchRun], dx: f64) -> Vec<PathDeviation> {
+    let mut out = Vec::new();
+    for (i, ra) in runs.iter().enumerate() {
+        for rb in &runs[i + 1..] {
+            let (Some(ha), Some(hb)) = (&ra.history, &rb.history) else {
+                continue;
+            };
+            for pa in &ha.paths {
+                if let Some(pb) = hb.paths.iter().find(|p| p.name == pa.name) {
+                    let (d, common) = super::compare::path_deviation(pa, pb);
+                    out.push(PathDeviation {
+                        a: ra.mode.clone(),
+                        b: rb.mode.clone(),
+                        tip: pa.name.clone(),
+                        max_m: d,
+                        max_dx: d / dx,
+                        common_reach_m: common,
+                    });
+                }
+            }
+        }
+    }
+    out
 }
 
 /// G_c (J/m^2) of PMB bonds breaking at `s0` with horizon `delta`.
@@ -178,6 +226,7 @@ fn run_mode(base: &Scene, mode: GrowthMode, out: &Path, quick: bool) -> GrowthBe
             initiation_load: h.initiation_load,
             tips: h.steps.last().map(|s| s.tips.clone()).unwrap_or_default(),
             error: None,
+            history: Some(h),
         },
         Err(e) => GrowthBenchRun {
             mode: name.into(),
@@ -252,14 +301,22 @@ pub fn table(r: &GrowthBenchReport) -> String {
             .map(|x| format!("{x:.2}"))
             .unwrap_or_else(|| "- (a run failed)".into())
     );
+    for d in &r.path_deviations {
+        let _ = writeln!(
+            t,
+            "path deviation {} vs {} ({}): {:.4} m = {:.2} dx over a reach of {:.3} m",
+            d.a, d.b, d.tip, d.max_m, d.max_dx, d.common_reach_m
+        );
+    }
     t
 }
 
-/// `bench growth`.
-pub fn run(out: &Path, quick: bool) -> Result<()> {
+/// `bench growth` on `cases/<case>.ron` (default [`CASE`]).
+pub fn run(out: &Path, quick: bool, case: Option<&str>) -> Result<()> {
+    let case = case.unwrap_or(CASE);
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("cases")
-        .join(format!("{CASE}.ron"));
+        .join(format!("{case}.ron"));
     let base = Scene::load(&path)?;
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
     let modes = [GrowthMode::PdBem, GrowthMode::BemOnly, GrowthMode::FullPd];
@@ -294,9 +351,10 @@ pub fn run(out: &Path, quick: bool) -> Result<()> {
     let report = GrowthBenchReport {
         bench: "growth",
         threads: rayon::current_num_threads(),
-        case: CASE.into(),
+        case: case.into(),
         quick,
         dx,
+        path_deviations: deviations(&runs, dx),
         runs,
         ratio_full_pd_to_pd_bem: ratio,
     };

@@ -19,6 +19,7 @@
 
 pub mod bem_only;
 pub mod bench;
+pub mod compare;
 pub mod criterion;
 pub mod front;
 pub mod full_pd;
