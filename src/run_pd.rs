@@ -38,7 +38,11 @@ fn group_polylines(scene: &Scene, geo: &SceneGeometry, name: &str) -> Vec<Vec<P>
     let mut out = Vec::new();
     for p in &scene.body.patches {
         if p.name == name {
-            out.push(vec![[p.from.0, p.from.1], [p.to.0, p.to.1]]);
+            out.push(counter_clockwise(
+                geo,
+                [p.from.0, p.from.1],
+                [p.to.0, p.to.1],
+            ));
         }
     }
     if let Some(o) = &geo.outline {
@@ -67,6 +71,34 @@ fn group_polylines(scene: &Scene, geo: &SceneGeometry, name: &str) -> Vec<Vec<P>
         }
     }
     out
+}
+
+/// A patch `a -> b` of the outline oriented counter-clockwise, the orientation of the
+/// outline edges, so that its right-hand normal points out of the body
+/// ([`outward_strip`], traction `normal`). Scenes may write a patch either way: the
+/// shear plate of seed 002 section 3.2.3 (`cases/growth_shear_edge.ron`) gives its top
+/// patches left to right, clockwise, and before this its fictitious layers were built
+/// inside the plate and the full-PD model lost its loading after a few broken bonds.
+fn counter_clockwise(geo: &SceneGeometry, a: P, b: P) -> Vec<P> {
+    let Some(o) = &geo.outline else {
+        return vec![a, b];
+    };
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let l = dx.hypot(dy);
+    if l == 0.0 {
+        return vec![a, b];
+    }
+    // A point just off the middle of the patch along its right-hand normal.
+    let eps = 1e-6 * l;
+    let probe = crate::geometry::P2::new(
+        0.5 * (a[0] + b[0]) + eps * dy / l,
+        0.5 * (a[1] + b[1]) - eps * dx / l,
+    );
+    if crate::geometry::point_in_polygon(&probe, &o.points) {
+        vec![b, a]
+    } else {
+        vec![a, b]
+    }
 }
 
 /// Fictitious-node selection for a displacement condition on `line`: for an axis-aligned
