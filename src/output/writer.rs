@@ -3,6 +3,11 @@
 //! renames them into `<out>/`; dropping the writer without commit (a failed
 //! run) deletes the staging folder, and the run folder too if this writer
 //! created it and it is empty. So a failed run leaves no half-written outputs.
+//!
+//! A committed run lists its files in `<out>/.pdbem-files`; the next commit into the same
+//! folder removes the files of that list it did not write again (a re-run with fewer load
+//! steps leaves no snapshot of the old run beside the new ones). Files pdbem did not write
+//! are never touched.
 
 use std::fs;
 use std::io;
@@ -85,10 +90,24 @@ impl OutputWriter {
         self.files.lock().map(|f| f.clone()).unwrap_or_default()
     }
 
-    /// Moves every staged file into the run folder and removes the staging folder.
+    /// Moves every staged file into the run folder, removes the files an earlier run
+    /// listed in [`MANIFEST`] that this one did not write, writes the new list, and removes
+    /// the staging folder.
     pub fn commit(&self) -> io::Result<Vec<PathBuf>> {
         let mut out = Vec::new();
-        for name in self.files() {
+        let files = self.files();
+        let manifest = self.out_dir.join(MANIFEST);
+        if let Ok(old) = fs::read_to_string(&manifest) {
+            for name in old.lines().filter(|n| is_plain_name(n)) {
+                if !files.iter().any(|f| f == name) {
+                    let _ = fs::remove_file(self.out_dir.join(name));
+                }
+            }
+        }
+        let mut list = files.join("\n");
+        list.push('\n');
+        write_atomic(&manifest, list.as_bytes())?;
+        for name in files {
             let to = self.out_dir.join(&name);
             fs::rename(self.staging_path(&name), &to)?;
             out.push(to);
@@ -113,6 +132,18 @@ impl OutputWriter {
             *d = true;
         }
     }
+}
+
+/// The list of the files of the last committed run, in the run folder.
+pub const MANIFEST: &str = ".pdbem-files";
+
+/// A file name without folders (a manifest line pdbem may act on).
+fn is_plain_name(name: &str) -> bool {
+    !name.is_empty()
+        && name != MANIFEST
+        && !name.contains(['/', '\\'])
+        && name != "."
+        && name != ".."
 }
 
 /// `dir` and its ancestors that do not exist yet, deepest first.
@@ -148,7 +179,33 @@ mod tests {
         w.write_bytes("a.txt", b"x").expect("write");
         w.commit().expect("commit");
         assert_eq!(fs::read_to_string(d.join("a.txt")).expect("read"), "x");
-        assert_eq!(fs::read_dir(&d).expect("dir").count(), 1);
+        // a.txt and the manifest.
+        assert_eq!(fs::read_dir(&d).expect("dir").count(), 2);
+        let _ = fs::remove_dir_all(&d);
+    }
+
+    #[test]
+    fn a_second_run_removes_only_the_first_runs_files_it_did_not_write_again() {
+        let d = scratch("rerun");
+        let _ = fs::remove_dir_all(&d);
+        let w = OutputWriter::create(&d).expect("create");
+        w.write_bytes("steps.csv", b"1").expect("write");
+        w.write_bytes("snapshot_step019.png", b"old")
+            .expect("write");
+        w.commit().expect("commit");
+        fs::write(d.join("notes.txt"), b"mine").expect("user file");
+        let w = OutputWriter::create(&d).expect("create");
+        w.write_bytes("steps.csv", b"2").expect("write");
+        w.write_bytes("snapshot_step004.png", b"new")
+            .expect("write");
+        w.commit().expect("commit");
+        assert_eq!(fs::read_to_string(d.join("steps.csv")).expect("read"), "2");
+        assert!(d.join("snapshot_step004.png").exists());
+        assert!(!d.join("snapshot_step019.png").exists(), "stale file kept");
+        assert_eq!(
+            fs::read_to_string(d.join("notes.txt")).expect("read"),
+            "mine"
+        );
         let _ = fs::remove_dir_all(&d);
     }
 
