@@ -10,6 +10,8 @@
 //!   BEM-only SIFs of the initial geometry.
 //! - `seed002_relocation_preserves_crack_and_cmod`: a relocation at constant load keeps
 //!   the crack (the new window's traced pre-crack lies on the old path) and the CMOD.
+//! - `seed001_inclined_crack_pd_bem_turns_perpendicular_at_the_griffith_load`: the
+//!   45-degree central crack of seed 001 section 6.1 with one rotated window per tip.
 //!
 //! Every tolerance carries the measured value (release build, 2 cores).
 
@@ -189,4 +191,42 @@ fn seed002_relocation_preserves_crack_and_cmod() {
         rec.precrack_deviation,
         (tip1 - tip0).norm()
     );
+}
+
+#[test]
+fn seed001_inclined_crack_pd_bem_turns_perpendicular_at_the_griffith_load() {
+    // cases/growth_inclined_crack.ron as written: 50 mm plate, 10 mm crack at 45 degrees,
+    // one 5 mm window of 20 x 20 nodes per tip (dx = 0.25 mm), tension from 10 MPa by
+    // 0.1 MPa. Measured (21 s): first bond at 10.7 MPa, a tip one horizon out at 15.8 MPa,
+    // where the crack runs to the left edge (failure, 28 relocations); Griffith with the
+    // finite-width factor 15.80 MPa; seed 001 (full PD) 15.9 MPa.
+    let sc = scene("growth_inclined_crack");
+    let dir = std::env::temp_dir().join(format!("pdbem-incl-{}", std::process::id()));
+    let ctx = pdbem::runner::RunContext::new(&dir, true).unwrap();
+    let h = pdbem::growth::pd_bem::run(&sc, &ctx).unwrap();
+    ctx.writer.abort();
+    let k_c = pdbem::analytic::griffith_k_c(110.0, 30e9);
+    let f = pdbem::analytic::central_crack_width_factor(0.005, 0.05);
+    let griffith = k_c / (f * (std::f64::consts::PI * 0.005).sqrt() * 0.5 * 4.0 / 5f64.sqrt());
+    let init = h.initiation_load.expect("a tip advanced") * 1e6;
+    eprintln!("seed001 PD-BEM: initiation {init:.4e} Pa, Griffith {griffith:.4e} Pa");
+    assert!((init / griffith - 1.0).abs() < 0.15, "{init} vs {griffith}");
+    assert!(h.failure);
+    for p in &h.paths {
+        // Heading of the whole path from the initial tip: measured 179.4 deg (start tip)
+        // and -1.9 deg (end tip), against 45 / -135 degrees of the crack line: both turn
+        // perpendicular to the vertical load. Over the first 8 points (about 1 mm):
+        // -169.1 and 10.9 deg.
+        let (a, b) = (p.points[0], *p.points.last().unwrap());
+        let deg = (b.y - a.y).atan2(b.x - a.x).to_degrees();
+        let off = deg.abs().min(180.0 - deg.abs());
+        eprintln!("seed001 PD-BEM {}: heading {deg:.1} deg", p.name);
+        assert!(off < 10.0, "{}: {deg} deg", p.name);
+        assert!(
+            (b.x - a.x).abs() > 0.005,
+            "{} grew {:.4} m",
+            p.name,
+            (b.x - a.x).abs()
+        );
+    }
 }

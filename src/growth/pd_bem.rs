@@ -336,13 +336,28 @@ fn corners(c: &[V2; 4]) -> [[f64; 2]; 4] {
     c.map(|p| [p.x, p.y])
 }
 
+/// Load factor of the first path point more than `distance` from its tip's initial
+/// position, over all tips (None: no tip got that far).
+pub fn grown_by(paths: &[TipPath], distance: f64) -> Option<f64> {
+    paths
+        .iter()
+        .filter_map(|p| {
+            let o = p.points.first()?;
+            p.points
+                .iter()
+                .find(|q| (q.x - o.x).hypot(q.y - o.y) > distance)
+                .map(|q| q.load)
+        })
+        .min_by(f64::total_cmp)
+}
+
 /// The history of a finished run.
 fn history<S: Scenario>(
     g: &Growth<'_, S>,
     result: &GrowthResult,
     windows: Vec<WindowOutline>,
 ) -> GrowthHistory {
-    let paths = (0..g.tips().len())
+    let paths: Vec<TipPath> = (0..g.tips().len())
         .map(|t| TipPath {
             name: g.tips()[t].spec.name.clone(),
             points: g
@@ -378,6 +393,18 @@ fn history<S: Scenario>(
         tip: r.tip.clone(),
         corners: corners(&r.corners),
     }));
+    // Initiation as in full PD: a tip advanced by more than one horizon (the first bond
+    // breaks at the sharp pre-crack tip well below the Griffith load: a note).
+    let horizon = g
+        .problem()
+        .windows
+        .first()
+        .map_or(0.0, |w| w.window.delta());
+    let paths_for_initiation = paths.clone();
+    let mut notes = result.notes.clone();
+    if let Some(f) = result.initiation_load {
+        notes.push(format!("first bond broke at load {f}"));
+    }
     GrowthHistory {
         mode: "pd-bem".into(),
         paths,
@@ -395,10 +422,10 @@ fn history<S: Scenario>(
                 rebuild_s: r.rebuild_s,
             })
             .collect(),
-        initiation_load: result.initiation_load,
+        initiation_load: grown_by(&paths_for_initiation, horizon),
         failure: result.failure.is_some(),
         failure_load: result.failure.as_ref().map(|f| f.load),
-        notes: result.notes.clone(),
+        notes,
         snapshots: Vec::new(),
     }
 }

@@ -93,7 +93,8 @@ pub struct GrowthHistory {
     pub windows: Vec<WindowOutline>,
     /// Relocations in order.
     pub relocations: Vec<Relocation>,
-    /// Load factor of the first step in which a crack grew (bond broke / K >= K_c).
+    /// Load factor of the first step in which a crack grew: K_eq >= K_c (BEM-only), a tip
+    /// more than one horizon from its initial position (PD modes).
     pub initiation_load: Option<f64>,
     /// True when a crack reached the outer boundary (seed 002 Alg. 2 step 9).
     pub failure: bool,

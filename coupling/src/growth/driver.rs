@@ -10,7 +10,8 @@
 //! 2. Tips that reached the outline end the run (structural failure, step 9), as do two
 //!    edge cracks that meet, or a window that would have to reach the outline while its
 //!    crack is held at the outline at its other end (the BEM body would be cut in two;
-//!    the relocation is not attempted). Tips at a hole or running into another crack end
+//!    the relocation is not attempted), or a tip past its margin for which no window
+//!    around it fits inside the body (the outline is within the window's reach). Tips at a hole or running into another crack end
 //!    and the run goes on with the others (the run ends when no tip is left).
 //! 3. Tips past their margin are relocated ([`Growth::relocate`], steps 7 and 10): new
 //!    window (one covering all the tips of a window that moves), extended cracks,
@@ -506,6 +507,15 @@ impl<'s, S: Scenario> Growth<'s, S> {
                 }
                 self.record_progress(k, load);
                 let plan = self.plan(&which)?;
+                if let Some(&t) = plan.at_outline.first() {
+                    let p = self.tips[t].position();
+                    observer.note(&format!(
+                        "tip {} at ({:.4}, {:.4}): no window around it fits inside the body,                          the outer boundary is within the window's reach: the crack reaches                          it, structural failure",
+                        self.tips[t].spec.name, p.x, p.y
+                    ));
+                    self.tips[t].ended = Some(TipEnd::Outline);
+                    break (false, o.residual, Some(t));
+                }
                 if plan.cuts_body {
                     let t = which[0];
                     let p = self.tips[t].position();

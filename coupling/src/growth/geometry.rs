@@ -27,6 +27,10 @@ use crate::window::{Window, WindowSpec};
 /// Per moved tip: (tip, (old window centre, tip position, BEM elements added per face)).
 type Moves = Vec<(usize, (V2, V2, usize))>;
 
+/// What [`Growth::plan_window`] decides: moves, tips blocked by a hole (with its name),
+/// tips at the outline.
+type WindowPlan = (Moves, Vec<(usize, String)>, Vec<usize>);
+
 impl<S: Scenario> Growth<'_, S> {
     /// The geometry of the next relocation of tips `which`: windows moved along the growth
     /// directions, cracks extended along the traced paths, overlapping windows merged.
@@ -38,11 +42,14 @@ impl<S: Scenario> Growth<'_, S> {
     /// the old window ([`cover_box`]); every moved tip's crack is then extended into that
     /// window. A tip whose moved window would lie over a hole is left out and ends at the
     /// hole ([`RelocationPlan::blocked`]); if the covering window lies over a hole, all
-    /// the window's moved tips do.
+    /// the window's moved tips do. A tip for which no window containing it with its margin
+    /// fits inside the body (the outline is closer than the window's reach, e.g. a rotated
+    /// window near an edge) has reached the outline ([`RelocationPlan::at_outline`]).
     pub fn plan(&self, which: &[usize]) -> Result<RelocationPlan, CouplingError> {
         let mut layout = self.setup.layout.clone();
         let mut moves = Vec::new();
         let mut blocked = Vec::new();
+        let mut at_outline = Vec::new();
         let mut windows: Vec<usize> = Vec::new();
         for &t in which {
             if !windows.contains(&self.tips[t].window) {
@@ -55,9 +62,10 @@ impl<S: Scenario> Growth<'_, S> {
                 .copied()
                 .filter(|&t| self.tips[t].window == w)
                 .collect();
-            let (m, b) = self.plan_window(w, &group, &mut layout)?;
+            let (m, b, o) = self.plan_window(w, &group, &mut layout)?;
             moves.extend(m);
             blocked.extend(b);
+            at_outline.extend(o);
         }
         let names: Vec<String> = self.tips.iter().map(|t| t.spec.name.clone()).collect();
         let mut owner: Vec<usize> = self.tips.iter().map(|t| t.window).collect();
@@ -68,6 +76,7 @@ impl<S: Scenario> Growth<'_, S> {
             owner,
             moves,
             blocked,
+            at_outline,
             merges,
             cuts_body,
         })
@@ -223,18 +232,20 @@ impl<S: Scenario> Growth<'_, S> {
 
     /// Moves window `w` for its triggered tips `group` (see [`Growth::plan`]): the new
     /// window and the extended cracks are written into `layout`. Returns per moved tip
-    /// (tip, (old window centre, tip position, BEM elements added per face)) and the tips
-    /// blocked by a hole with the hole's name.
+    /// (tip, (old window centre, tip position, BEM elements added per face)), the tips
+    /// blocked by a hole with the hole's name, and the tips at the outline (no window
+    /// around them fits in the body).
     fn plan_window(
         &self,
         w: usize,
         group: &[usize],
         layout: &mut Layout,
-    ) -> Result<(Moves, Vec<(usize, String)>), CouplingError> {
+    ) -> Result<WindowPlan, CouplingError> {
         let old = &self.problem.windows[w].window;
         let dx = old.spec.dx;
         let holes = self.hole_names();
         let mut blocked = Vec::new();
+        let mut at_outline = Vec::new();
         let mut specs: Vec<WindowSpec> = Vec::new();
         let mut movers = Vec::new();
         for &t in group {
@@ -260,11 +271,14 @@ impl<S: Scenario> Growth<'_, S> {
                 Err(CouplingError::OverHole { hole, .. }) => {
                     blocked.push((t, hole_name(&holes, hole)));
                 }
+                Err(CouplingError::OutsideBody { .. } | CouplingError::CrossesBoundary { .. }) => {
+                    at_outline.push(t);
+                }
                 Err(e) => return Err(e),
             }
         }
         let Some(first) = specs.first() else {
-            return Ok((Vec::new(), blocked));
+            return Ok((Vec::new(), blocked, at_outline));
         };
         let mut spec = first.clone();
         for s in &specs[1..] {
@@ -284,7 +298,11 @@ impl<S: Scenario> Growth<'_, S> {
             Err(CouplingError::OverHole { hole, .. }) => {
                 let h = hole_name(&holes, hole);
                 blocked.extend(movers.iter().map(|&t| (t, h.clone())));
-                return Ok((Vec::new(), blocked));
+                return Ok((Vec::new(), blocked, at_outline));
+            }
+            Err(CouplingError::OutsideBody { .. } | CouplingError::CrossesBoundary { .. }) => {
+                at_outline.extend(movers.iter().copied());
+                return Ok((Vec::new(), blocked, at_outline));
             }
             Err(e) => {
                 return Err(CouplingError::Relocation {
@@ -322,7 +340,7 @@ impl<S: Scenario> Growth<'_, S> {
             moves.push((t, (old.spec.center, tip.position(), added)));
         }
         layout.windows[w] = spec;
-        Ok((moves, blocked))
+        Ok((moves, blocked, at_outline))
     }
 
     /// Names of the holes (the BEM group of each hole's edges).

@@ -142,6 +142,10 @@ pub struct RelocationPlan {
     /// with the hole's name: [`Growth::apply`](crate::growth::Growth::apply) ends them at
     /// the hole ([`crate::growth::TipEnd::Hole`]).
     pub blocked: Vec<(usize, String)>,
+    /// Tips past their margin for which no window containing them fits inside the body:
+    /// the outline is within the window's reach, the crack reaches it (structural failure,
+    /// seed 002 Algorithm 2 step 9).
+    pub at_outline: Vec<usize>,
     /// Windows merged.
     pub merges: usize,
     /// The new layout would cut the BEM body apart ([`crate::growth::topology`]).

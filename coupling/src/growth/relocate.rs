@@ -90,7 +90,11 @@ pub fn moved_spec(
     }
     match Window::place(0, spec.clone(), body) {
         Ok(_) => Ok(spec),
-        Err(e @ CouplingError::OverHole { .. }) => Err(e),
+        Err(
+            e @ (CouplingError::OverHole { .. }
+            | CouplingError::OutsideBody { .. }
+            | CouplingError::CrossesBoundary { .. }),
+        ) => Err(e),
         Err(e) => Err(CouplingError::Relocation {
             tip: tip_name.to_string(),
             reason: format!(
