@@ -73,6 +73,42 @@ fn group_polylines(scene: &Scene, geo: &SceneGeometry, name: &str) -> Vec<Vec<P>
     out
 }
 
+/// Pre-crack polyline of a crack: an end on the outline (within `tol`) is carried on
+/// outwards by `reach` (the horizon: the depth of the layer) along the crack, so that no bond
+/// from a boundary-layer node to a real node crosses the crack line near its mouth. Cut
+/// at the outline, the crack left the layer of a displacement condition bonded across
+/// the mouth: on the shear plate (`cases/growth_shear_edge.ron`) the moved top half
+/// dragged the fixed side of the mouth with it.
+fn through_boundary_layer(
+    geo: &SceneGeometry,
+    pts: &[crate::geometry::P2],
+    reach: f64,
+    tol: f64,
+) -> Vec<P> {
+    let mut out: Vec<P> = pts.iter().map(|p| [p.x, p.y]).collect();
+    let (Some(o), true) = (&geo.outline, pts.len() >= 2) else {
+        return out;
+    };
+    let on_outline = |p: &crate::geometry::P2| {
+        let n = o.points.len();
+        (0..n).any(|i| {
+            crate::geometry::point_segment_distance(p, &o.points[i], &o.points[(i + 1) % n]) <= tol
+        })
+    };
+    let beyond = |end: &crate::geometry::P2, next: &crate::geometry::P2| -> P {
+        let d = (end - next).normalize();
+        [end.x + reach * d.x, end.y + reach * d.y]
+    };
+    let n = pts.len();
+    if on_outline(&pts[n - 1]) {
+        out.push(beyond(&pts[n - 1], &pts[n - 2]));
+    }
+    if on_outline(&pts[0]) {
+        out.insert(0, beyond(&pts[0], &pts[1]));
+    }
+    out
+}
+
 /// A patch `a -> b` of the outline oriented counter-clockwise, the orientation of the
 /// outline edges, so that its right-hand normal points out of the body
 /// ([`outward_strip`], traction `normal`). Scenes may write a patch either way: the
@@ -102,10 +138,14 @@ fn counter_clockwise(geo: &SceneGeometry, a: P, b: P) -> Vec<P> {
 }
 
 /// Fictitious-node selection for a displacement condition on `line`: for an axis-aligned
-/// edge the strip of depth `delta` outside it (with the corner squares), so no fictitious
-/// node sits over the neighbouring free surface (that would clamp it too: a cantilever
-/// came out 5 % stiff); otherwise every node within `delta` of the polyline.
-fn outward_strip(line: &[P], delta: f64) -> Selection {
+/// edge the strip of depth `delta` outside it, with the corner square at each end that is
+/// a corner of the outline (`corners`), so no fictitious node sits over the neighbouring
+/// free surface (that would clamp it too: a cantilever came out 5 % stiff); otherwise
+/// every node within `delta` of the polyline. A patch end inside an edge gets no square:
+/// two patches meeting there would otherwise share a square of nodes, the later condition
+/// winning over the earlier one's side (the held half of the shear plate's top edge was
+/// pushed down with the moved half).
+fn outward_strip(line: &[P], delta: f64, corners: &[P]) -> Selection {
     if let [a, b] = line {
         let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
         let l = dx.hypot(dy);
@@ -113,8 +153,20 @@ fn outward_strip(line: &[P], delta: f64) -> Selection {
         let n = [dy / l, -dx / l];
         let axis = n[0].abs() > 1.0 - 1e-12 || n[1].abs() > 1.0 - 1e-12;
         if axis {
+            let tol = 1e-9 * l;
+            let is_corner = |p: &P| {
+                corners
+                    .iter()
+                    .any(|c| (c[0] - p[0]).hypot(c[1] - p[1]) <= tol)
+            };
             let lo = [a[0].min(b[0]), a[1].min(b[1])];
             let hi = [a[0].max(b[0]), a[1].max(b[1])];
+            // The end at the low / high coordinate along the edge.
+            let (end_lo, end_hi) = if (a[0] - lo[0]).abs() + (a[1] - lo[1]).abs() <= tol {
+                (a, b)
+            } else {
+                (b, a)
+            };
             let (mut min, mut max) = (lo, hi);
             for k in 0..2 {
                 if n[k] > 0.5 {
@@ -122,8 +174,12 @@ fn outward_strip(line: &[P], delta: f64) -> Selection {
                 } else if n[k] < -0.5 {
                     min[k] -= delta;
                 } else {
-                    min[k] -= delta;
-                    max[k] += delta;
+                    if is_corner(end_lo) {
+                        min[k] -= delta;
+                    }
+                    if is_corner(end_hi) {
+                        max[k] += delta;
+                    }
                 }
             }
             return Selection::Box { min, max };
@@ -195,15 +251,20 @@ pub fn problem_from_scene(scene: &Scene) -> Result<PdProblem> {
         },
     };
     let wanted: Option<&Vec<String>> = pd.pre_cracks.as_ref();
+    let delta = pd.horizon_factor * dx;
     let cracks = geo
         .cracks
         .iter()
         .filter(|c| wanted.is_none_or(|w| w.contains(&c.name)))
-        .map(|c| c.points.iter().map(|p| [p.x, p.y]).collect())
+        .map(|c| through_boundary_layer(&geo, &c.points, delta, 1e-6 * dx))
         .collect();
-    let delta = pd.horizon_factor * dx;
     let mut boundary = Vec::new();
     let mut has_displacement = false;
+    let corners: Vec<P> = geo
+        .outline
+        .as_ref()
+        .map(|o| o.points.iter().map(|p| [p.x, p.y]).collect())
+        .unwrap_or_default();
     for (k, bc) in scene.boundary.iter().enumerate() {
         let lines = group_polylines(scene, &geo, &bc.on);
         if lines.is_empty() {
@@ -222,7 +283,7 @@ pub fn problem_from_scene(scene: &Scene) -> Result<PdProblem> {
             if ux.is_some() || uy.is_some() {
                 has_displacement = true;
                 boundary.push(PdBc::Displacement {
-                    on: outward_strip(&line, delta),
+                    on: outward_strip(&line, delta, &corners),
                     ux,
                     uy,
                     layer: Layer::Fictitious,

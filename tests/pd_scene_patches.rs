@@ -60,3 +60,55 @@ fn a_patch_pulls_from_outside_whichever_way_it_is_written() {
     let mean = right.iter().sum::<f64>() / right.len() as f64;
     assert!(mean > 0.9e-3 && mean < 1e-3, "right-edge ux {mean:e}");
 }
+
+/// Vertical displacement of the real node nearest `p` in a 1 m square plate with an edge
+/// crack from the top middle down to mid-height; the top-left half held, the top-right
+/// half pushed down by 1 mm.
+fn sheared_mouth(p: [f64; 2]) -> f64 {
+    let src = r#"(name: "m", material: (E: 1e4, nu: 0.3333333333333333, plane: Stress),
+       body: (outline: Rectangle(x0: 0, y0: 0, width: 1, height: 1),
+              patches: [(name: "held", from: (0, 1), to: (0.5, 1)),
+                        (name: "moved", from: (0.5, 1), to: (1, 1))]),
+       cracks: [(name: "c", start: (0.5, 1), angle_deg: -90, length: 0.5)],
+       boundary: [(on: "held", x: Displacement(0), y: Displacement(0)),
+                  (on: "moved", y: Displacement(-1e-3)),
+                  (on: "bottom", x: Displacement(0), y: Displacement(0))],
+       pd: (failure: Elastic, dx: 0.05))"#;
+    let scene = Scene::from_ron_str(src, "mouth.ron").unwrap_or_else(|e| panic!("{e}"));
+    let problem = pdbem::run_pd::problem_from_scene(&scene).unwrap();
+    let mut model = PdModel::new(&problem).unwrap();
+    let mut newton = Newton::new(&model).unwrap();
+    let mut info = SolveInfo::default();
+    let ip = ImplicitParams {
+        residual_tol: 1e-10,
+        convergence: Convergence::Residual { tol: 1e-10 },
+        ..Default::default()
+    };
+    newton.predict_to(&mut model, 1.0, &mut info).unwrap();
+    newton.equilibrate(&mut model, &ip, &mut info).unwrap();
+    let x = model.positions();
+    let i = (0..model.n_real())
+        .min_by(|&a, &b| {
+            let d = |k: usize| (x[k][0] - p[0]).hypot(x[k][1] - p[1]);
+            d(a).total_cmp(&d(b))
+        })
+        .unwrap();
+    model.displacements()[i][1]
+}
+
+#[test]
+fn an_edge_crack_separates_the_boundary_layers_at_its_mouth() {
+    // The real nodes on either side of the mouth (x = 0.475 and 0.525, y = 0.975): the
+    // held side stays put, the moved side goes down with its layer. Measured: -0.0003 mm
+    // and -0.905 mm. Before: -0.88 mm on the held side (the two patches' layers shared a
+    // square of nodes at the mouth, the moved condition winning); with only that fixed,
+    // -0.16 mm (the crack stopped at the outline, the moved layer bonded across it).
+    let held = sheared_mouth([0.475, 0.975]);
+    let moved = sheared_mouth([0.525, 0.975]);
+    eprintln!("mouth: held side {held:e} m, moved side {moved:e} m");
+    assert!(
+        held.abs() < 0.05e-3,
+        "held side of the mouth moved {held:e} m"
+    );
+    assert!(moved < -0.8e-3, "moved side {moved:e} m");
+}
