@@ -9,6 +9,23 @@ use pdbem_pd::solvers::implicit::{ImplicitParams, Newton};
 use pdbem_pd::solvers::{Convergence, SolveInfo};
 use pdbem_pd::PdModel;
 
+/// The elastic equilibrium of the PD model of scene `src` at load factor 1.
+fn solved(src: &str, file: &str) -> PdModel {
+    let scene = Scene::from_ron_str(src, file).unwrap_or_else(|e| panic!("{e}"));
+    let problem = pdbem::run_pd::problem_from_scene(&scene).unwrap();
+    let mut model = PdModel::new(&problem).unwrap();
+    let mut newton = Newton::new(&model).unwrap();
+    let mut info = SolveInfo::default();
+    let ip = ImplicitParams {
+        residual_tol: 1e-10,
+        convergence: Convergence::Residual { tol: 1e-10 },
+        ..Default::default()
+    };
+    newton.predict_to(&mut model, 1.0, &mut info).unwrap();
+    newton.equilibrate(&mut model, &ip, &mut info).unwrap();
+    model
+}
+
 /// A 1 m x 0.5 m plate, left edge clamped, the right edge pulled by 1 mm through a patch
 /// written from `from` to `to`; returns (x, y, ux, uy) of the real nodes.
 fn pulled_plate(from: (f64, f64), to: (f64, f64)) -> Vec<[f64; 4]> {
@@ -21,18 +38,7 @@ fn pulled_plate(from: (f64, f64), to: (f64, f64)) -> Vec<[f64; 4]> {
            pd: (failure: Elastic, dx: 0.05))"#,
         from.0, from.1, to.0, to.1
     );
-    let scene = Scene::from_ron_str(&src, "patch.ron").unwrap_or_else(|e| panic!("{e}"));
-    let problem = pdbem::run_pd::problem_from_scene(&scene).unwrap();
-    let mut model = PdModel::new(&problem).unwrap();
-    let mut newton = Newton::new(&model).unwrap();
-    let mut info = SolveInfo::default();
-    let ip = ImplicitParams {
-        residual_tol: 1e-10,
-        convergence: Convergence::Residual { tol: 1e-10 },
-        ..Default::default()
-    };
-    newton.predict_to(&mut model, 1.0, &mut info).unwrap();
-    newton.equilibrate(&mut model, &ip, &mut info).unwrap();
+    let model = solved(&src, "patch.ron");
     let (x, u) = (model.positions(), model.displacements());
     (0..model.n_real())
         .map(|i| [x[i][0], x[i][1], u[i][0], u[i][1]])
@@ -74,18 +80,7 @@ fn sheared_mouth(p: [f64; 2]) -> f64 {
                   (on: "moved", y: Displacement(-1e-3)),
                   (on: "bottom", x: Displacement(0), y: Displacement(0))],
        pd: (failure: Elastic, dx: 0.05))"#;
-    let scene = Scene::from_ron_str(src, "mouth.ron").unwrap_or_else(|e| panic!("{e}"));
-    let problem = pdbem::run_pd::problem_from_scene(&scene).unwrap();
-    let mut model = PdModel::new(&problem).unwrap();
-    let mut newton = Newton::new(&model).unwrap();
-    let mut info = SolveInfo::default();
-    let ip = ImplicitParams {
-        residual_tol: 1e-10,
-        convergence: Convergence::Residual { tol: 1e-10 },
-        ..Default::default()
-    };
-    newton.predict_to(&mut model, 1.0, &mut info).unwrap();
-    newton.equilibrate(&mut model, &ip, &mut info).unwrap();
+    let model = solved(src, "mouth.ron");
     let x = model.positions();
     let i = (0..model.n_real())
         .min_by(|&a, &b| {
