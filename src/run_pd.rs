@@ -74,7 +74,8 @@ fn group_polylines(scene: &Scene, geo: &SceneGeometry, name: &str) -> Vec<Vec<P>
 }
 
 /// Pre-crack polyline of a crack: an end on the outline (within `tol`) is carried on
-/// outwards by `reach` (the horizon: the depth of the layer) along the crack, so that no bond
+/// outwards by `reach` (just under the horizon, the depth of the layer, which the PD
+/// problem accepts as the farthest a crack may reach out) along the crack, so that no bond
 /// from a boundary-layer node to a real node crosses the crack line near its mouth. Cut
 /// at the outline, the crack left the layer of a displacement condition bonded across
 /// the mouth: on the shear plate (`cases/growth_shear_edge.ron`) the moved top half
@@ -256,7 +257,7 @@ pub fn problem_from_scene(scene: &Scene) -> Result<PdProblem> {
         .cracks
         .iter()
         .filter(|c| wanted.is_none_or(|w| w.contains(&c.name)))
-        .map(|c| through_boundary_layer(&geo, &c.points, delta, 1e-6 * dx))
+        .map(|c| through_boundary_layer(&geo, &c.points, 0.99 * delta, 1e-6 * dx))
         .collect();
     let mut boundary = Vec::new();
     let mut has_displacement = false;
