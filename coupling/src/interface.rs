@@ -58,16 +58,42 @@ impl Interface {
             .filter(|&k| w.sides[k] == SideKind::Interface)
             .map(|k| if k % 2 == 0 { w.spec.nx } else { w.spec.ny })
             .sum();
-        let bad_len = elements
-            .iter()
-            .any(|&e| (mesh.elements[e].h - w.spec.dx).abs() > 1e-6 * w.spec.dx);
-        if elements.len() != expected || bad_len {
+        if elements.len() != expected {
             return Err(CouplingError::Interface {
                 window: index,
                 message: format!(
                     "{} interface elements (expected {expected}, one of length dx = {} per node row)",
                     elements.len(),
                     w.spec.dx
+                ),
+            });
+        }
+        // The count can be right while lengths are not (an element split in two and
+        // another one missing); name the first element off dx.
+        let bad_len = elements
+            .iter()
+            .find(|&&e| (mesh.elements[e].h - w.spec.dx).abs() > 1e-6 * w.spec.dx);
+        if let Some(&e) = bad_len {
+            let el = &mesh.elements[e];
+            let n_bad = elements
+                .iter()
+                .filter(|&&e| (mesh.elements[e].h - w.spec.dx).abs() > 1e-6 * w.spec.dx)
+                .count();
+            return Err(CouplingError::Interface {
+                window: index,
+                message: format!(
+                    "{n_bad} of the {} interface elements are not of length dx = {}: element {e} \
+                     at ({:.4}, {:.4}) has length {:.6} (one element per node row is needed; \
+                     window corners ({:.4}, {:.4}) to ({:.4}, {:.4}))",
+                    elements.len(),
+                    w.spec.dx,
+                    el.mid.x,
+                    el.mid.y,
+                    el.h,
+                    w.corners()[0].x,
+                    w.corners()[0].y,
+                    w.corners()[2].x,
+                    w.corners()[2].y
                 ),
             });
         }

@@ -187,11 +187,18 @@ impl Window {
                 });
             }
         }
+        // A hole must also stay clear of the horizon layer of virtual nodes around the
+        // window (depth delta): virtual nodes inside a hole would take the BEM field at
+        // points outside the body, and the PD solve then sees a meaningless boundary
+        // state (seed 002 section 3.2.4 case, measured: a window 0.3 mm from the hole
+        // with its 0.6 mm layer reaching into it, coupling residual stuck near 0.7 and
+        // the window's Newton solves stalling at a relative residual of 6e-3).
+        let layer = w.delta();
         for (h, hole) in body.holes.iter().enumerate() {
             let m = hole.len();
-            let inside = hole.iter().any(|p| w.contains(*p, tol))
+            let inside = hole.iter().any(|p| w.contains(*p, layer + tol))
                 || point_in_polygon(w.spec.center, hole)
-                || (0..m).any(|i| w.segment_enters(hole[i], hole[(i + 1) % m]));
+                || (0..m).any(|i| w.segment_enters_by(hole[i], hole[(i + 1) % m], layer));
             if inside {
                 return Err(CouplingError::OverHole {
                     window: index,
@@ -240,10 +247,16 @@ impl Window {
 
     /// Whether segment `ab` passes through the open interior of the window.
     fn segment_enters(&self, a: V2, b: V2) -> bool {
+        self.segment_enters_by(a, b, 0.0)
+    }
+
+    /// Whether segment `ab` passes through the open interior of the window grown by
+    /// `grow` on every side.
+    fn segment_enters_by(&self, a: V2, b: V2, grow: f64) -> bool {
         let (w, h) = self.size();
-        let tol = self.tol();
+        let tol = self.tol() - grow;
         let (p, q) = (self.to_local(a), self.to_local(b));
-        // Liang-Barsky clipping against the rectangle shrunk by tol.
+        // Liang-Barsky clipping against the rectangle shrunk by tol (grown by `grow`).
         let d = q - p;
         let (mut t0, mut t1) = (0.0_f64, 1.0_f64);
         for (den, num) in [
@@ -553,6 +566,28 @@ mod tests {
         assert_eq!(w.sides, [SideKind::Interface; 4]);
         let c = w.corners();
         assert!(((c[1] - c[0]).norm() - 2.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_hole_within_the_horizon_layer_is_refused() {
+        // Window [4, 6] x [4, 6] m, horizon layer delta = 0.3015 m around it.
+        let square = |x0: f64| {
+            vec![
+                V2::new(x0, 4.8),
+                V2::new(x0 + 0.3, 4.8),
+                V2::new(x0 + 0.3, 5.2),
+                V2::new(x0, 5.2),
+            ]
+        };
+        let mut body = square_body(10.0);
+        body.holes.push(square(6.2));
+        let near = Window::place(0, spec(5.0, 5.0, 0.0, 20), &body).unwrap_err();
+        assert!(
+            matches!(near, CouplingError::OverHole { hole: 0, .. }),
+            "{near}"
+        );
+        body.holes[0] = square(6.4);
+        assert!(Window::place(0, spec(5.0, 5.0, 0.0, 20), &body).is_ok());
     }
 
     #[test]

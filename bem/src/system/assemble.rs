@@ -39,6 +39,10 @@ fn blocks(p: &PairIntegrals, same: bool, alpha: f64, beta: f64) -> ([[f64; 2]; 2
     (hc, gc)
 }
 
+/// Elements per sequential fold of the assembly's right-hand side (a fixed split keeps
+/// the floating-point summation order independent of the thread scheduling).
+const FOLD_CHUNK: usize = 16;
+
 pub(super) fn assemble(
     mesh: &Mesh,
     material: &Material,
@@ -73,7 +77,10 @@ pub(super) fn assemble(
         .par_chunks_mut(2 * n)
         .zip(first_cols.par_iter_mut())
         .enumerate()
-        .fold(Acc::default, |mut acc, (j, (cols, fcols))| {
+        // Fixed chunks folded in order, then merged in order: the right-hand side sums do
+        // not depend on how rayon splits the work (a plain fold + reduce groups them by
+        // rayon's adaptive splitting, which depends on the thread scheduling).
+        .fold_chunks(FOLD_CHUNK, Acc::default, |mut acc, (j, (cols, fcols))| {
             let ej = &els[j];
             let (c0, c1) = cols.split_at_mut(n);
             let mut known = [vec![0.0; 0], vec![0.0; 0]];
@@ -141,7 +148,9 @@ pub(super) fn assemble(
             }
             acc
         })
-        .reduce(Acc::default, |mut x, y| {
+        .collect::<Vec<Acc>>()
+        .into_iter()
+        .fold(Acc::default(), |mut x, y| {
             if x.rhs.is_empty() {
                 return Acc {
                     rhs: y.rhs,

@@ -88,6 +88,20 @@ pub fn moved_spec(
         c.center += snap(tip - w.spec.center, e1, e2, dx);
         spec = clamp_into(&c, body);
     }
+    if (spec.center - w.spec.center).norm() < 1e-9 * dx {
+        // Re-placing the same window changes nothing and would trigger again at once.
+        let (lx, ly) = w.size();
+        let trigger = margins(w, ratio).1;
+        return Err(CouplingError::Relocation {
+            tip: tip_name.to_string(),
+            reason: format!(
+                "the window would stay where it is (tip at ({:.4}, {:.4})): its trigger \
+                 distance {trigger:.4} m (band + horizon + dx) leaves no room in a window of \
+                 {lx:.4} m x {ly:.4} m; use more nodes per side or a larger window",
+                tip.x, tip.y
+            ),
+        });
+    }
     match Window::place(0, spec.clone(), body) {
         Ok(_) => Ok(spec),
         Err(
@@ -119,6 +133,42 @@ pub fn snap_to_element_end(w: &Window, p: V2) -> V2 {
         })
         .min_by(|x, y| (x - p).norm().total_cmp(&(y - p).norm()))
         .expect("four sides")
+}
+
+/// When the BEM crack `out` already runs into the new window `w` (the window moved
+/// sideways or back over the old entry, so the path gives no extension), the crack is split
+/// where it crosses the window boundary, and that crossing must lie on an interface element
+/// end like every other crack mouth on a window (one element per node row): the crossing
+/// becomes a vertex moved to the nearest element end (at most dx / 2 along the side).
+/// Measured on `cases/growth_shear_edge.ron` with 10 x 10 nodes: the crossing fell at
+/// x = 9.9474 m on the side y = 5.2 m, whose element ends lie at 8.4 + 0.2 k m.
+fn snap_entry_into(out: &mut Vec<V2>, w: &Window) {
+    let inside = |p: V2| w.contains(p, -1e-9 * w.spec.dx);
+    let Some(k) = out.iter().position(|p| inside(*p)) else {
+        return;
+    };
+    if k == 0 {
+        return;
+    }
+    let (a, b) = (out[k - 1], out[k]);
+    let (mut lo, mut hi) = (0.0, 1.0);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if inside(a + (b - a) * mid) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    let c = snap_to_element_end(w, a + (b - a) * hi);
+    if (c - out[k]).norm() <= 1e-9 * w.spec.dx {
+        return;
+    }
+    if (c - a).norm() <= 1e-9 * w.spec.dx {
+        out[k - 1] = c;
+    } else {
+        out.insert(k, c);
+    }
 }
 
 /// The extended macro crack (see the module docs).
@@ -158,6 +208,7 @@ pub fn extend_crack(
     if let Some(h) = base_size {
         out = polyline::subdivide(&out, h);
     }
+    snap_entry_into(&mut out, new);
     let total = polyline::length(path);
     let s_new = polyline::entry_length(path, new).ok_or_else(|| CouplingError::Relocation {
         tip: tip_name.to_string(),
@@ -220,6 +271,50 @@ mod tests {
         )
         .unwrap();
         assert!((s.center.y - 0.5).abs() < 1e-12, "{:?}", s.center);
+    }
+
+    #[test]
+    fn a_crack_already_in_the_new_window_enters_it_at_an_element_end() {
+        // Window [9.5, 10.5] x [7.5, 8.5] (dx = 0.05, element ends at 9.5 + 0.05 k); the
+        // crack comes down from (10.02, 10) and ends at (10.01, 8.2), inside the window,
+        // crossing its top side y = 8.5 at x = 10.0155 (between element ends).
+        let w = window(10.0, 8.0);
+        let mut line = vec![V2::new(10.02, 10.0), V2::new(10.01, 8.2)];
+        snap_entry_into(&mut line, &w);
+        assert_eq!(line.len(), 3, "{line:?}");
+        let c = line[1];
+        assert!((c.y - 8.5).abs() < 1e-12, "{c:?}");
+        assert!((c.x - 10.0).abs() < 1e-12, "{c:?}");
+        // A crack that stops outside is left alone.
+        let mut outside = vec![V2::new(10.02, 10.0), V2::new(10.01, 8.7)];
+        snap_entry_into(&mut outside, &w);
+        assert_eq!(outside.len(), 2);
+    }
+
+    #[test]
+    fn a_window_that_cannot_move_is_an_error() {
+        // 10 x 10 nodes of dx = 0.2 m: the trigger distance 0.2 + 0.603 + 0.2 m exceeds
+        // half the side, so the window centred on the tip triggers again at once.
+        let spec = WindowSpec {
+            center: V2::new(10.0, 5.0),
+            angle: 0.0,
+            dx: 0.2,
+            nx: 10,
+            ny: 10,
+            horizon_factor: 3.015,
+        };
+        let w = Window::place(0, spec, &body()).unwrap();
+        let e = moved_spec(
+            &w,
+            V2::new(10.0, 5.0),
+            V2::new(1.0, 0.0),
+            0.0,
+            0.9,
+            &body(),
+            "t",
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("would stay where it is"), "{e}");
     }
 
     #[test]

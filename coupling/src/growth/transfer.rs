@@ -34,6 +34,9 @@ pub struct TransferInfo {
     pub bonds_copied: usize,
     /// Of those, broken ones.
     pub broken_copied: usize,
+    /// Nodes left without support in two directions by the copied breaks and the new
+    /// pre-crack cut, detached ([`pdbem_pd::PdModel::detach_unsupported_nodes`]).
+    pub detached_nodes: usize,
 }
 
 /// Lattice index of the old windows' nodes.
@@ -133,6 +136,13 @@ pub fn transfer_state(
     copy_bond_states(old, &old_states, &matches, new, &mut st, &mut info);
     st.load = load;
     new.model.restore(&st);
+    // The new window's pre-crack cut follows the fitted crack polyline, which does not
+    // coincide with the broken-bond band it was fitted to: a node between the two can be
+    // left hanging by one bond (or a straight chain of bonds), a mechanism that stalls
+    // the Newton solves of the window (seed 002 section 3.2.4 case, measured: one such
+    // node after the 30th relocation, Newton then stalled at a displacement change of
+    // 1.8e-3 in 50 iterations with 23 LU fallbacks).
+    info.detached_nodes = new.model.detach_unsupported_nodes();
     let vstart = new.model.virtual_nodes().start;
     let x0 = new
         .interface

@@ -86,6 +86,7 @@ impl Newton {
         let mut r0 = r;
         let mut measure = f64::INFINITY;
         let mut prev_measure = f64::INFINITY;
+        let mut last_rel = f64::INFINITY;
         for it in 1..=p.max_iters {
             let rref = rref0.max(residual_norms(model).1);
             if !r.is_finite() {
@@ -167,6 +168,7 @@ impl Newton {
             let rref = rref0.max(residual_norms(model).1);
             let rel = if rref > 0.0 { r / rref } else { r };
             info.residual_history.push(rel);
+            last_rel = rel;
             let done = match p.convergence {
                 Convergence::Displacement { e0 } => measure < e0,
                 Convergence::Residual { tol } => rel < tol,
@@ -185,7 +187,12 @@ impl Newton {
             solver: "implicit",
             iterations: p.max_iters,
             load: model.load,
-            measure,
+            // The quantity the criterion tests (the relative residual for `Residual`, not
+            // the displacement change).
+            measure: match p.convergence {
+                Convergence::Displacement { .. } => measure,
+                Convergence::Residual { .. } => last_rel,
+            },
             tolerance: match p.convergence {
                 Convergence::Displacement { e0 } => e0,
                 Convergence::Residual { tol } => tol,
