@@ -12,6 +12,9 @@
 //!   the crack (the new window's traced pre-crack lies on the old path) and the CMOD.
 //! - `seed001_inclined_crack_pd_bem_turns_perpendicular_at_the_griffith_load`: the
 //!   45-degree central crack of seed 001 section 6.1 with one rotated window per tip.
+//! - `seed002_hole_edge_crack_curves_towards_the_hole`: the edge crack next to a hole of
+//!   seed 002 section 3.2.4 (`cases/growth_hole_edge.ron`, stand-in geometry) bends
+//!   towards the hole and ends there.
 //!
 //! Every tolerance carries the measured value (release build, 2 cores).
 
@@ -20,6 +23,7 @@ use pdbem::scene::Scene;
 use pdbem_bem::post::sif::{analyze_tips, SifOptions};
 use pdbem_bem::post::FieldEvaluator;
 use pdbem_bem::{BemSystem, V2};
+use pdbem_coupling::growth::tips::TipEnd;
 use pdbem_coupling::growth::Silent;
 
 fn scene(name: &str) -> Scene {
@@ -229,4 +233,74 @@ fn seed001_inclined_crack_pd_bem_turns_perpendicular_at_the_griffith_load() {
             (b.x - a.x).abs()
         );
     }
+}
+
+#[test]
+fn seed002_hole_edge_crack_curves_towards_the_hole() {
+    // Seed 002 section 3.2.4 (Fig. 29-31) on the stand-in geometry of the case file: 80 mm x
+    // 40 mm plate, 6 mm edge crack up from (30, 0) mm, hole of radius 5 mm centred at
+    // (40, 22) mm, E = 72 GPa, s0 = 0.02; 4 mm window of 20 x 20 (dx = 0.2 mm) moved by
+    // 0.5 mm. Measured (release, 2 cores): the crack runs at step 69 (184 MPa), 33
+    // relocations within that step, the tip ends at the hole, 28.5 s for the whole run.
+    let sc = scene("growth_hole_edge");
+    let inp = input(&sc).unwrap();
+    let dx = 2e-4;
+    let mut g = inp.growth().unwrap();
+    let t0 = std::time::Instant::now();
+    let r = g.run(&mut Silent).unwrap();
+    let wall = t0.elapsed().as_secs_f64();
+    assert!(r.failure.is_none(), "the crack must not cut the plate");
+    let tip = &g.tips()[0];
+    assert!(
+        matches!(&tip.ended, Some(TipEnd::Hole(_))),
+        "the tip must end at the hole: {:?}",
+        tip.ended
+    );
+    let path = g.tip_path(0);
+    let (start, end) = (path[0].0, path.last().unwrap().0);
+    assert!(
+        (start - V2::new(0.03, 0.006)).norm() < dx,
+        "start {start:?}"
+    );
+    let centre = V2::new(0.04, 0.022);
+    // Towards the hole: the end point lies right of the initial crack line x = 30 mm, on
+    // the hole's side. Measured end (32.52, 20.69) mm: 2.52 mm lateral deviation, 12.6 dx.
+    let lateral = end.x - 0.03;
+    assert!(
+        lateral > 1.5e-3,
+        "lateral deviation {lateral:.5} m, end {end:?}"
+    );
+    // The distance to the hole centre falls along the whole path. Measured from 18.87 mm
+    // to 7.59 mm (2.59 mm from the hole edge: the window and its horizon layer must stay
+    // clear of the hole), and it never grows from one path point to the next (largest
+    // change -6e-6 m over 80 points).
+    let dist: Vec<f64> = path.iter().map(|p| (p.0 - centre).norm()).collect();
+    let (d0, d1) = (dist[0], *dist.last().unwrap());
+    assert!(
+        d0 - d1 > 10e-3,
+        "distance to the hole centre {d0:.5} -> {d1:.5} m"
+    );
+    assert!(
+        d1 - 5e-3 < 3.5e-3,
+        "end {:.5} m from the hole edge",
+        d1 - 5e-3
+    );
+    let rise = dist
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .fold(f64::MIN, f64::max);
+    assert!(
+        rise < 0.5 * dx,
+        "distance to the hole centre grew by {rise:.2e} m"
+    );
+    // Qualitatively as in seed 002 Fig. 31 (test, XFEM and FMM-BEM of Varfolomeev et al.
+    // 2014, Int. J. Fatigue 58:12-19): the crack leaves its initial line and curves into
+    // the hole. The stand-in geometry (not the specimen) allows no closer comparison.
+    eprintln!(
+        "hole: {} relocations, end ({:.5}, {:.5}) m, {:.5} m from the hole centre, wall {wall:.1} s",
+        r.relocations.len(),
+        end.x,
+        end.y,
+        d1
+    );
 }
