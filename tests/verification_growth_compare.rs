@@ -79,11 +79,17 @@ fn tension_edge_pd_bem_and_bem_only_paths_agree_within_two_dx() {
 
 #[test]
 fn tension_edge_full_pd_and_bem_only_paths_agree_within_two_dx_on_the_coarse_grid() {
-    // dx = 0.2 m (100 x 50 nodes), BEM-only da = dx. Measured: 0.192 m = 0.96 dx over
-    // the full 8 m ligament; full PD 19-27 s, BEM-only 5 s.
+    // Full PD at dx = 0.2 m (100 x 50 nodes, the bench's --quick grid) against BEM-only
+    // (the scene's mesh) with da = 0.2 m. Measured: 0.193 m = 0.96 dx over the full 8 m
+    // ligament; full PD 19-38 s, BEM-only about 30 s.
     let b = base("growth_tension_edge");
     let (fullpd, dx) = mode_scene(&b, GrowthMode::FullPd, true, 1.0);
-    let (bemonly, _) = mode_scene(&b, GrowthMode::BemOnly, true, 1.0);
+    let (bemonly, bdx) = mode_scene(&b, GrowthMode::BemOnly, false, 2.0);
+    assert!(
+        (2.0 * bdx - dx).abs() < 1e-12,
+        "BEM-only increment {} vs dx {dx}",
+        2.0 * bdx
+    );
     let hf = grow(&fullpd, "tension-fullpd");
     let hb = grow(&bemonly, "tension-bemonly-coarse");
     let (d, reach) = deviation(&hf, &hb);
