@@ -37,7 +37,7 @@ use serde_json::json;
 
 use super::criterion::{mcs, toughness};
 use super::front::{Front, Obstacle};
-use super::log::{step_bar, GrowthLog};
+use super::log::{step_bar, stop_after_step, GrowthLog};
 use super::{FieldSnapshot, GrowthHistory, PathPoint, StepRecord, TipPath};
 use crate::geometry::P2;
 use crate::run_bem::{solve_level, Level};
@@ -423,19 +423,16 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
         current = solved_now;
         bar.set_message(format!("load {f:.4e}, {geometry} re-meshes"));
         bar.inc(1);
-        if front.separated() {
-            history.failure = true;
-            history.failure_load = Some(f);
-            log.event("failure", json!({"step": k, "load": f}))?;
-            history.notes.push(format!(
-                "failure at load {f} (step {k}): a crack cut the body through"
-            ));
-            break;
-        }
-        if front.active().is_empty() {
-            history
-                .notes
-                .push(format!("every tip stopped by step {k} (load {f})"));
+        let cut = front.separated();
+        if stop_after_step(
+            &mut history,
+            &log,
+            &front,
+            cut,
+            k,
+            f,
+            "a crack cut the body through",
+        )? {
             break;
         }
         if !solved_now {

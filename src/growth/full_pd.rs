@@ -38,7 +38,7 @@ use anyhow::{bail, Context, Result};
 use serde_json::json;
 
 use super::front::{ray_polygon, Front, Obstacle};
-use super::log::{step_bar, GrowthLog};
+use super::log::{step_bar, stop_after_step, GrowthLog};
 use super::{FieldSnapshot, GrowthHistory, PathPoint, StepRecord, TipPath};
 use crate::geometry::P2;
 use crate::runner::RunContext;
@@ -340,21 +340,16 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
             ));
             history.failure = true;
         }
-        if front.separated() {
-            history.failure = true;
-        }
-        if history.failure {
-            history.failure_load = Some(f);
-            log.event("failure", json!({"step": k, "load": f}))?;
-            history.notes.push(format!(
-                "failure at load {f} (step {k}): the body came apart"
-            ));
-            break;
-        }
-        if front.active().is_empty() {
-            history
-                .notes
-                .push(format!("every tip stopped by step {k} (load {f})"));
+        let failed = history.failure || front.separated();
+        if stop_after_step(
+            &mut history,
+            &log,
+            &front,
+            failed,
+            k,
+            f,
+            "the body came apart",
+        )? {
             break;
         }
     }

@@ -97,3 +97,34 @@ pub fn step_bar(ctx: &RunContext, steps: usize) -> indicatif::ProgressBar {
     }
     bar
 }
+
+/// The end-of-step verdict of the BEM-only and full-PD loops at step `step` (load `load`):
+/// with `failed` (a crack cut the body; `why` says how) the history records the failure
+/// and the log a `failure` event; otherwise, when no tip is active any more, a note.
+/// Returns whether the run stops.
+pub fn stop_after_step(
+    history: &mut GrowthHistory,
+    log: &GrowthLog,
+    front: &super::front::Front,
+    failed: bool,
+    step: usize,
+    load: f64,
+    why: &str,
+) -> Result<bool> {
+    if failed {
+        history.failure = true;
+        history.failure_load = Some(load);
+        log.event("failure", json!({"step": step, "load": load}))?;
+        history
+            .notes
+            .push(format!("failure at load {load} (step {step}): {why}"));
+        return Ok(true);
+    }
+    if front.active().is_empty() {
+        history
+            .notes
+            .push(format!("every tip stopped by step {step} (load {load})"));
+        return Ok(true);
+    }
+    Ok(false)
+}
