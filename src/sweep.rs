@@ -121,7 +121,7 @@ pub fn run_sweep(
     }
     check_paths(scene, varies)?;
     let combos = grid(varies);
-    let writer = OutputWriter::create(out_dir)
+    let writer = OutputWriter::create_run(out_dir)
         .with_context(|| format!("cannot create {}", out_dir.display()))?;
     let bar = if quiet {
         indicatif::ProgressBar::hidden()

@@ -4,10 +4,12 @@
 //! run) deletes the staging folder, and the run folder too if this writer
 //! created it and it is empty. So a failed run leaves no half-written outputs.
 //!
-//! A committed run lists its files in `<out>/.pdbem-files`; the next commit into the same
-//! folder removes the files of that list it did not write again (a re-run with fewer load
-//! steps leaves no snapshot of the old run beside the new ones). Files pdbem did not write
-//! are never touched.
+//! A writer that owns its folder ([`OutputWriter::create_run`]: runs, sweeps) lists its
+//! files in `<out>/.pdbem-files`; the next such commit into the same folder removes the
+//! files of that list it did not write again (a re-run with fewer load steps leaves no
+//! snapshot of the old run beside the new ones). Files pdbem did not write are never
+//! touched, and writers that add a file to a shared folder ([`OutputWriter::create`]:
+//! `plot-paths`, `check --plot`) neither read nor write the list.
 
 use std::fs;
 use std::io;
@@ -23,6 +25,7 @@ pub struct OutputWriter {
     out_dir: PathBuf,
     staging: PathBuf,
     created: Vec<PathBuf>,
+    owns_folder: bool,
     files: Mutex<Vec<String>>,
     done: Mutex<bool>,
 }
@@ -41,9 +44,18 @@ impl OutputWriter {
             out_dir: out_dir.to_path_buf(),
             staging,
             created,
+            owns_folder: false,
             files: Mutex::new(Vec::new()),
             done: Mutex::new(false),
         })
+    }
+
+    /// [`OutputWriter::create`] for a folder that holds one run: its commit replaces the
+    /// previous run's files (see the module docs).
+    pub fn create_run(out_dir: &Path) -> io::Result<OutputWriter> {
+        let mut w = OutputWriter::create(out_dir)?;
+        w.owns_folder = true;
+        Ok(w)
     }
 
     /// The final run folder.
@@ -90,23 +102,15 @@ impl OutputWriter {
         self.files.lock().map(|f| f.clone()).unwrap_or_default()
     }
 
-    /// Moves every staged file into the run folder, removes the files an earlier run
-    /// listed in [`MANIFEST`] that this one did not write, writes the new list, and removes
-    /// the staging folder.
+    /// Moves every staged file into the run folder and removes the staging folder; a
+    /// writer that owns its folder first removes the files an earlier run listed in
+    /// [`MANIFEST`] that this one did not write, and writes the new list.
     pub fn commit(&self) -> io::Result<Vec<PathBuf>> {
         let mut out = Vec::new();
         let files = self.files();
-        let manifest = self.out_dir.join(MANIFEST);
-        if let Ok(old) = fs::read_to_string(&manifest) {
-            for name in old.lines().filter(|n| is_plain_name(n)) {
-                if !files.iter().any(|f| f == name) {
-                    let _ = fs::remove_file(self.out_dir.join(name));
-                }
-            }
+        if self.owns_folder {
+            self.replace_manifest(&files)?;
         }
-        let mut list = files.join("\n");
-        list.push('\n');
-        write_atomic(&manifest, list.as_bytes())?;
         for name in files {
             let to = self.out_dir.join(&name);
             fs::rename(self.staging_path(&name), &to)?;
@@ -117,6 +121,22 @@ impl OutputWriter {
             *d = true;
         }
         Ok(out)
+    }
+
+    /// Removes the files of the previous run's [`MANIFEST`] that are not in `files`, then
+    /// lists `files` there.
+    fn replace_manifest(&self, files: &[String]) -> io::Result<()> {
+        let manifest = self.out_dir.join(MANIFEST);
+        if let Ok(old) = fs::read_to_string(&manifest) {
+            for name in old.lines().filter(|n| is_plain_name(n)) {
+                if !files.iter().any(|f| f == name) {
+                    let _ = fs::remove_file(self.out_dir.join(name));
+                }
+            }
+        }
+        let mut list = files.join("\n");
+        list.push('\n');
+        write_atomic(&manifest, list.as_bytes())
     }
 
     /// Discards the staged files (what `Drop` does without `commit`).
@@ -179,8 +199,8 @@ mod tests {
         w.write_bytes("a.txt", b"x").expect("write");
         w.commit().expect("commit");
         assert_eq!(fs::read_to_string(d.join("a.txt")).expect("read"), "x");
-        // a.txt and the manifest.
-        assert_eq!(fs::read_dir(&d).expect("dir").count(), 2);
+        // A writer that does not own the folder leaves no manifest.
+        assert_eq!(fs::read_dir(&d).expect("dir").count(), 1);
         let _ = fs::remove_dir_all(&d);
     }
 
@@ -188,13 +208,17 @@ mod tests {
     fn a_second_run_removes_only_the_first_runs_files_it_did_not_write_again() {
         let d = scratch("rerun");
         let _ = fs::remove_dir_all(&d);
-        let w = OutputWriter::create(&d).expect("create");
+        let w = OutputWriter::create_run(&d).expect("create");
         w.write_bytes("steps.csv", b"1").expect("write");
         w.write_bytes("snapshot_step019.png", b"old")
             .expect("write");
         w.commit().expect("commit");
         fs::write(d.join("notes.txt"), b"mine").expect("user file");
-        let w = OutputWriter::create(&d).expect("create");
+        // A plot added to the folder by another command stays through the re-run.
+        let p = OutputWriter::create(&d).expect("create");
+        p.write_bytes("overlay.png", b"plot").expect("write");
+        p.commit().expect("commit");
+        let w = OutputWriter::create_run(&d).expect("create");
         w.write_bytes("steps.csv", b"2").expect("write");
         w.write_bytes("snapshot_step004.png", b"new")
             .expect("write");
@@ -205,6 +229,10 @@ mod tests {
         assert_eq!(
             fs::read_to_string(d.join("notes.txt")).expect("read"),
             "mine"
+        );
+        assert!(
+            d.join("overlay.png").exists(),
+            "another command's file removed"
         );
         let _ = fs::remove_dir_all(&d);
     }

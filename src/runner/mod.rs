@@ -35,7 +35,7 @@ impl RunContext {
         Ok(RunContext {
             out_dir: out_dir.to_path_buf(),
             quiet,
-            writer: OutputWriter::create(out_dir)?,
+            writer: OutputWriter::create_run(out_dir)?,
         })
     }
 
