@@ -400,7 +400,7 @@ fn history<S: Scenario>(
         .windows
         .first()
         .map_or(0.0, |w| w.window.delta());
-    let paths_for_initiation = paths.clone();
+    let initiation_load = grown_by(&paths, horizon);
     let mut notes = result.notes.clone();
     if let Some(f) = result.initiation_load {
         notes.push(format!("first bond broke at load {f}"));
@@ -422,7 +422,7 @@ fn history<S: Scenario>(
                 rebuild_s: r.rebuild_s,
             })
             .collect(),
-        initiation_load: grown_by(&paths_for_initiation, horizon),
+        initiation_load,
         failure: result.failure.is_some(),
         failure_load: result.failure.as_ref().map(|f| f.load),
         notes,
