@@ -11,10 +11,12 @@
 //! crack), the lower face's elements run against it.
 
 mod builder;
+mod pieces;
 mod spacing;
 pub mod stencil;
 
 pub use builder::{CrackSpec, FaceMode, LoopSpec, MeshBuilder, TipRefinement};
+pub use pieces::pieces;
 pub use spacing::subdivide;
 
 use nalgebra::Vector2;

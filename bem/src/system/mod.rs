@@ -152,6 +152,10 @@ pub struct BemSystem {
     response: Option<(Vec<f64>, Vec<f64>)>,
     stencil: Option<crate::mesh::stencil::Stencil>,
     info: SolveInfo,
+    /// Piece of every element ([`crate::mesh::pieces`]).
+    pieces: Vec<usize>,
+    /// Free rigid modes of every piece (0 to 3).
+    free_in_piece: Vec<usize>,
 }
 
 impl BemSystem {
@@ -173,11 +177,22 @@ impl BemSystem {
             return Err(BemError::Mesh("no elements".into()));
         }
         let t0 = Instant::now();
-        let modes = if params.infinite {
-            Vec::new()
+        let (modes, pieces) = if params.infinite {
+            (Vec::new(), vec![0; mesh.len()])
         } else {
             rigid::free_modes(mesh, bcs)
         };
+        let piece_count = pieces.iter().copied().max().map_or(0, |m| m + 1);
+        let free_in_piece: Vec<usize> = (0..piece_count)
+            .map(|p| {
+                modes
+                    .iter()
+                    .filter(|m| {
+                        (0..mesh.len()).any(|e| pieces[e] == p && m[2 * e..2 * e + 2] != [0.0, 0.0])
+                    })
+                    .count()
+            })
+            .collect();
         let stencil = params
             .reconstruct
             .then(|| crate::mesh::stencil::tangential_stencil(mesh));
@@ -197,6 +212,8 @@ impl BemSystem {
             variable_cols: asm.variable.into_iter().flat_map(|(_, c)| c).collect(),
             response: None,
             stencil,
+            pieces,
+            free_in_piece,
             info: SolveInfo {
                 elements: mesh.len(),
                 unknowns: n,
@@ -238,6 +255,19 @@ impl BemSystem {
     /// Diagnostics of assembly and factorization.
     pub fn info(&self) -> &SolveInfo {
         &self.info
+    }
+
+    /// Piece of every element: the body cut apart by cracks has several
+    /// ([`crate::mesh::pieces`]; all 0 for an infinite body).
+    pub fn pieces(&self) -> &[usize] {
+        &self.pieces
+    }
+
+    /// Rigid modes left free in every piece (3 for a piece with no prescribed
+    /// displacement). The solution fixes them by the bordering constraint, which is
+    /// arbitrary: the displacement of a free piece is known up to these motions.
+    pub fn free_modes_per_piece(&self) -> &[usize] {
+        &self.free_in_piece
     }
 
     fn factor(&mut self) {

@@ -4,49 +4,74 @@
 //! mesh size) are evaluated at every element's collocation point. Restricted to the
 //! displacement-prescribed components they span a Gram matrix G; the eigenvectors of G with
 //! (relatively) zero eigenvalue are the motions the conditions do not fix. They are returned
-//! orthonormalised over all degrees of freedom.
+//! orthonormalised over all degrees of freedom. A body cut into pieces (a crack from the
+//! outline into a PD window) has these motions per piece: a piece without prescribed
+//! displacements floats, whatever holds the others.
 
 use super::Bc;
 use crate::mesh::Mesh;
 use nalgebra::{Matrix3, SymmetricEigen};
 
-/// Free rigid modes as vectors over the 2 N degrees of freedom (orthonormal).
-pub(super) fn free_modes(mesh: &Mesh, bcs: &[[Bc; 2]]) -> Vec<Vec<f64>> {
+/// Free rigid modes of every piece of the body ([`crate::mesh::pieces`]) as vectors over
+/// the 2 N degrees of freedom (orthonormal, each supported on its piece), with the piece
+/// labels of the elements.
+pub(super) fn free_modes(mesh: &Mesh, bcs: &[[Bc; 2]]) -> (Vec<Vec<f64>>, Vec<usize>) {
+    let labels = crate::mesh::pieces(mesh).unwrap_or_else(|| vec![0; mesh.len()]);
+    let count = labels.iter().copied().max().map_or(0, |m| m + 1);
+    let modes = (0..count)
+        .flat_map(|p| piece_modes(mesh, bcs, &labels, p))
+        .collect();
+    (modes, labels)
+}
+
+/// Free rigid modes of piece `p` (see the module docs).
+fn piece_modes(mesh: &Mesh, bcs: &[[Bc; 2]], labels: &[usize], p: usize) -> Vec<Vec<f64>> {
     let nel = mesh.len();
-    let c = mesh.elements.iter().map(|e| e.mid).sum::<crate::V2>() / nel as f64;
-    let scale = mesh
-        .elements
+    let mine: Vec<usize> = (0..nel).filter(|&e| labels[e] == p).collect();
+    let c = mine
         .iter()
-        .map(|e| (e.mid - c).norm())
+        .map(|&e| mesh.elements[e].mid)
+        .sum::<crate::V2>()
+        / mine.len() as f64;
+    let scale = mine
+        .iter()
+        .map(|&e| (mesh.elements[e].mid - c).norm())
         .fold(0.0, f64::max)
         .max(1e-300);
+    let on = |d: usize| labels[d / 2] == p;
     let basis: [Vec<f64>; 3] = [
         (0..2 * nel)
-            .map(|d| if d % 2 == 0 { 1.0 } else { 0.0 })
+            .map(|d| if on(d) && d % 2 == 0 { 1.0 } else { 0.0 })
             .collect(),
         (0..2 * nel)
-            .map(|d| if d % 2 == 1 { 1.0 } else { 0.0 })
+            .map(|d| if on(d) && d % 2 == 1 { 1.0 } else { 0.0 })
             .collect(),
         (0..2 * nel)
             .map(|d| {
-                let p = (mesh.elements[d / 2].mid - c) / scale;
+                if !on(d) {
+                    return 0.0;
+                }
+                let q = (mesh.elements[d / 2].mid - c) / scale;
                 if d % 2 == 0 {
-                    -p.y
+                    -q.y
                 } else {
-                    p.x
+                    q.x
                 }
             })
             .collect(),
     ];
     let mut g = Matrix3::<f64>::zeros();
     let mut full = Matrix3::<f64>::zeros();
-    for d in 0..2 * nel {
-        for k in 0..3 {
-            for l in 0..3 {
-                let v = basis[k][d] * basis[l][d];
-                full[(k, l)] += v;
-                if bcs[d / 2][d % 2].is_displacement() {
-                    g[(k, l)] += v;
+    for &e in &mine {
+        for comp in 0..2 {
+            let d = 2 * e + comp;
+            for k in 0..3 {
+                for l in 0..3 {
+                    let v = basis[k][d] * basis[l][d];
+                    full[(k, l)] += v;
+                    if bcs[e][comp].is_displacement() {
+                        g[(k, l)] += v;
+                    }
                 }
             }
         }
