@@ -113,6 +113,13 @@ pub enum CouplingError {
         /// Residual of every iteration.
         residuals: Vec<f64>,
     },
+    /// A piece of the BEM body cut apart by cracks that the iteration cannot hold
+    /// ([`crate::floating`]).
+    #[error("BEM body cut apart: {message}")]
+    FloatingPiece {
+        /// Which piece, why, and what to change.
+        message: String,
+    },
     /// Bad options of one Algorithm 1 run ([`crate::iteration::solve_prepared`]).
     #[error("coupling step: {message}")]
     InvalidStep {

@@ -41,6 +41,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::error::CouplingError;
+use crate::floating::FloatingPieces;
 use crate::maps::{bem_to_virtual, pd_to_tractions, BemView, DisplacementMap, TractionMap};
 use crate::relaxation::{Aitken, Constant, IqnIls, Relaxation};
 use crate::setup::WindowModel;
@@ -315,15 +316,17 @@ pub fn solve(
 /// variable; reused for every iteration and every load step on that geometry.
 pub struct PreparedBem {
     system: BemSystem,
+    /// Pieces of a body cut apart that only the windows hold ([`crate::floating`]).
+    floating: FloatingPieces,
 }
 
 impl PreparedBem {
     /// Marks the interface groups variable (traction) in `problem`, then assembles and
     /// factors. Changing the mesh or the scene conditions needs a new `PreparedBem`.
     pub fn new(problem: &mut CoupledProblem) -> Result<Self, CouplingError> {
-        Ok(PreparedBem {
-            system: factor_bem(problem)?,
-        })
+        let system = factor_bem(problem)?;
+        let floating = FloatingPieces::new(&problem.mesh, &system)?;
+        Ok(PreparedBem { system, floating })
     }
 
     /// Assembly wall time (s).
@@ -334,6 +337,11 @@ impl PreparedBem {
     /// Factorization and response precomputation wall time (s).
     pub fn factor_s(&self) -> f64 {
         self.system.info().factor_s + self.system.info().response_s
+    }
+
+    /// Pieces of the BEM body held only by the windows (cut off by cracks).
+    pub fn floating_pieces(&self) -> usize {
+        self.floating.len()
     }
 
     /// Number of BEM unknowns.
@@ -706,7 +714,7 @@ fn evaluate(
         .iter()
         .flat_map(|w| w.interface.elements.iter().copied())
         .collect();
-    let sol = bem.solve_scaled(&bcs, &interface, scale)?;
+    let mut sol = bem.solve_scaled(&bcs, &interface, scale)?;
     info.timings.bem_substitution_s += ts.elapsed().as_secs_f64();
     let tm = Instant::now();
     let ifaces: Vec<_> = problem
@@ -720,7 +728,18 @@ fn evaluate(
         solution: &sol,
         background: problem.background,
     };
-    let xt = bem_to_virtual(params.displacement_map, &view, &ifaces);
+    let mut xt = bem_to_virtual(params.displacement_map, &view, &ifaces);
+    if !bem.floating.is_empty() {
+        bem.floating.correct(
+            &problem.mesh,
+            &problem.material,
+            params.displacement_map,
+            &ifaces,
+            x,
+            &mut sol,
+            &mut xt,
+        )?;
+    }
     info.timings.mapping_s += map_s + tm.elapsed().as_secs_f64();
     Ok((sol, xt, tractions, broke))
 }

@@ -26,6 +26,7 @@
 
 pub mod breaking;
 pub mod error;
+pub mod floating;
 pub mod growth;
 pub mod interface;
 pub mod iteration;

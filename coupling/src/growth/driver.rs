@@ -8,11 +8,13 @@
 //!    scaled to $f_k$). After every iteration the active tips are traced; a tip past its
 //!    window margin or at the outline stops the iteration (step 6).
 //! 2. Tips that reached the outline end the run (structural failure, step 9), as do two
-//!    edge cracks that meet, or a window that would have to reach the outline while its
-//!    crack is held at the outline at its other end (the BEM body would be cut in two;
-//!    the relocation is not attempted), or a tip past its margin for which no window
-//!    around it fits inside the body (the outline is within the window's reach). Tips at a hole or running into another crack end
-//!    and the run goes on with the others (the run ends when no tip is left).
+//!    edge cracks that meet, or a tip past its margin for which no window around it fits
+//!    inside the body (the outline is within the window's reach of a rotated window).
+//!    A window whose crack runs to it from the outline may move onto the outline: the
+//!    BEM body is then cut apart and the window alone holds the cut-off piece
+//!    ([`crate::floating`]) until the crack crosses the window to the outline. Tips at a
+//!    hole or running into another crack end and the run goes on with the others (the
+//!    run ends when no tip is left).
 //! 3. Tips past their margin are relocated ([`Growth::relocate`], steps 7 and 10): new
 //!    window (one covering all the tips of a window that moves), extended cracks,
 //!    overlapping windows merged, mesh rebuilt and refactored, state transferred; then 1.
@@ -45,7 +47,6 @@ use crate::growth::tips::{
     entry_point, passed_margin, protect_band, ran_into, reached_boundary, towards_tip, track,
     TipEnd, TipState,
 };
-use crate::growth::topology::cuts_body;
 use crate::iteration::{solve_prepared, CoupledProblem, CoupledSolution, PreparedBem, StepOptions};
 use crate::setup::{build, Layout};
 use crate::window::{Body, Window};
@@ -126,14 +127,6 @@ impl<'s, S: Scenario> Growth<'s, S> {
         let names: Vec<String> = setup.tips.iter().map(|t| t.name.clone()).collect();
         let mut owner = tip_windows(&setup, &body)?;
         resolve_overlaps(&mut setup.layout.windows, &mut owner, &names, &body)?;
-        if cuts_body(&setup.layout, &body) {
-            return Err(CouplingError::InvalidGrowth {
-                field: "layout",
-                message: "the cracks and windows cut the BEM body apart from the start \
-                          (a ligament held only by PD windows); shrink or move the windows"
-                    .into(),
-            });
-        }
         let (problem, bem) = build_geometry(&setup.layout, &setup, scenario, params.trigger_ratio)?;
         let mut tips = Vec::new();
         let mut initial_s = Vec::new();
@@ -510,7 +503,9 @@ impl<'s, S: Scenario> Growth<'s, S> {
                 if let Some(&t) = plan.at_outline.first() {
                     let p = self.tips[t].position();
                     observer.note(&format!(
-                        "tip {} at ({:.4}, {:.4}): no window around it fits inside the body,                          the outer boundary is within the window's reach: the crack reaches                          it, structural failure",
+                        "tip {} at ({:.4}, {:.4}): no window around it fits inside the body, \
+                         the outer boundary is within the window's reach: the crack reaches \
+                         it, structural failure",
                         self.tips[t].spec.name, p.x, p.y
                     ));
                     self.tips[t].ended = Some(TipEnd::Outline);
@@ -520,13 +515,11 @@ impl<'s, S: Scenario> Growth<'s, S> {
                     let t = which[0];
                     let p = self.tips[t].position();
                     observer.note(&format!(
-                        "tip {} at ({:.4}, {:.4}): moving its window on would leave the \
-                         remaining ligament wholly in PD windows and the BEM body cut in two: \
-                         structural failure",
+                        "tip {} at ({:.4}, {:.4}): its moved window reaches the outline and \
+                         the cracks cut the BEM body apart; the windows alone hold the \
+                         cut-off part",
                         self.tips[t].spec.name, p.x, p.y
                     ));
-                    self.tips[t].ended = Some(TipEnd::Outline);
-                    break (false, o.residual, Some(t));
                 }
                 let recs = self.apply(plan, k, load, observer)?;
                 if recs.is_empty() {

@@ -95,15 +95,6 @@ impl<S: Scenario> Growth<'_, S> {
     ) -> Result<Vec<RelocationRecord>, CouplingError> {
         let t0 = Instant::now();
         let names: Vec<String> = self.tips.iter().map(|t| t.spec.name.clone()).collect();
-        if plan.cuts_body {
-            return Err(CouplingError::Relocation {
-                tip: plan
-                    .moves
-                    .first()
-                    .map_or_else(String::new, |m| names[m.0].clone()),
-                reason: "the moved windows and the cracks would cut the BEM body in two".into(),
-            });
-        }
         for (t, hole) in &plan.blocked {
             let p = self.tips[*t].position();
             observer.note(&format!(
@@ -202,8 +193,7 @@ impl<S: Scenario> Growth<'_, S> {
         Ok(records)
     }
 
-    /// [`Growth::plan`] then [`Growth::apply`] for tips `which` (an error if the plan
-    /// would cut the BEM body).
+    /// [`Growth::plan`] then [`Growth::apply`] for tips `which`.
     pub fn relocate(
         &mut self,
         which: &[usize],

@@ -24,11 +24,12 @@
 //!   ratio, 0.9 in the seed) has unbreakable bonds, so no damage reaches the coupling
 //!   layer; the window moves once the tip is within the band plus a horizon and a dx of
 //!   an interface side ([`tips::margins`]).
-//! - Structural failure (Algorithm 2 step 9): a tip reaching the outline, two edge cracks
-//!   meeting, or a relocation after which the remaining ligament would lie wholly in PD
-//!   windows ([`topology`]: the BEM body would be cut apart and a floating part cannot be
-//!   held by the Dirichlet-Neumann iteration). A tip reaching a hole or another crack
-//!   ends; the others go on. Windows may not lie over a hole, so a tip growing towards
+//! - Structural failure (Algorithm 2 step 9): a tip reaching the outline or two edge
+//!   cracks meeting. A window may move onto the outline when its crack runs to it from
+//!   the outline: the remaining ligament then lies wholly in the window, the BEM body is
+//!   cut apart ([`topology`], noted) and the coupling holds the cut-off piece by its
+//!   equilibrium ([`crate::floating`]) until the crack crosses the window. A tip
+//!   reaching a hole or another crack ends; the others go on. Windows may not lie over a hole, so a tip growing towards
 //!   one ends at it ([`TipEnd::Hole`]) when its window cannot move on without covering
 //!   it ([`Growth::plan`]).
 //! - A window holding several tips (windows merged) moves for all of its tips past the
@@ -45,7 +46,7 @@
 //! - [`relocate`]: the moved window and the extended crack (the geometry iteration).
 //! - [`transfer`]: the new window's initial state.
 //! - [`merge`]: merging overlapping windows.
-//! - [`topology`]: whether cracks and windows cut the BEM body apart (structural failure).
+//! - [`topology`]: whether cracks and windows cut the BEM body apart (noted).
 //! - [`polyline`]: small polyline helpers.
 
 pub mod driver;

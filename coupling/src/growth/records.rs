@@ -148,7 +148,8 @@ pub struct RelocationPlan {
     pub at_outline: Vec<usize>,
     /// Windows merged.
     pub merges: usize,
-    /// The new layout would cut the BEM body apart ([`crate::growth::topology`]).
+    /// The new layout cuts the BEM body apart ([`crate::growth::topology`]): the windows
+    /// alone hold a piece of it ([`crate::floating`]).
     pub cuts_body: bool,
 }
 

@@ -5,10 +5,11 @@
 //! an edge for each window reaching the outline and an edge for each crack between the
 //! nodes its two ends are attached to (an end on the outline, or inside a window; a free
 //! tip in the BEM body attaches to nothing). A cycle in this graph closes a chain of cuts
-//! around part of the BEM body, which then hangs on PD alone: its rigid motions are free
-//! under the tractions of the Dirichlet-Neumann iteration, which cannot converge. For a
-//! growing crack this is the moment the crack has cut through everything BEM carries
-//! (seed 002 Algorithm 2 step 9: structural failure).
+//! around part of the BEM body, which then hangs on PD alone. The growth driver notes the
+//! moment (the crack has cut through everything BEM carries, only the window's ligament
+//! is left) and goes on: the coupling holds such a piece by its equilibrium
+//! ([`crate::floating`]) until the crack reaches the outline (seed 002 Algorithm 2
+//! step 9: structural failure).
 
 use pdbem_bem::V2;
 
