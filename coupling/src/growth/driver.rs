@@ -47,6 +47,7 @@ use crate::growth::tips::{
     entry_point, passed_margin, protect_band, ran_into, reached_boundary, towards_tip, track,
     TipEnd, TipState,
 };
+use crate::growth::topology::cuts_body;
 use crate::iteration::{solve_prepared, CoupledProblem, CoupledSolution, PreparedBem, StepOptions};
 use crate::setup::{build, Layout};
 use crate::window::{Body, Window};
@@ -440,6 +441,20 @@ impl<'s, S: Scenario> Growth<'s, S> {
         on_outline(&self.tips[t]) && on_outline(o)
     }
 
+    /// When the coupling breaks down (diverges or stops converging) while the cracks and
+    /// windows cut the BEM body apart, the ligament in the windows that alone held the
+    /// cut-off part has given way: the first active tip in a window, else None.
+    fn ligament_gave_way(&self, e: &CouplingError) -> Option<usize> {
+        let breakdown = matches!(
+            e,
+            CouplingError::Diverged { .. } | CouplingError::NoConvergence { .. }
+        );
+        if !breakdown || !cuts_body(&self.setup.layout, &self.body) {
+            return None;
+        }
+        self.tips.iter().position(TipState::active)
+    }
+
     /// Tips past their window margin.
     fn triggered(&self) -> Vec<usize> {
         (0..self.tips.len())
@@ -470,10 +485,23 @@ impl<'s, S: Scenario> Growth<'s, S> {
             let load = self.params.loads.factor(k);
             let t0 = Instant::now();
             let (mut iterations, mut pd_s, mut relocations) = (0, 0.0, 0);
+            let mut gave_way = false;
             let (converged, residual, cut) = loop {
-                let o = self
-                    .solve_at(k, load, observer)
-                    .map_err(|e| step_error(k, load, e))?;
+                let o = match self.solve_at(k, load, observer) {
+                    Ok(o) => o,
+                    Err(e) => match self.ligament_gave_way(&e) {
+                        Some(t) => {
+                            observer.note(&format!(
+                                "step {k} (load {load}): the ligament that alone holds a part \
+                                 of the body cut off by the cracks gave way ({e}): structural \
+                                 failure"
+                            ));
+                            gave_way = true;
+                            break (false, f64::NAN, Some(t));
+                        }
+                        None => return Err(step_error(k, load, e)),
+                    },
+                };
                 iterations += o.iterations;
                 pd_s += o.pd_s;
                 if o.bonds_broken > 0 && out.initiation_load.is_none() {
@@ -541,7 +569,8 @@ impl<'s, S: Scenario> Growth<'s, S> {
                 converged,
                 broken_bonds: self.broken_bonds(),
                 tips: self.tips.iter().map(TipState::position).collect(),
-                cmod: self.first_cmod(),
+                // The last solution of a step whose ligament gave way is not an equilibrium.
+                cmod: if gave_way { None } else { self.first_cmod() },
                 relocations,
                 wall_s: t0.elapsed().as_secs_f64(),
                 pd_s,
@@ -550,9 +579,17 @@ impl<'s, S: Scenario> Growth<'s, S> {
             out.steps.push(rec);
             if let Some(t) = cut {
                 let name = self.tips[t].spec.name.clone();
-                out.notes.push(format!(
-                    "structural failure at step {k} (load {load}): tip {name} reached the outer boundary"
-                ));
+                out.notes.push(if gave_way {
+                    format!(
+                        "structural failure at step {k} (load {load}): the PD ligament at tip \
+                         {name}, which alone held a part of the body, gave way"
+                    )
+                } else {
+                    format!(
+                        "structural failure at step {k} (load {load}): tip {name} reached the \
+                         outer boundary"
+                    )
+                });
                 out.failure = Some(Failure {
                     step: k,
                     load,
