@@ -13,6 +13,7 @@
 //! (one element of length dx per boundary node); [`cut_outline`] removes a window touching
 //! the outline from the BEM outline instead.
 
+pub use pdbem_bem::mesh::point_in_polygon;
 use pdbem_bem::mesh::LoopSpec;
 use pdbem_bem::V2;
 
@@ -75,21 +76,6 @@ pub fn segment_distance(p: V2, a: V2, b: V2) -> (f64, f64) {
         0.0
     };
     ((a + t * d - p).norm(), t)
-}
-
-/// Even-odd point-in-polygon test.
-pub fn point_in_polygon(p: V2, poly: &[V2]) -> bool {
-    let n = poly.len();
-    let mut inside = false;
-    let mut j = n - 1;
-    for i in 0..n {
-        let (a, b) = (poly[i], poly[j]);
-        if (a.y > p.y) != (b.y > p.y) && p.x < (b.x - a.x) * (p.y - a.y) / (b.y - a.y) + a.x {
-            inside = !inside;
-        }
-        j = i;
-    }
-    inside
 }
 
 /// Distance from `p` to the boundary of a closed polygon.

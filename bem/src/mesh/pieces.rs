@@ -14,6 +14,7 @@
 //! the others (holes, cracks inside a piece) belong to the smallest outer circuit around
 //! them.
 
+use super::builder::signed_area;
 use super::{Mesh, V2};
 
 /// End points closer than this fraction of the smallest element are one vertex.
@@ -165,18 +166,8 @@ fn successor(mesh: &Mesh, starts: &Starts, e: usize) -> Option<usize> {
         .map(|(i, _)| i)
 }
 
-fn signed_area(p: &[V2]) -> f64 {
-    let n = p.len();
-    (0..n)
-        .map(|i| {
-            let (a, b) = (p[i], p[(i + 1) % n]);
-            a.x * b.y - b.x * a.y
-        })
-        .sum::<f64>()
-        * 0.5
-}
-
-fn point_in_polygon(p: V2, poly: &[V2]) -> bool {
+/// Even-odd point-in-polygon test.
+pub fn point_in_polygon(p: V2, poly: &[V2]) -> bool {
     let mut inside = false;
     let n = poly.len();
     let mut j = n - 1;
