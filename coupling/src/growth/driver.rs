@@ -444,15 +444,22 @@ impl<'s, S: Scenario> Growth<'s, S> {
     /// When the coupling breaks down (diverges or stops converging) while the cracks and
     /// windows cut the BEM body apart, the ligament in the windows that alone held the
     /// cut-off part has given way: the first active tip in a window, else None.
-    fn ligament_gave_way(&self, e: &CouplingError) -> Option<usize> {
-        let breakdown = matches!(
-            e,
-            CouplingError::Diverged { .. } | CouplingError::NoConvergence { .. }
-        );
-        if !breakdown || !cuts_body(&self.setup.layout, &self.body) {
+    /// Returns the tip and a one-line account of the breakdown.
+    fn ligament_gave_way(&self, e: &CouplingError) -> Option<(usize, String)> {
+        let what = match e {
+            CouplingError::Diverged {
+                reason, iterations, ..
+            } => format!("coupling diverged after {iterations} iterations: {reason}"),
+            CouplingError::NoConvergence {
+                iterations, last, ..
+            } => format!("coupling residual {last:.3e} after {iterations} iterations"),
+            _ => return None,
+        };
+        if !cuts_body(&self.setup.layout, &self.body) {
             return None;
         }
-        self.tips.iter().position(TipState::active)
+        let t = self.tips.iter().position(TipState::active)?;
+        Some((t, what))
     }
 
     /// Tips past their window margin.
@@ -490,11 +497,11 @@ impl<'s, S: Scenario> Growth<'s, S> {
                 let o = match self.solve_at(k, load, observer) {
                     Ok(o) => o,
                     Err(e) => match self.ligament_gave_way(&e) {
-                        Some(t) => {
+                        Some((t, what)) => {
                             observer.note(&format!(
                                 "step {k} (load {load}): the ligament that alone holds a part \
-                                 of the body cut off by the cracks gave way ({e}): structural \
-                                 failure"
+                                 of the body cut off by the cracks gave way ({what}): \
+                                 structural failure"
                             ));
                             gave_way = true;
                             break (false, f64::NAN, Some(t));
