@@ -52,11 +52,13 @@ pub fn pieces(mesh: &Mesh) -> Option<Vec<usize>> {
             .filter(|&o| point_in_polygon(probe, &polys[o]))
             .min_by(|&a, &b| areas[a].total_cmp(&areas[b]))?;
     }
+    // Circuits in order of their first element: pieces get their numbers in the order
+    // of their first element.
+    let mut order: Vec<usize> = (0..circuits.len()).collect();
+    order.sort_by_key(|&i| circuits[i].iter().min().copied().unwrap_or(usize::MAX));
     let mut label = vec![usize::MAX; mesh.len()];
     let mut number = vec![usize::MAX; circuits.len()];
     let mut next = 0;
-    let mut order: Vec<usize> = (0..circuits.len()).collect();
-    order.sort_by_key(|&i| circuits[i].iter().min().copied().unwrap_or(usize::MAX));
     for i in order {
         let o = owner[i];
         if number[o] == usize::MAX {
@@ -66,16 +68,6 @@ pub fn pieces(mesh: &Mesh) -> Option<Vec<usize>> {
         for &e in &circuits[i] {
             label[e] = number[o];
         }
-    }
-    // Pieces numbered in order of their first element.
-    let mut renumber = vec![usize::MAX; next];
-    let mut k = 0;
-    for l in label.iter_mut() {
-        if renumber[*l] == usize::MAX {
-            renumber[*l] = k;
-            k += 1;
-        }
-        *l = renumber[*l];
     }
     Some(label)
 }

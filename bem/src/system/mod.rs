@@ -177,22 +177,19 @@ impl BemSystem {
             return Err(BemError::Mesh("no elements".into()));
         }
         let t0 = Instant::now();
-        let (modes, pieces) = if params.infinite {
-            (Vec::new(), vec![0; mesh.len()])
+        let rigid::FreeModes {
+            modes,
+            pieces,
+            per_piece: free_in_piece,
+        } = if params.infinite {
+            rigid::FreeModes {
+                modes: Vec::new(),
+                pieces: vec![0; mesh.len()],
+                per_piece: vec![0],
+            }
         } else {
             rigid::free_modes(mesh, bcs)
         };
-        let piece_count = pieces.iter().copied().max().map_or(0, |m| m + 1);
-        let free_in_piece: Vec<usize> = (0..piece_count)
-            .map(|p| {
-                modes
-                    .iter()
-                    .filter(|m| {
-                        (0..mesh.len()).any(|e| pieces[e] == p && m[2 * e..2 * e + 2] != [0.0, 0.0])
-                    })
-                    .count()
-            })
-            .collect();
         let stencil = params
             .reconstruct
             .then(|| crate::mesh::stencil::tangential_stencil(mesh));

@@ -12,16 +12,32 @@ use super::Bc;
 use crate::mesh::Mesh;
 use nalgebra::{Matrix3, SymmetricEigen};
 
-/// Free rigid modes of every piece of the body ([`crate::mesh::pieces`]) as vectors over
-/// the 2 N degrees of freedom (orthonormal, each supported on its piece), with the piece
-/// labels of the elements.
-pub(super) fn free_modes(mesh: &Mesh, bcs: &[[Bc; 2]]) -> (Vec<Vec<f64>>, Vec<usize>) {
-    let labels = crate::mesh::pieces(mesh).unwrap_or_else(|| vec![0; mesh.len()]);
-    let count = labels.iter().copied().max().map_or(0, |m| m + 1);
-    let modes = (0..count)
-        .flat_map(|p| piece_modes(mesh, bcs, &labels, p))
-        .collect();
-    (modes, labels)
+/// Free rigid modes of the pieces of a body ([`crate::mesh::pieces`]).
+pub(super) struct FreeModes {
+    /// Vectors over the 2 N degrees of freedom (orthonormal, each supported on its piece).
+    pub modes: Vec<Vec<f64>>,
+    /// Piece of every element.
+    pub pieces: Vec<usize>,
+    /// Number of free modes of every piece.
+    pub per_piece: Vec<usize>,
+}
+
+/// Free rigid modes of every piece of the body.
+pub(super) fn free_modes(mesh: &Mesh, bcs: &[[Bc; 2]]) -> FreeModes {
+    let pieces = crate::mesh::pieces(mesh).unwrap_or_else(|| vec![0; mesh.len()]);
+    let count = pieces.iter().copied().max().map_or(0, |m| m + 1);
+    let mut modes = Vec::new();
+    let mut per_piece = Vec::with_capacity(count);
+    for p in 0..count {
+        let m = piece_modes(mesh, bcs, &pieces, p);
+        per_piece.push(m.len());
+        modes.extend(m);
+    }
+    FreeModes {
+        modes,
+        pieces,
+        per_piece,
+    }
 }
 
 /// Free rigid modes of piece `p` (see the module docs).
