@@ -16,7 +16,7 @@
 //! Laws other than the brittle PMB law are committed in full.
 //!
 //! [`break_rounds`] repeats this with the window's interface held: break, re-equilibrate
-//! the PD model (Newton), break again, up to a number of rounds or until no bond is past
+//! the PD model (Newton, ADR if Newton fails: [`crate::frozen`]), break again, up to a number of rounds or until no bond is past
 //! $s_0$. The load redistributes mostly inside the window, so a few PD rounds per
 //! converged interface state let the crack advance by several bonds for the price of one
 //! interface re-convergence.
@@ -25,7 +25,9 @@ use pdbem_pd::material::BondLaw;
 use pdbem_pd::solvers::implicit::{ImplicitParams, Newton};
 use pdbem_pd::{PdError, PdModel, SolveInfo};
 
-/// Up to `rounds` progressive commits of `model`, each followed by a Newton equilibrium
+use crate::frozen;
+
+/// Up to `rounds` progressive commits of `model`, each followed by a frozen-bond equilibrium
 /// at the held boundary values; returns the bond pairs broken.
 pub fn break_rounds(
     model: &mut PdModel,
@@ -36,6 +38,7 @@ pub fn break_rounds(
     let mut total = 0;
     let mut solver: Option<Newton> = None;
     let mut info = SolveInfo::default();
+    let start = model.displacements().to_vec();
     for _ in 0..rounds.max(1) {
         let broke = commit_most_stretched(model, fraction);
         if broke == 0 {
@@ -46,7 +49,7 @@ pub fn break_rounds(
             Some(n) => n,
             None => solver.insert(Newton::new(model)?),
         };
-        n.equilibrate(model, newton, &mut info)?;
+        frozen::equilibrate(n, model, newton, &start, &mut info)?;
     }
     Ok(total)
 }

@@ -42,6 +42,7 @@ use serde::Serialize;
 
 use crate::error::CouplingError;
 use crate::floating::FloatingPieces;
+use crate::frozen;
 use crate::maps::{bem_to_virtual, pd_to_tractions, BemView, DisplacementMap, TractionMap};
 use crate::relaxation::{Aitken, Constant, IqnIls, Relaxation};
 use crate::setup::WindowModel;
@@ -139,20 +140,24 @@ impl Default for StaggeredParams {
     }
 }
 
-/// [`PdSolve::Staggered`] on one model; returns the Newton iterations.
+/// [`PdSolve::Staggered`] on one model; returns the solver iterations.
+///
+/// Each equilibrium is Newton's, with ADR when Newton fails
+/// ([`crate::frozen::equilibrate`]).
 fn staggered(
     model: &mut pdbem_pd::PdModel,
     p: &StaggeredParams,
 ) -> Result<usize, pdbem_pd::PdError> {
     let mut info = pdbem_pd::SolveInfo::default();
     let mut newton = implicit::Newton::new(model)?;
+    let start = model.displacements().to_vec();
     newton.predict_to(model, p.newton.target_load, &mut info)?;
-    let (mut iters, _) = newton.equilibrate(model, &p.newton, &mut info)?;
+    let mut iters = frozen::equilibrate(&mut newton, model, &p.newton, &start, &mut info)?;
     for _ in 0..p.rounds {
         if model.commit_history().newly_broken == 0 {
             break;
         }
-        iters += newton.equilibrate(model, &p.newton, &mut info)?.0;
+        iters += frozen::equilibrate(&mut newton, model, &p.newton, &start, &mut info)?;
     }
     Ok(iters)
 }
