@@ -15,6 +15,10 @@
 //! - `seed002_hole_edge_crack_curves_towards_the_hole`: the edge crack next to a hole of
 //!   seed 002 section 3.2.4 (`cases/growth_hole_edge.ron`, stand-in geometry) bends
 //!   towards the hole and ends there.
+//! - `seed001_colinear_edge_cracks_break_the_plate_at_the_lefm_load` and
+//!   `seed001_two_parallel_cracks_run_apart_to_the_sides_at_the_lefm_load`: seed 001
+//!   section 6.2 with one window per tip: windows merging and cracks joining, four tips
+//!   running at once.
 //!
 //! Every tolerance carries the measured value (release build, 2 cores).
 
@@ -310,12 +314,11 @@ fn seed002_hole_edge_crack_curves_towards_the_hole() {
 fn seed001_colinear_edge_cracks_break_the_plate_at_the_lefm_load() {
     // cases/growth_colinear_edge_cracks.ron as written: 50 mm plate, two 5 mm edge cracks
     // at mid-height, one 5 mm window of 20 x 20 nodes per tip, tension from 6 MPa by
-    // 0.1 MPa. Measured (44 s): both cracks run at 13.8 MPa, their windows merge, the last
-    // ligament lies wholly in PD (the BEM body is cut in two, the upper half held by the
-    // window alone) and gives way: structural failure at 13.8 MPa, 32 relocations. LEFM
-    // (BEM SIFs of the initial cracks, K_c = sqrt(E G_c)): 12.32 MPa, so +12 %; seed 001 (full PD)
-    // 8.5 MPa, below LEFM (see the case file). Before the floating-piece coupling, the
-    // run stopped at the same load when the windows merged, before the ligament broke.
+    // 0.1 MPa. Measured (15 s): both cracks run at 13.8 MPa, their windows merge, the
+    // last ligament lies wholly in PD (the BEM body is cut in two, the upper half held by
+    // the window alone) and the cracks join at (25.0, 25.0) mm: structural failure at
+    // 13.8 MPa, 28 relocations. LEFM (BEM SIFs of the initial cracks, K_c = sqrt(E G_c)):
+    // 12.32 MPa, so +12 %; seed 001 (full PD) 8.5 MPa, below LEFM (see the case file).
     let sc = scene("growth_colinear_edge_cracks");
     let dir = std::env::temp_dir().join(format!("pdbem-colinear-{}", std::process::id()));
     let ctx = pdbem::runner::RunContext::new(&dir, true).unwrap();
@@ -330,4 +333,59 @@ fn seed001_colinear_edge_cracks_break_the_plate_at_the_lefm_load() {
     eprintln!("seed001 colinear PD-BEM: failure {failure:.3} MPa, LEFM {lefm:.3} MPa");
     assert!(h.failure);
     assert!((failure / lefm - 1.0).abs() < 0.15, "{failure} vs {lefm}");
+}
+
+#[test]
+fn seed001_two_parallel_cracks_run_apart_to_the_sides_at_the_lefm_load() {
+    // cases/growth_two_parallel_cracks.ron as written: 50 mm plate, two horizontal 10 mm
+    // cracks 25 mm apart, one 5 mm window of 20 x 20 nodes per tip (four windows), tension
+    // from 10 MPa by 0.1 MPa, tracking threshold 0.3 (see the case file). Seed 001 (full
+    // PD): initiation at 13.7 MPa from all four tips, paths bending away from each other
+    // to the sides. With the seed 002 threshold 0.38 the tracker lost the fresh cracks
+    // and no window moved up to 19.9 MPa; with 0.34 Newton stalled in a window where the
+    // cracks ran (now equilibrated by ADR, `coupling::frozen`).
+    let sc = scene("growth_two_parallel_cracks");
+    let dir = std::env::temp_dir().join(format!("pdbem-parallel-{}", std::process::id()));
+    let ctx = pdbem::runner::RunContext::new(&dir, true).unwrap();
+    let h = pdbem::growth::pd_bem::run(&sc, &ctx).unwrap();
+    ctx.writer.abort();
+    let lefm = pdbem::growth::bem_only::critical_loads(&sc)
+        .unwrap()
+        .iter()
+        .map(|t| t.load)
+        .fold(f64::INFINITY, f64::min);
+    let failure = h.failure_load.expect("the plate must break");
+    eprintln!(
+        "seed001 two parallel PD-BEM: failure {failure:.3} MPa, LEFM {lefm:.3} MPa, {} relocations",
+        h.relocations.len()
+    );
+    assert!(h.failure);
+    assert!((failure / lefm - 1.0).abs() < 0.15, "{failure} vs {lefm}");
+    let dx = 0.25e-3;
+    assert_eq!(h.paths.len(), 4);
+    for p in &h.paths {
+        let (a, b) = (p.points[0], *p.points.last().unwrap());
+        eprintln!(
+            "  {}: ({:.5}, {:.5}) -> ({:.5}, {:.5}) m",
+            p.name, a.x, a.y, b.x, b.y
+        );
+        // Every tip runs most of the way to its side of the plate (20 mm from the tips).
+        assert!(
+            (b.x - a.x).abs() > 0.015,
+            "{} grew {:.4} m",
+            p.name,
+            (b.x - a.x).abs()
+        );
+        // The cracks never approach each other by more than a dx: the lower one stays
+        // at or below its line, the upper one at or above it.
+        let lower = a.y < 0.025;
+        for q in &p.points {
+            let towards = if lower { q.y - a.y } else { a.y - q.y };
+            assert!(
+                towards < dx,
+                "{} moved {towards:.2e} m towards the other",
+                p.name
+            );
+        }
+    }
 }

@@ -28,10 +28,18 @@
 //!   cracks meeting. A window may move onto the outline when its crack runs to it from
 //!   the outline: the remaining ligament then lies wholly in the window, the BEM body is
 //!   cut apart ([`topology`], noted) and the coupling holds the cut-off piece by its
-//!   equilibrium ([`crate::floating`]) until the crack crosses the window. A tip
-//!   reaching a hole or another crack ends; the others go on. Windows may not lie over a hole, so a tip growing towards
-//!   one ends at it ([`TipEnd::Hole`]) when its window cannot move on without covering
-//!   it ([`Growth::plan`]).
+//!   equilibrium ([`crate::floating`]) until the crack crosses the window. A coupling
+//!   breakdown (divergence, no convergence) while the windows alone hold a cut-off part,
+//!   or while a tip runs towards the outline in a window on it, is the PD ligament giving
+//!   way under load control: structural failure, with the breakdown in the note. A tip
+//!   reaching a hole or another crack ends; the others go on. Windows may not lie over a
+//!   hole, so a tip growing towards one ends at it ([`TipEnd::Hole`]) when its window
+//!   cannot move on without covering it ([`Growth::plan`]).
+//! - A window's PD equilibrium with frozen bonds is Newton's, with ADR when Newton fails
+//!   ([`crate::frozen`]).
+//! - Two cracks that join are one connected damage set; each trace then runs on through
+//!   the other crack, so the paths are cut half-way between where the tips were before
+//!   ([`tips::cut_at_meeting`]).
 //! - A window holding several tips (windows merged) moves for all of its tips past the
 //!   margin at once: the new window covers each one's moved window and the window's
 //!   other tips, and every moved tip's crack is extended into it.

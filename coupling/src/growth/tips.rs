@@ -192,10 +192,17 @@ pub fn hole_name(hole_names: &[String], i: usize) -> String {
 }
 
 /// Whether the crack of `tip` ran into the crack of `other` (same window): the tip lies
-/// within `reach` (m) of a node of the other's traced crack.
+/// within `reach` (m) of a node of the other's traced crack, or the two traced cracks of
+/// different macro cracks share a node. Once two cracks join, the damage is one connected
+/// set and each trace runs on through the other crack to its entry, so the tip is then no
+/// longer near a node of the other's crack that is not its own; the shared nodes tell.
+/// Two tips of one crack share their nodes from the start and join only by proximity.
 pub fn ran_into(tip: &TipState, other: &TipState, positions: &[[f64; 2]], reach: f64) -> bool {
     if tip.path.is_empty() || other.path.nodes.is_empty() {
         return false;
+    }
+    if joined(tip, other) {
+        return true;
     }
     let t = tip.position();
     other
@@ -204,6 +211,48 @@ pub fn ran_into(tip: &TipState, other: &TipState, positions: &[[f64; 2]], reach:
         .iter()
         .filter(|&&k| tip.path.nodes.binary_search(&k).is_err())
         .any(|&k| (V2::new(positions[k][0], positions[k][1]) - t).norm() <= reach)
+}
+
+/// Whether the traced cracks of two tips of different macro cracks are one connected set.
+pub fn joined(tip: &TipState, other: &TipState) -> bool {
+    tip.spec.crack != other.spec.crack && shares_node(&tip.path.nodes, &other.path.nodes)
+}
+
+/// Cuts the traced path of a tip whose crack joined another's at the meeting point, which
+/// the joint trace no longer shows: half-way along the path between where the two tips
+/// were before (`before`, `other_before`), projected on the path. The nodes stay.
+pub fn cut_at_meeting(tip: &mut TipState, before: V2, other_before: V2) {
+    let line = tip.path_points();
+    let s = 0.5 * (polyline::project(&line, before) + polyline::project(&line, other_before));
+    if s >= tip.path.length {
+        return;
+    }
+    let mut points: Vec<V2> = vec![line[0]];
+    let mut acc = 0.0;
+    for seg in line.windows(2) {
+        let l = (seg[1] - seg[0]).norm();
+        if acc + l >= s {
+            break;
+        }
+        acc += l;
+        points.push(seg[1]);
+    }
+    points.push(polyline::point_at(&line, s));
+    tip.path.points = points.iter().map(|p| [p.x, p.y]).collect();
+    tip.path.length = polyline::length(&points);
+}
+
+/// Whether two sorted node lists have a node in common.
+fn shares_node(a: &[usize], b: &[usize]) -> bool {
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() && j < b.len() {
+        match a[i].cmp(&b[j]) {
+            std::cmp::Ordering::Less => i += 1,
+            std::cmp::Ordering::Greater => j += 1,
+            std::cmp::Ordering::Equal => return true,
+        }
+    }
+    false
 }
 
 #[cfg(test)]
@@ -276,5 +325,59 @@ mod tests {
         let (e, t) = entry_point(&w, &line, "c.end").unwrap();
         assert!((e - V2::new(10.0, 8.5)).norm() < 1e-12);
         assert!((t - V2::new(10.0, 8.0)).norm() < 1e-12);
+    }
+
+    fn traced(crack: usize, nodes: Vec<usize>, tip: [f64; 2]) -> TipState {
+        TipState {
+            spec: TipSpec {
+                name: format!("c{crack}"),
+                crack,
+                at_end: true,
+            },
+            window: 0,
+            entry: V2::zeros(),
+            macro_tip: V2::zeros(),
+            path: CrackPath {
+                points: vec![[0.0, 0.0], tip],
+                tip_node: nodes.first().copied(),
+                nodes,
+                length: tip[0].hypot(tip[1]),
+            },
+            ended: None,
+        }
+    }
+
+    #[test]
+    fn joined_cracks_coalesce_by_shared_nodes_and_one_crack_does_not() {
+        // Nodes 0..10 on a line, dx = 1.
+        let pos: Vec<[f64; 2]> = (0..10).map(|k| [k as f64, 0.0]).collect();
+        // Separate and apart: no coalescence.
+        let a = traced(0, vec![0, 1, 2], [2.0, 0.0]);
+        let b = traced(1, vec![7, 8, 9], [7.0, 0.0]);
+        assert!(!ran_into(&a, &b, &pos, 1.5));
+        // Separate but the tip within reach of the other crack.
+        let a = traced(0, vec![0, 1, 2, 3, 4, 5], [5.0, 0.0]);
+        let b = traced(1, vec![7, 8, 9], [7.0, 0.0]);
+        assert!(ran_into(&a, &b, &pos, 2.5));
+        // Joined: each trace holds all nodes and the tip sits at the other's entry.
+        let all: Vec<usize> = (0..10).collect();
+        let a = traced(0, all.clone(), [9.0, 0.0]);
+        let b = traced(1, all.clone(), [0.0, 0.0]);
+        assert!(ran_into(&a, &b, &pos, 1.5) && ran_into(&b, &a, &pos, 1.5));
+        // Two tips of one crack share their nodes from the start.
+        let a = traced(0, all.clone(), [9.0, 0.0]);
+        let b = traced(0, all, [0.0, 0.0]);
+        assert!(!ran_into(&a, &b, &pos, 1.5));
+        assert!(shares_node(&[1, 4, 6], &[2, 6]) && !shares_node(&[1, 4], &[2, 5, 7]));
+    }
+
+    #[test]
+    fn a_joined_path_is_cut_half_way_between_the_tips_before() {
+        let mut a = traced(0, (0..10).collect(), [9.0, 0.0]);
+        a.path.points = (0..10).map(|k| [k as f64, 0.0]).collect();
+        cut_at_meeting(&mut a, V2::new(3.0, 0.2), V2::new(7.0, -0.2));
+        assert!((a.position() - V2::new(5.0, 0.0)).norm() < 1e-12);
+        assert!((a.path.length - 5.0).abs() < 1e-12);
+        assert_eq!(a.path.points.len(), 6);
     }
 }
