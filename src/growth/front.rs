@@ -15,6 +15,8 @@
 //!   boundary of the whole structure"). A tip of an interior crack that reaches the outline
 //!   stops, and the run goes on until the crack has also run out at its other end.
 
+use pdbem_coupling::growth::polyline;
+
 use crate::geometry::{point_segment_distance, polyline_length, P2};
 use crate::scene::shapes::{HoleShape, SceneGeometry};
 use crate::scene::Scene;
@@ -395,24 +397,12 @@ impl Front {
 
 /// Distance along the ray `o + s d` (s > 0, `d` unit) to segment `a`-`b`, if it crosses.
 pub fn ray_segment(o: &P2, d: &P2, a: &P2, b: &P2) -> Option<f64> {
-    let e = b - a;
-    let den = crate::geometry::cross(d, &e);
-    if den.abs() <= 1e-14 * e.norm() {
-        return None;
-    }
-    let w = a - o;
-    let s = crate::geometry::cross(&w, &e) / den;
-    let u = crate::geometry::cross(&w, d) / den;
-    let tol = 1e-12;
-    (s > tol * e.norm() && (-tol..=1.0 + tol).contains(&u)).then_some(s)
+    polyline::ray_segment(*o, *d, *a, *b)
 }
 
 /// Nearest crossing of the ray with a closed polygon.
 pub fn ray_polygon(o: &P2, d: &P2, poly: &[P2]) -> Option<f64> {
-    let n = poly.len();
-    (0..n)
-        .filter_map(|i| ray_segment(o, d, &poly[i], &poly[(i + 1) % n]))
-        .min_by(f64::total_cmp)
+    polyline::ray_polygon(*o, *d, poly)
 }
 
 /// Nearest crossing of the ray with a hole (circles exact).

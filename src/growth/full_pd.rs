@@ -19,8 +19,10 @@
 //!    ahead of it (nodes more than 1.5 dx behind the initial tip, or within 2 dx of
 //!    another crack, are left out so the trace neither runs back along the pre-crack nor
 //!    into a neighbouring crack). A tip within one horizon of the outline has reached it
-//!    (its path is extended onto the outline), within one horizon of a hole is arrested
-//!    there, within 3 dx of another crack has joined it ([`Front`] decides failure).
+//!    (its path is ended on the outline by the PD-BEM rule,
+//!    `pdbem_coupling::growth::polyline::end_on_outline`), within one horizon of a hole
+//!    is arrested there, within 3 dx of another crack has joined it ([`Front`] decides
+//!    failure).
 //! 4. Failure ends the run: a crack cut the body through. Under load control the last
 //!    equilibria before separation may not converge: a Newton failure after bonds broke
 //!    in the same step is taken as collapse (failure, with the solver's message in the
@@ -37,7 +39,9 @@ use std::time::Instant;
 use anyhow::{bail, Context, Result};
 use serde_json::json;
 
-use super::front::{ray_polygon, Front, Obstacle};
+use pdbem_coupling::growth::polyline;
+
+use super::front::{Front, Obstacle};
 use super::log::{step_bar, stop_after_step, GrowthLog};
 use super::{FieldSnapshot, GrowthHistory, PathPoint, StepRecord, TipPath};
 use crate::geometry::P2;
@@ -559,26 +563,12 @@ fn track(
     })
 }
 
-/// Appends the point where the path, continued along its last 3 dx, meets the outline.
+/// Ends the path on the outline by the rule of the PD-BEM mode
+/// ([`pdbem_coupling::growth::polyline::end_on_outline`]).
 fn extend_to_outline(front: &Front, path: &mut Vec<P2>, tr: &Tracker) {
-    let n = path.len();
-    if n < 2 {
-        return;
-    }
-    let tip = path[n - 1];
-    let back = path
-        .iter()
-        .rev()
-        .find(|p| (tip - **p).norm() >= 3.0 * tr.dx)
-        .copied()
-        .unwrap_or(path[0]);
-    let d = (tip - back) / (tip - back).norm().max(1e-300);
     let Some(outline) = front.outline_points() else {
         return;
     };
-    if let Some(s) = ray_polygon(&tip, &d, outline) {
-        if s <= 2.0 * tr.delta {
-            path.push(tip + d * s);
-        }
-    }
+    let chord = polyline::OUTLINE_CHORD_DX * tr.dx;
+    *path = polyline::end_on_outline(path, outline, tr.delta, chord);
 }

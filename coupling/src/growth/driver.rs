@@ -227,8 +227,9 @@ impl<'s, S: Scenario> Growth<'s, S> {
     }
 
     /// The whole crack path of tip `t` from its initial position: the macro polyline from
-    /// the initial tip to the window entry, then the traced PD path; each point with the
-    /// step and load at which the tip first reached it.
+    /// the initial tip to the window entry, then the traced PD path (ended on the outline
+    /// by [`polyline::end_on_outline`] when the tip reached it); each point with the step
+    /// and load at which the tip first reached it.
     pub fn tip_path(&self, t: usize) -> Vec<(V2, usize, f64)> {
         let tip = &self.tips[t];
         let line = towards_tip(
@@ -249,6 +250,10 @@ impl<'s, S: Scenario> Growth<'s, S> {
             full.push(seg[1]);
         }
         full.extend(tip.path_points());
+        if tip.ended == Some(TipEnd::Outline) {
+            let chord = polyline::OUTLINE_CHORD_DX * w.spec.dx;
+            full = polyline::end_on_outline(&full, &self.body.outline, w.delta(), chord);
+        }
         let s0 = polyline::project(&full, self.initial_tip[t]);
         let total = polyline::length(&full);
         let first = self.progress[t].first().map_or((0, 0.0), |p| (p.1, p.2));

@@ -37,6 +37,10 @@
 //!   cannot move on without covering it ([`Growth::plan`]).
 //! - A window's PD equilibrium with frozen bonds is Newton's, with ADR when Newton fails
 //!   ([`crate::frozen`]).
+//! - Reported paths of tips that reached the outline end by the rule of the full-PD mode
+//!   ([`polyline::end_on_outline`]): the last horizon, where the damage fans out over a
+//!   ligament shorter than a bond, is replaced by the path's approach continued to the
+//!   outline.
 //! - Two cracks that join are one connected damage set; each trace then runs on through
 //!   the other crack, so the paths are cut half-way between where the tips were before
 //!   ([`tips::cut_at_meeting`]).

@@ -1,5 +1,7 @@
 //! Polyline helpers of the growth module: length, point at an arc length, uniform
-//! resampling and the first entry of a polyline into a window.
+//! resampling, the first entry of a polyline into a window, ray crossings, and the end of
+//! a path that reached the outline ([`end_on_outline`], shared by the PD-BEM and full-PD
+//! growth modes so that their paths end by one rule).
 
 use pdbem_bem::V2;
 
@@ -82,6 +84,66 @@ pub fn project(line: &[V2], p: V2) -> f64 {
     best.1
 }
 
+/// Chord (in dx) along which [`end_on_outline`] continues a path to the outline.
+pub const OUTLINE_CHORD_DX: f64 = 3.0;
+
+/// The path of a tip that reached the outline, ended by one rule in every growth mode:
+/// the trailing points within `delta` (the horizon) of the outline are dropped, and the
+/// path goes on along the chord of its last `chord` (from the last point kept back to the
+/// first point at least `chord` from it) to the outline. Within a horizon of the outline
+/// the ligament is shorter than a bond: its damage fans out over the whole ligament, and
+/// its farthest damaged node (the tracked tip) may lie a few dx to the side along the
+/// outline rather than ahead of the crack. Returns the path unchanged when the chord does
+/// not meet the outline within 2 delta of the last point kept.
+pub fn end_on_outline(path: &[V2], outline: &[V2], delta: f64, chord: f64) -> Vec<V2> {
+    let near = |p: &V2| crate::window::polygon_distance(*p, outline) <= delta;
+    let kept = path.len() - path.iter().rev().take_while(|p| near(p)).count();
+    if kept == 0 {
+        return path.to_vec();
+    }
+    let tip = path[kept - 1];
+    let back = path[..kept]
+        .iter()
+        .rev()
+        .find(|p| (tip - **p).norm() >= chord)
+        .copied()
+        .unwrap_or(path[0]);
+    let Some(d) = unit(back, tip) else {
+        return path.to_vec();
+    };
+    match ray_polygon(tip, d, outline) {
+        Some(s) if s <= 2.0 * delta => {
+            let mut out = path[..kept].to_vec();
+            out.push(tip + d * s);
+            out
+        }
+        _ => path.to_vec(),
+    }
+}
+
+/// Nearest crossing $s > 0$ of the ray $o + s d$ with a closed polygon.
+pub fn ray_polygon(o: V2, d: V2, poly: &[V2]) -> Option<f64> {
+    let n = poly.len();
+    (0..n)
+        .filter_map(|i| ray_segment(o, d, poly[i], poly[(i + 1) % n]))
+        .min_by(f64::total_cmp)
+}
+
+/// Crossing $s > 0$ of the ray $o + s d$ with the segment from `a` to `b` (parallel: None).
+pub fn ray_segment(o: V2, d: V2, a: V2, b: V2) -> Option<f64> {
+    let cross = |p: V2, q: V2| p.x * q.y - p.y * q.x;
+    let e = b - a;
+    let den = cross(d, e);
+    if den.abs() <= 1e-14 * e.norm() {
+        return None;
+    }
+    let w = a - o;
+    let s = cross(w, e) / den;
+    let u = cross(w, d) / den;
+    let tol = 1e-12;
+    (s > tol * e.norm() && (-tol..=1.0 + tol).contains(&u)).then_some(s)
+}
+
 /// Unit vector from `a` to `b` (None when they coincide).
 pub fn unit(a: V2, b: V2) -> Option<V2> {
     let d = b - a;
@@ -105,6 +167,42 @@ mod tests {
         assert!((r[4] - V2::new(1.0, 0.5)).norm() < 1e-15);
         assert_eq!(resample_spacing(&line, 0.0, 2.0, 0.3).len(), 8);
         assert!((project(&line, V2::new(1.2, 0.4)) - 1.4).abs() < 1e-15);
+    }
+
+    #[test]
+    fn a_path_at_the_outline_ends_along_its_approach() {
+        let square = [
+            V2::new(0.0, 0.0),
+            V2::new(10.0, 0.0),
+            V2::new(10.0, 10.0),
+            V2::new(0.0, 10.0),
+        ];
+        // Straight down x = 5, then the last horizon (0.3) fans out sideways along y = 0.1.
+        let mut path: Vec<V2> = (0..=9)
+            .map(|k| V2::new(5.0, 2.0 - 0.2 * k as f64))
+            .collect();
+        path.push(V2::new(5.25, 0.1));
+        let ended = end_on_outline(&path, &square, 0.3, 0.3);
+        let last = *ended.last().unwrap();
+        assert!((last - V2::new(5.0, 0.0)).norm() < 1e-12, "{last:?}");
+        // Points up to the horizon kept, the fan dropped.
+        assert_eq!(ended.len(), 10);
+        // A path far from the outline is left alone.
+        assert_eq!(
+            end_on_outline(&path[..5], &square, 0.3, 0.3),
+            path[..5].to_vec()
+        );
+        assert_eq!(
+            ray_polygon(V2::new(5.0, 5.0), V2::new(1.0, 0.0), &square),
+            Some(5.0)
+        );
+        assert!(ray_segment(
+            V2::zeros(),
+            V2::new(1.0, 0.0),
+            V2::new(0.0, 1.0),
+            V2::new(2.0, 1.0)
+        )
+        .is_none());
     }
 
     #[test]
