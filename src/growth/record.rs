@@ -76,7 +76,9 @@ pub struct Relocation {
     pub to: [f64; 2],
     /// BEM elements added to each crack face.
     pub elements_added: usize,
-    /// Wall time of the rebuild (mesh, assembly, factorization, new window) (s).
+    /// This relocation's share of the rebuild wall time (mesh, assembly, factorization,
+    /// new windows): relocations carried out by one rebuild share its time, so the
+    /// shares add up to the total rebuild time (s).
     pub rebuild_s: f64,
 }
 

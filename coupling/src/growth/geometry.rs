@@ -169,7 +169,8 @@ impl<S: Scenario> Growth<'_, S> {
             self.tips[t].macro_tip = macro_tip;
         }
         self.retrace()?;
-        let rebuild_s = t0.elapsed().as_secs_f64();
+        let shared_by = moves.len();
+        let rebuild_s = t0.elapsed().as_secs_f64() / shared_by as f64;
         let mut records = Vec::new();
         for (t, (from, tip_at, added)) in moves {
             let w = self.tips[t].window;
@@ -186,6 +187,7 @@ impl<S: Scenario> Growth<'_, S> {
                 corners: self.problem.windows[w].window.corners(),
                 elements: self.problem.mesh.len(),
                 rebuild_s,
+                rebuild_shared_by: shared_by,
             };
             observer.relocation(&rec);
             records.push(rec);

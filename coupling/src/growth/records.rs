@@ -125,8 +125,12 @@ pub struct RelocationRecord {
     pub corners: [V2; 4],
     /// BEM elements of the new mesh.
     pub elements: usize,
-    /// Wall time of the rebuild (mesh, assembly, factorization, windows, transfer) (s).
+    /// This relocation's share of the rebuild wall time (mesh, assembly, factorization,
+    /// windows, transfer): the rebuild time over the relocations carried out together
+    /// (`rebuild_shared_by`), so that the shares add up to the rebuild time (s).
     pub rebuild_s: f64,
+    /// Relocations carried out by one rebuild together with this one (itself included).
+    pub rebuild_shared_by: usize,
 }
 
 /// A relocation worked out but not yet carried out ([`Growth::plan`]).
