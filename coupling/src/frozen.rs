@@ -29,7 +29,7 @@ pub fn equilibrate(
         Ok((iters, _)) => Ok(iters),
         Err(
             PdError::NoConvergence { .. } | PdError::Diverged { .. } | PdError::NonFinite { .. },
-        ) => equilibrate_adr(model, start, info),
+        ) => equilibrate_adr(model, start, ADR_FALLBACK_TOL, ADR_FALLBACK_MAX_ITERS, info),
         Err(e) => Err(e),
     }
 }
@@ -42,10 +42,13 @@ const ADR_FALLBACK_TOL: f64 = 1e-8;
 const ADR_FALLBACK_MAX_ITERS: usize = 200_000;
 
 /// ADR equilibrium at the model's load with the bond history frozen (no bond breaks),
-/// from the current state if it is finite, else from `start`.
-fn equilibrate_adr(
+/// from the current state if it is finite, else from `start`, to the relative residual
+/// `tol` within `max_iters` steps. Returns the steps taken.
+pub fn equilibrate_adr(
     model: &mut PdModel,
     start: &[[f64; 2]],
+    tol: f64,
+    max_iters: usize,
     info: &mut SolveInfo,
 ) -> Result<usize, PdError> {
     let finite = model
@@ -59,11 +62,9 @@ fn equilibrate_adr(
     adr.history = History::Frozen;
     let (iters, _, _) = adr.converge(
         model,
-        Convergence::Residual {
-            tol: ADR_FALLBACK_TOL,
-        },
+        Convergence::Residual { tol },
         1,
-        ADR_FALLBACK_MAX_ITERS,
+        max_iters,
         &mut info.residual_history,
     )?;
     Ok(iters)
