@@ -114,10 +114,10 @@ fn shear_edge_pd_bem_and_bem_only_paths_agree_within_five_percent_of_the_width()
     // degrees instead of -58.5, and its last 0.3 m hooks right once the window reaches
     // the clamped bottom edge), with 60 x 60 (dx = 0.033 m) 0.396 m: PD-BEM approaches
     // BEM-only as the horizon shrinks, while BEM-only is converged in its increment
-    // (da = 0.05 m against 0.1 m: 0.006 m). The bench
-    // (`pdbem bench growth --case growth_shear_edge`, full PD at dx = 0.1 m): up to a
-    // reach of 4.4 m (the crack 1 m above the bottom edge) PD-BEM (20 x 20) vs full PD
-    // 0.25 m, BEM-only vs full PD 0.70-0.75 m: the two PD paths agree, BEM-only's
+    // (da = 0.05 m against 0.1 m: 0.006 m). Full PD (`--growth-mode full-pd`, dx = 0.1 m;
+    // `pdbem bench growth --case growth_shear_edge` runs all three): up to a reach of
+    // 4.4 m (the crack 1 m above the bottom edge) PD-BEM (20 x 20) vs full PD 0.25 m,
+    // BEM-only vs full PD 0.70-0.75 m: the two PD paths agree, BEM-only's
     // maximum-circumferential-stress path bends further. In the last metre full PD
     // (836 s, going on by ADR where Newton fails) turns sharply to (10, 0), where the
     // clamp of the bottom edge ends, and cuts the plate at 0.22; its deviation over the
