@@ -36,6 +36,25 @@ fn scene(name: &str) -> Scene {
     Scene::load(format!("cases/{name}.ron")).expect("case file")
 }
 
+/// PD-BEM growth of `sc` through the runner (outputs to a scratch folder, discarded).
+fn run_pd_bem(sc: &Scene, tag: &str) -> pdbem::growth::GrowthHistory {
+    let dir = std::env::temp_dir().join(format!("pdbem-{tag}-{}", std::process::id()));
+    let ctx = pdbem::runner::RunContext::new(&dir, true).unwrap();
+    let h = pdbem::growth::pd_bem::run(sc, &ctx).unwrap();
+    ctx.writer.abort();
+    h
+}
+
+/// LEFM failure load of `sc`: the smallest critical load of the initial tips (BEM SIFs,
+/// K_c = sqrt(E G_c)).
+fn lefm_load(sc: &Scene) -> f64 {
+    pdbem::growth::bem_only::critical_loads(sc)
+        .unwrap()
+        .iter()
+        .map(|t| t.load)
+        .fold(f64::INFINITY, f64::min)
+}
+
 /// Angle (degrees, counter-clockwise positive) from unit `a` to vector `b`.
 fn angle_deg(a: V2, b: V2) -> f64 {
     (a.x * b.y - a.y * b.x).atan2(a.dot(&b)).to_degrees()
@@ -214,10 +233,7 @@ fn seed001_inclined_crack_pd_bem_turns_perpendicular_at_the_griffith_load() {
     // where the crack runs to the left edge (failure, 28 relocations); Griffith with the
     // finite-width factor 15.80 MPa; seed 001 (full PD) 15.9 MPa.
     let sc = scene("growth_inclined_crack");
-    let dir = std::env::temp_dir().join(format!("pdbem-incl-{}", std::process::id()));
-    let ctx = pdbem::runner::RunContext::new(&dir, true).unwrap();
-    let h = pdbem::growth::pd_bem::run(&sc, &ctx).unwrap();
-    ctx.writer.abort();
+    let h = run_pd_bem(&sc, "incl");
     let k_c = pdbem::analytic::griffith_k_c(110.0, 30e9);
     let f = pdbem::analytic::central_crack_width_factor(0.005, 0.05);
     let griffith = k_c / (f * (std::f64::consts::PI * 0.005).sqrt() * 0.5 * 4.0 / 5f64.sqrt());
@@ -324,15 +340,8 @@ fn seed001_colinear_edge_cracks_break_the_plate_at_the_lefm_load() {
     // 13.8 MPa, 28 relocations. LEFM (BEM SIFs of the initial cracks, K_c = sqrt(E G_c)):
     // 12.32 MPa, so +12 %; seed 001 (full PD) 8.5 MPa, below LEFM (see the case file).
     let sc = scene("growth_colinear_edge_cracks");
-    let dir = std::env::temp_dir().join(format!("pdbem-colinear-{}", std::process::id()));
-    let ctx = pdbem::runner::RunContext::new(&dir, true).unwrap();
-    let h = pdbem::growth::pd_bem::run(&sc, &ctx).unwrap();
-    ctx.writer.abort();
-    let lefm = pdbem::growth::bem_only::critical_loads(&sc)
-        .unwrap()
-        .iter()
-        .map(|t| t.load)
-        .fold(f64::INFINITY, f64::min);
+    let h = run_pd_bem(&sc, "colinear");
+    let lefm = lefm_load(&sc);
     let failure = h.failure_load.expect("the plate must break");
     eprintln!("seed001 colinear PD-BEM: failure {failure:.3} MPa, LEFM {lefm:.3} MPa");
     assert!(h.failure);
@@ -349,15 +358,8 @@ fn seed001_two_parallel_cracks_run_apart_to_the_sides_at_the_lefm_load() {
     // and no window moved up to 19.9 MPa; with 0.34 Newton stalled in a window where the
     // cracks ran (now equilibrated by ADR, `coupling::frozen`).
     let sc = scene("growth_two_parallel_cracks");
-    let dir = std::env::temp_dir().join(format!("pdbem-parallel-{}", std::process::id()));
-    let ctx = pdbem::runner::RunContext::new(&dir, true).unwrap();
-    let h = pdbem::growth::pd_bem::run(&sc, &ctx).unwrap();
-    ctx.writer.abort();
-    let lefm = pdbem::growth::bem_only::critical_loads(&sc)
-        .unwrap()
-        .iter()
-        .map(|t| t.load)
-        .fold(f64::INFINITY, f64::min);
+    let h = run_pd_bem(&sc, "parallel");
+    let lefm = lefm_load(&sc);
     let failure = h.failure_load.expect("the plate must break");
     eprintln!(
         "seed001 two parallel PD-BEM: failure {failure:.3} MPa, LEFM {lefm:.3} MPa, {} relocations",
@@ -403,10 +405,7 @@ fn a_tracker_that_loses_a_fresh_crack_says_so() {
     // damage above 0.304 reaching 1.04 mm (4.2 dx) farther.
     let mut sc = scene("growth_two_parallel_cracks");
     sc.growth.as_mut().unwrap().damage_threshold = 0.38;
-    let dir = std::env::temp_dir().join(format!("pdbem-lost-{}", std::process::id()));
-    let ctx = pdbem::runner::RunContext::new(&dir, true).unwrap();
-    let h = pdbem::growth::pd_bem::run(&sc, &ctx).unwrap();
-    ctx.writer.abort();
+    let h = run_pd_bem(&sc, "lost");
     assert!(!h.failure && h.relocations.is_empty());
     let lost: Vec<&String> = h
         .notes

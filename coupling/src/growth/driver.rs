@@ -238,17 +238,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
         );
         let w = &self.problem.windows[tip.window].window;
         let s_entry = polyline::entry_length(&line, w).unwrap_or(polyline::length(&line));
-        let mut full: Vec<V2> = Vec::new();
-        let mut acc = 0.0;
-        full.push(line[0]);
-        for seg in line.windows(2) {
-            let l = (seg[1] - seg[0]).norm();
-            if acc + l >= s_entry {
-                break;
-            }
-            acc += l;
-            full.push(seg[1]);
-        }
+        let mut full = polyline::head(&line, s_entry);
         full.extend(tip.path_points());
         if tip.ended == Some(TipEnd::Outline) {
             let chord = polyline::OUTLINE_CHORD_DX * w.spec.dx;

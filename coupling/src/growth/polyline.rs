@@ -26,6 +26,20 @@ pub fn point_at(line: &[V2], s: f64) -> V2 {
     *line.last().expect("non-empty polyline")
 }
 
+/// The vertices of the polyline before arc length `s` (the first one always).
+pub fn head(line: &[V2], s: f64) -> Vec<V2> {
+    let mut out = vec![line[0]];
+    let mut acc = 0.0;
+    for seg in line.windows(2) {
+        acc += (seg[1] - seg[0]).norm();
+        if acc >= s {
+            break;
+        }
+        out.push(seg[1]);
+    }
+    out
+}
+
 /// The part of the polyline between arc lengths `s0 < s1`, split into `n` equal straight
 /// pieces (`n + 1` points).
 pub fn resample_between(line: &[V2], s0: f64, s1: f64, n: usize) -> Vec<V2> {
@@ -167,6 +181,8 @@ mod tests {
         assert!((r[4] - V2::new(1.0, 0.5)).norm() < 1e-15);
         assert_eq!(resample_spacing(&line, 0.0, 2.0, 0.3).len(), 8);
         assert!((project(&line, V2::new(1.2, 0.4)) - 1.4).abs() < 1e-15);
+        assert_eq!(head(&line, 1.5), line[..2].to_vec());
+        assert_eq!(head(&line, 1.0), line[..1].to_vec());
     }
 
     #[test]

@@ -227,16 +227,7 @@ pub fn cut_at_meeting(tip: &mut TipState, before: V2, other_before: V2) {
     if s >= tip.path.length {
         return;
     }
-    let mut points: Vec<V2> = vec![line[0]];
-    let mut acc = 0.0;
-    for seg in line.windows(2) {
-        let l = (seg[1] - seg[0]).norm();
-        if acc + l >= s {
-            break;
-        }
-        acc += l;
-        points.push(seg[1]);
-    }
+    let mut points = polyline::head(&line, s);
     points.push(polyline::point_at(&line, s));
     tip.path.points = points.iter().map(|p| [p.x, p.y]).collect();
     tip.path.length = polyline::length(&points);
