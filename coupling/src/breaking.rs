@@ -16,10 +16,10 @@
 //! Laws other than the brittle PMB law are committed in full.
 //!
 //! [`break_rounds`] repeats this with the window's interface held: break, re-equilibrate
-//! the PD model (Newton, ADR if Newton fails: [`crate::frozen`]), break again, up to a number of rounds or until no bond is past
-//! $s_0$. The load redistributes mostly inside the window, so a few PD rounds per
-//! converged interface state let the crack advance by several bonds for the price of one
-//! interface re-convergence.
+//! the PD model (Newton, ADR if Newton fails: [`crate::frozen`]), break again, up to a
+//! number of rounds or until no bond is past $s_0$. The load redistributes mostly inside
+//! the window, so a few PD rounds per converged interface state let the crack advance by
+//! several bonds for the price of one interface re-convergence.
 
 use pdbem_pd::material::BondLaw;
 use pdbem_pd::solvers::implicit::{ImplicitParams, Newton};
@@ -27,8 +27,8 @@ use pdbem_pd::{PdError, PdModel, SolveInfo};
 
 use crate::frozen;
 
-/// Up to `rounds` progressive commits of `model`, each followed by a frozen-bond equilibrium
-/// at the held boundary values; returns the bond pairs broken.
+/// Up to `rounds` progressive commits of `model`, each followed by a frozen-bond
+/// equilibrium at the held boundary values; returns the bond pairs broken.
 pub fn break_rounds(
     model: &mut PdModel,
     fraction: f64,
