@@ -297,6 +297,7 @@ impl<'p> Switcher<'p> {
                 max_iters: p.max_secant_iters,
                 max_columns: p.max_secant_columns,
                 anderson_depth: p.anderson_depth,
+                refactor_contraction: super::secant::CONTRACTION_REFACTOR,
             },
             newton,
             secant,

@@ -24,7 +24,7 @@
 //! $K_0$ contracts by about 0.015 per iteration on the seed 000 cases (the
 //! strain, amplified by the soft bending mode of the three-point bend).
 //! When $|W|$ reaches `max_columns`, or an iteration contracts by less than
-//! `CONTRACTION_REFACTOR`, $K_0$ is refactorised at the current state and
+//! `SecantParams::refactor_contraction`, $K_0$ is refactorised at the current state and
 //! $W$ emptied. If the secant tangent is not positive definite (a
 //! compressed fragment cut free by the crack), its positive part
 //! [`TangentKind::SecantPositive`] is factorised instead.
@@ -51,14 +51,14 @@ use woodbury::LowRank;
 /// `Tangent::dof` entry of a prescribed DOF.
 const FIXED: usize = usize::MAX;
 
-/// Contraction per iteration above which $K_0$ is refactorised. A fresh
+/// Default of [`SecantParams::refactor_contraction`]. A fresh
 /// factor contracts the plain chord update by about 0.015 per iteration on
 /// the seed 000 cases (the geometric nonlinearity), a stale one by up to
 /// the threshold; a factorisation costs 12-20 solves (`crate::bench`).
 /// Counting a factorisation as 15 solves, thresholds from 0.03 to 0.2 cost
 /// the same within 4 % on the 96 x 24 bend and the 50 x 50 plate
 /// (0.1: 1984 iterations and 15 factorisations, and 900 and 22).
-const CONTRACTION_REFACTOR: f64 = 0.1;
+pub const CONTRACTION_REFACTOR: f64 = 0.1;
 
 fn norm(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
@@ -77,6 +77,9 @@ pub struct SecantParams {
     pub max_columns: usize,
     /// Anderson mixing depth of the chord iteration (0: plain chord).
     pub anderson_depth: usize,
+    /// Contraction per iteration above which $K_0$ is refactorised
+    /// ([`CONTRACTION_REFACTOR`] by default).
+    pub refactor_contraction: f64,
 }
 
 /// Chord iteration on a factorised secant tangent with Woodbury updates.
@@ -237,7 +240,7 @@ impl SecantSolver {
                     return Ok((it, measure));
                 }
             }
-            if it > 1 && chord > CONTRACTION_REFACTOR * prev {
+            if it > 1 && chord > p.refactor_contraction * prev {
                 self.refactor(model, tangent, info)?;
                 self.anderson.reset();
             }

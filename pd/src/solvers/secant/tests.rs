@@ -192,6 +192,7 @@ fn chord_iteration_reaches_the_newton_equilibrium() {
         max_iters: 50,
         max_columns: 8,
         anderson_depth: 3,
+        refactor_contraction: super::CONTRACTION_REFACTOR,
     };
     // Newton (consistent tangent) on the elastic response at load 1.
     let mut newton_model = strip();

@@ -7,13 +7,12 @@
 //!    [`crate::run_pd::problem_from_scene`] (same conditions, pre-cracks, failure law) with
 //!    `pd.dx` set to the window spacing.
 //! 2. For every load factor of the scene, warm-started from the previous equilibrium:
-//!    linear predictor to the new load, Newton equilibrium with the bond history frozen
-//!    (tolerances 1e-6 as in [`pdbem_pd::measure::ramp_to_initiation`]; a stall below a
-//!    displacement-change measure of 1e-3, from nodes that lost every bond, is accepted and
-//!    counted in the notes), then break rounds
-//!    until no bond breaks: sequentially linear for brittle bonds (the 20 most stretched
-//!    bonds break at the load where they reach s0, see `load_step`), Jacobi for degrading
-//!    ones.
+//!    equilibrium with the bond history frozen (tolerances 1e-6 as in
+//!    [`pdbem_pd::measure::ramp_to_initiation`]) by the chord iteration on a kept
+//!    factorisation for brittle bonds, Newton for degrading ones, with Newton and ADR as
+//!    fallbacks (`rounds`), then break rounds until no bond breaks: sequentially linear
+//!    for brittle bonds (the 20 most stretched bonds break at the load where they reach
+//!    s0, see `rounds::load_step`), Jacobi for degrading ones.
 //! 3. After every round each growing tip is traced by
 //!    [`pdbem_pd::crack_path::trace_crack_in`] from its initial position, on the damage
 //!    ahead of it (nodes more than 1.5 dx behind the initial tip, or within 2 dx of
@@ -23,10 +22,10 @@
 //!    `pdbem_coupling::growth::polyline::end_on_outline`), within one horizon of a hole
 //!    is arrested there, within 3 dx of another crack has joined it ([`Front`] decides
 //!    failure).
-//! 4. Failure ends the run: a crack cut the body through. When Newton fails (nearly
-//!    singular tangents once pieces hang by a few bonds), ADR looks for the equilibrium
-//!    (`equilibrate`). Under load control the last equilibria before separation do not
-//!    exist: a failure of both after bonds broke in the same step is taken as collapse
+//! 4. Failure ends the run: a crack cut the body through. When the chord iteration and
+//!    Newton fail (nearly singular tangents once pieces hang by a few bonds), ADR looks
+//!    for the equilibrium. Under load control the last equilibria before separation do not
+//!    exist: a failure of all three after bonds broke in the same step is taken as collapse
 //!    (failure, with the solvers' messages in the notes); a failure without breaking is
 //!    an error.
 //!
@@ -38,10 +37,9 @@
 
 use std::time::Instant;
 
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use serde_json::json;
 
-use pdbem_coupling::frozen;
 use pdbem_coupling::growth::polyline;
 
 use super::front::{Front, Obstacle};
@@ -51,10 +49,10 @@ use crate::geometry::P2;
 use crate::runner::RunContext;
 use crate::scene::Scene;
 use pdbem_pd::crack_path::{trace_crack_in, PathParams};
-use pdbem_pd::material::BondLaw;
-use pdbem_pd::solvers::implicit::{ImplicitParams, Newton};
-use pdbem_pd::solvers::{Convergence, SolveInfo};
-use pdbem_pd::{PdError, PdModel};
+use pdbem_pd::PdModel;
+use rounds::{load_step, Equilibrium, Tracked, LOOSE_MEASURE};
+
+mod rounds;
 
 /// Nodes this far behind a tip's initial position (in dx) are not traced from it.
 const BEHIND_DX: f64 = 1.5;
@@ -282,15 +280,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
             .collect(),
         ..Default::default()
     };
-    let mut newton = Newton::new(&model).with_context(|| format!("{}: pd", file.display()))?;
-    let ip = ImplicitParams {
-        residual_tol: 1e-6,
-        convergence: Convergence::Displacement { e0: 1e-6 },
-        max_iters: 10,
-        ..Default::default()
-    };
-    let mut counts = Fallbacks::default();
-    let mut info = SolveInfo::default();
+    let mut eq = Equilibrium::new(&model).with_context(|| format!("{}: pd", file.display()))?;
     let n_side = (model.n_real() as f64).sqrt().ceil() as usize;
     let max_rounds = 20 * n_side.max(10);
     let bar = step_bar(ctx, factors.len());
@@ -298,16 +288,9 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
     for (k, &f) in factors.iter().enumerate() {
         let t0 = Instant::now();
         let broken0 = model.broken_bonds();
-        let outcome = load_step(
-            &mut model,
-            &mut newton,
-            &ip,
-            &mut info,
-            f,
-            max_rounds,
-            &mut counts,
-            |m| track(&mut front, &mut tr, &mut history, m, &params, k, f, &log),
-        );
+        let outcome = load_step(&mut model, &mut eq, f, max_rounds, |m| {
+            track(&mut front, &mut tr, &mut history, m, &params, k, f, &log)
+        });
         let collapsed = match outcome {
             Ok(()) => None,
             Err(e) if model.broken_bonds() > broken0 => Some(format!("{e:#}")),
@@ -363,6 +346,14 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
     bar.finish_and_clear();
     let last = history.steps.len().saturating_sub(1);
     history.snapshots.extend(snapshots(&model, last));
+    log.event("solver", eq.work())?;
+    let counts = &eq.counts;
+    if counts.newton > 0 {
+        history.notes.push(format!(
+            "{} equilibria found by Newton after the chord iteration failed",
+            counts.newton
+        ));
+    }
     if counts.loose > 0 {
         history.notes.push(format!(
             "{} equilibria accepted with a displacement-change measure below {LOOSE_MEASURE:e} (nodes that lost all bonds)",
@@ -388,176 +379,6 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
         p.ended = t.ended.clone();
     }
     Ok(history)
-}
-
-/// Outcome of tracking after a break round.
-enum Tracked {
-    /// Keep going.
-    Continue,
-    /// The body came apart: stop the step.
-    Separated,
-}
-
-/// Newton equilibria that stall above the tolerance but below this displacement-change
-/// measure after 10 iterations are accepted: a node that lost all its bonds has no
-/// stiffness and its update does not settle (measured 2.3e-5 half way through the
-/// 200 x 100 node edge-cracked plate, where Newton had converged to 1e-6 before; with 50
-/// iterations per stalled round the run took over 10 minutes).
-const LOOSE_MEASURE: f64 = 1e-3;
-
-/// ADR steps per node row of the grid allowed to the fallback of [`equilibrate`]. Measured
-/// on `growth_shear_edge` at dx = 0.1 m (200 x 100 nodes): four fallbacks, all converged,
-/// in the step where the crack ran to the clamped edge; that step took 617 s of the run's
-/// 836 s (Newton alone had stopped there and called it collapse, 492 s in all).
-const ADR_STEPS_PER_ROW: usize = 200;
-
-/// Newton equilibrium at the model's load; a stall below [`LOOSE_MEASURE`] is accepted and
-/// counted in `loose`. When Newton fails otherwise, ADR from Newton's last finite state
-/// (`pdbem_coupling::frozen::equilibrate_adr`, residual 1e-6, [`ADR_STEPS_PER_ROW`] steps
-/// per node row) decides: its equilibrium is accepted and counted in `adr`, its failure is
-/// the step's error (a body that came apart under load control has no equilibrium).
-fn equilibrate(
-    model: &mut PdModel,
-    newton: &mut Newton,
-    ip: &ImplicitParams,
-    info: &mut SolveInfo,
-    counts: &mut Fallbacks,
-) -> Result<()> {
-    let start = model.displacements().to_vec();
-    match newton.equilibrate(model, ip, info) {
-        Ok(_) => Ok(()),
-        Err(PdError::NoConvergence { measure, .. }) if measure < LOOSE_MEASURE => {
-            counts.loose += 1;
-            Ok(())
-        }
-        Err(
-            e @ (PdError::NoConvergence { .. }
-            | PdError::Diverged { .. }
-            | PdError::NonFinite { .. }),
-        ) => {
-            let rows = (model.n_real() as f64).sqrt().ceil() as usize;
-            match frozen::equilibrate_adr(model, &start, 1e-6, ADR_STEPS_PER_ROW * rows, info) {
-                Ok(_) => {
-                    counts.adr += 1;
-                    Ok(())
-                }
-                Err(a) => Err(anyhow::anyhow!("{e}; ADR from its last state: {a}")),
-            }
-        }
-        Err(e) => Err(e.into()),
-    }
-}
-
-/// Equilibria accepted without Newton's convergence.
-#[derive(Debug, Default)]
-struct Fallbacks {
-    /// Newton stalled below [`LOOSE_MEASURE`].
-    loose: usize,
-    /// Found by ADR after Newton failed.
-    adr: usize,
-}
-
-/// Directed bonds broken together in a sequentially linear round: the most stretched ones,
-/// about half a grid spacing of crack advance at m = 3 (some 20 directed bonds cross a
-/// crack segment of length dx). Fewer means more equilibrium solves for the same path
-/// (one bond pair per round took minutes on a 100 x 100 grid).
-const BONDS_PER_ROUND: usize = 20;
-
-/// One load step. Brittle bonds (PMB with s0): sequentially linear rounds (sequentially
-/// linear analysis, Rots, Belletti & Invernizzi 2008, Eng. Fract. Mech. 75:590):
-/// equilibrium at the step's load f; if the largest stretch passes s0, the state is
-/// scaled down to the load at which only the most stretched bonds pass s0 (the response
-/// is nearly linear for a fixed set of bonds),
-/// those bonds break (`commit_history` at the scaled state), and equilibrium at f is
-/// sought again. Breaking every bond past s0 at once (Jacobi rounds) instead smears the
-/// damage over a wide zone as soon as growth turns unstable under load control (measured on
-/// a 40 x 40 node edge-cracked plate: a 15 mm wide damaged blob instead of a crack).
-/// Degrading bonds: Jacobi rounds as in [`Newton::load_step`]. `after` runs after every
-/// round that broke bonds (tracking) and may end the step.
-fn load_step(
-    model: &mut PdModel,
-    newton: &mut Newton,
-    ip: &ImplicitParams,
-    info: &mut SolveInfo,
-    f: f64,
-    max_rounds: usize,
-    counts: &mut Fallbacks,
-    mut after: impl FnMut(&PdModel) -> Result<Tracked>,
-) -> Result<()> {
-    let brittle = matches!(model.law(), BondLaw::Brittle { .. });
-    let s0 = model.law().damage_onset();
-    newton.predict_to(model, f, info)?;
-    for _ in 0..max_rounds {
-        equilibrate(model, newton, ip, info, counts)?;
-        let broken = if brittle {
-            break_most_stretched(model, f, s0)?
-        } else {
-            model.commit_history().newly_broken
-        };
-        if broken == 0 {
-            return Ok(());
-        }
-        if let Tracked::Separated = after(model)? {
-            return Ok(());
-        }
-    }
-    bail!("bonds still breaking after {max_rounds} equilibrium rounds at load {f}")
-}
-
-/// One sequentially linear round at the equilibrium of load `f`: when the largest stretch
-/// passes `s0`, scales the state down until only the [`BONDS_PER_ROUND`] most stretched
-/// bonds pass s0 and breaks them (`commit_history` at the scaled state); returns the
-/// directed bonds broken (0: the state holds at `f`). The displacements are restored to
-/// the load-f state.
-fn break_most_stretched(model: &mut PdModel, f: f64, s0: f64) -> Result<usize> {
-    let st = model.stretch_stats();
-    // NaN stretches (a diverged state) break nothing either.
-    if st.max_stretch.is_nan() || st.max_stretch <= s0 {
-        return Ok(0);
-    }
-    let u: Vec<[f64; 2]> = model.displacements().to_vec();
-    let scale = if st.growing <= 2 * BONDS_PER_ROUND {
-        1.0
-    } else {
-        critical_scale(model, &u, f, s0 / st.max_stretch)?
-    };
-    set_scaled(model, &u, f, scale)?;
-    let broken = model.commit_history().newly_broken;
-    set_scaled(model, &u, f, 1.0)?;
-    Ok(broken)
-}
-
-/// The state `scale u` at load `scale f`.
-fn set_scaled(model: &mut PdModel, u: &[[f64; 2]], f: f64, scale: f64) -> Result<()> {
-    let v: Vec<[f64; 2]> = u.iter().map(|p| [p[0] * scale, p[1] * scale]).collect();
-    model.set_load_factor(f * scale);
-    model.set_displacements(&v)?;
-    Ok(())
-}
-
-/// Scale in (0, 1] of the load-f state at which between [`BONDS_PER_ROUND`] and twice as
-/// many directed bonds pass s0, by bisection on the count (monotone in the scale); `lo` is
-/// a scale at which at most the most stretched bond passes (s0 / s_max). The stretch is
-/// linear in the displacements only for small rotations (a nearly cut plate reached
-/// 0.96 s0 instead of 1.02 s0 by linear scaling), hence the count rather than a formula.
-fn critical_scale(model: &mut PdModel, u: &[[f64; 2]], f: f64, lo: f64) -> Result<f64> {
-    let (mut lo, mut hi) = (lo.min(1.0), 1.0);
-    for _ in 0..60 {
-        let mid = 0.5 * (lo + hi);
-        set_scaled(model, u, f, mid)?;
-        let n = model.stretch_stats().growing;
-        if n < BONDS_PER_ROUND {
-            lo = mid;
-        } else if n > 2 * BONDS_PER_ROUND {
-            hi = mid;
-        } else {
-            return Ok(mid);
-        }
-        if hi - lo < 1e-12 {
-            break;
-        }
-    }
-    Ok(hi)
 }
 
 /// Traces every growing tip, records paths, stops tips at obstacles; `Separated` once the

@@ -1,0 +1,407 @@
+//! The load steps of full-PD growth: equilibria with the bond history frozen, and the
+//! break rounds between them.
+//!
+//! Equilibrium ([`Equilibrium::solve`]): brittle bonds take the secant chord iteration of
+//! [`pdbem_pd::solvers::secant`] (one factorised tangent $K_0$ kept over many rounds, the
+//! bonds broken since corrected by Woodbury updates, Anderson mixing); for brittle bonds
+//! the secant and the frozen-history forces are the same, so it converges to the same
+//! equilibrium as Newton. Newton (seed 000 Eq. 5) takes over where the chord iteration
+//! fails, and ADR where Newton fails (`pdbem_coupling::frozen::equilibrate_adr`).
+//! Degrading bonds go to Newton directly (their secant force, at the committed
+//! history, is not the frozen-history force Newton balances).
+//!
+//! Why the chord iteration: each break round changes some ten bond pairs, a rank-ten
+//! change of the tangent. Newton refactorised the 160 000-DOF tangent of the shear plate
+//! at dx = 0.05 m two or three times per round; the chord iteration solves with the kept
+//! factor (see the module note of `pdbem_pd::solvers::secant` for the cost model).
+
+use anyhow::{bail, Result};
+
+use pdbem_coupling::frozen;
+use pdbem_pd::material::BondLaw;
+use pdbem_pd::solvers::implicit::{ImplicitParams, Newton};
+use pdbem_pd::solvers::secant::{SecantParams, SecantSolver};
+use pdbem_pd::solvers::{Convergence, SolveInfo};
+use pdbem_pd::{PdError, PdModel};
+
+/// Outcome of tracking after a break round.
+pub(super) enum Tracked {
+    /// Keep going.
+    Continue,
+    /// The body came apart: stop the step.
+    Separated,
+}
+
+/// Newton equilibria that stall above the tolerance but below this displacement-change
+/// measure after 10 iterations are accepted: a node that lost all its bonds has no
+/// stiffness and its update does not settle (measured 2.3e-5 half way through the
+/// 200 x 100 node edge-cracked plate, where Newton had converged to 1e-6 before; with 50
+/// iterations per stalled round the run took over 10 minutes).
+pub(super) const LOOSE_MEASURE: f64 = 1e-3;
+
+/// ADR steps per node row of the grid allowed to the ADR fallback. Measured on
+/// `growth_shear_edge` at dx = 0.1 m (200 x 100 nodes): four fallbacks, all converged,
+/// in the step where the crack ran to the clamped edge; that step took 617 s of the run's
+/// 836 s (Newton alone had stopped there and called it collapse, 492 s in all).
+const ADR_STEPS_PER_ROW: usize = 200;
+
+/// Low-rank columns (changed bond pairs) the chord iteration keeps before it
+/// refactorises: the default of the explicit-implicit switch
+/// (`pdbem_pd::solvers::switching::SwitchingParams::max_secant_columns`).
+const SECANT_COLUMNS: usize = 256;
+
+/// Anderson depth of the chord iteration (the switch's default, measured there).
+const ANDERSON_DEPTH: usize = 3;
+
+/// Contraction per chord iteration above which the factor is renewed. Higher than the
+/// switch's 0.1 (`pdbem_pd::solvers::secant::CONTRACTION_REFACTOR`): the factorisations
+/// here are of the whole body. Measured on `growth_tension_edge` at dx = 0.1 m (40 000
+/// DOFs, 2 cores, identical paths): 0.1: 327 factorisations and 3255 solves, 246 s;
+/// 0.3: 223 and 3394, 181 s; 0.6: 175 and 3566, 170 s (Newton: 618 s).
+const REFACTOR_CONTRACTION: f64 = 0.6;
+
+/// Chord iterations per equilibrium before Newton takes over.
+const SECANT_ITERS: usize = 50;
+
+/// Equilibria not found by the first solver.
+#[derive(Debug, Default)]
+pub(super) struct Fallbacks {
+    /// Newton stalled below [`LOOSE_MEASURE`].
+    pub loose: usize,
+    /// Found by Newton after the chord iteration failed.
+    pub newton: usize,
+    /// Found by ADR after Newton failed.
+    pub adr: usize,
+}
+
+/// The solvers of the frozen-history equilibria and their bookkeeping.
+pub(super) struct Equilibrium {
+    newton: Newton,
+    ip: ImplicitParams,
+    /// `None` for degrading bonds (Newton only).
+    secant: Option<(SecantSolver, SecantParams)>,
+    pub counts: Fallbacks,
+    pub info: SolveInfo,
+}
+
+impl Equilibrium {
+    /// Solvers for `model`: tolerances 1e-6 as in [`pdbem_pd::measure::ramp_to_initiation`].
+    pub fn new(model: &PdModel) -> Result<Self, PdError> {
+        let newton = Newton::new(model)?;
+        let convergence = Convergence::Displacement { e0: 1e-6 };
+        let secant = matches!(model.law(), BondLaw::Brittle { .. }).then(|| {
+            let solver =
+                SecantSolver::new(model, newton.tangent.n_free, SECANT_COLUMNS, ANDERSON_DEPTH);
+            let params = SecantParams {
+                convergence,
+                residual_tol: 1e-6,
+                max_iters: SECANT_ITERS,
+                max_columns: SECANT_COLUMNS,
+                anderson_depth: ANDERSON_DEPTH,
+                refactor_contraction: REFACTOR_CONTRACTION,
+            };
+            (solver, params)
+        });
+        Ok(Equilibrium {
+            newton,
+            ip: ImplicitParams {
+                residual_tol: 1e-6,
+                convergence,
+                max_iters: 10,
+                ..Default::default()
+            },
+            secant,
+            counts: Fallbacks::default(),
+            info: SolveInfo::default(),
+        })
+    }
+
+    /// The solver work so far, for the run log: factorisations of the tangent (Newton,
+    /// predictor and chord iteration), the chord iteration's triangular solves, the
+    /// seconds spent assembling and in factorisations and solves, the fallbacks.
+    pub fn work(&self) -> serde_json::Value {
+        let solves = self.secant.as_ref().map_or(0, |(s, _)| s.solves);
+        serde_json::json!({
+            "factorizations": self.info.factorizations,
+            "chord_solves": solves,
+            "assembly_s": self.info.time_assembly_s,
+            "factor_and_solve_s": self.info.time_factorization_s,
+            "newton_fallbacks": self.counts.newton,
+            "loose": self.counts.loose,
+            "adr_fallbacks": self.counts.adr,
+        })
+    }
+
+    /// Moves the model to load `f`. Newton starts from its linear predictor
+    /// ([`Newton::predict_to`]); the chord iteration needs none: its first update from
+    /// the state with the prescribed displacements at `f` solves the same linear system
+    /// with the kept factor, instead of a fresh factorisation that would replace it.
+    pub fn predict_to(&mut self, model: &mut PdModel, f: f64) -> Result<(), PdError> {
+        if self.secant.is_some() {
+            model.set_load_factor(f);
+            return Ok(());
+        }
+        self.newton.predict_to(model, f, &mut self.info)
+    }
+
+    /// After bonds broke: the chord iteration records them as low-rank changes.
+    pub fn bonds_changed(&mut self, model: &PdModel) -> Result<(), PdError> {
+        match self.secant.as_mut() {
+            Some((s, _)) => s.track_changes(model, &mut self.newton.tangent, &mut self.info),
+            None => Ok(()),
+        }
+    }
+
+    /// Equilibrium at the model's load with the bond history frozen: the chord iteration,
+    /// then Newton from the same start, then ADR from Newton's last finite state. A Newton
+    /// stall below [`LOOSE_MEASURE`] is accepted and counted in `loose`; ADR's
+    /// equilibrium (residual 1e-6, [`ADR_STEPS_PER_ROW`] steps per node row) is counted
+    /// in `adr`; the failure of all is the error.
+    pub fn solve(&mut self, model: &mut PdModel) -> Result<()> {
+        let start = model.displacements().to_vec();
+        if let Some((s, p)) = self.secant.as_mut() {
+            match s.equilibrate(model, &mut self.newton.tangent, p, &mut self.info) {
+                Ok(_) => return Ok(()),
+                Err(_) => {
+                    // Newton's factorisations replace the kept factor.
+                    s.invalidate();
+                    model.set_displacements(&start)?;
+                    self.counts.newton += 1;
+                }
+            }
+        }
+        let start = model.displacements().to_vec();
+        match self.newton.equilibrate(model, &self.ip, &mut self.info) {
+            Ok(_) => Ok(()),
+            Err(PdError::NoConvergence { measure, .. }) if measure < LOOSE_MEASURE => {
+                self.counts.loose += 1;
+                Ok(())
+            }
+            Err(
+                e @ (PdError::NoConvergence { .. }
+                | PdError::Diverged { .. }
+                | PdError::NonFinite { .. }),
+            ) => {
+                let rows = (model.n_real() as f64).sqrt().ceil() as usize;
+                let steps = ADR_STEPS_PER_ROW * rows;
+                match frozen::equilibrate_adr(model, &start, 1e-6, steps, &mut self.info) {
+                    Ok(_) => {
+                        self.counts.adr += 1;
+                        Ok(())
+                    }
+                    Err(a) => Err(anyhow::anyhow!("{e}; ADR from its last state: {a}")),
+                }
+            }
+            Err(e) => Err(e.into()),
+        }
+    }
+}
+
+/// Directed bonds broken together in a sequentially linear round: the most stretched ones,
+/// about half a grid spacing of crack advance at m = 3 (some 20 directed bonds cross a
+/// crack segment of length dx). Fewer means more equilibrium solves for the same path
+/// (one bond pair per round took minutes on a 100 x 100 grid).
+const BONDS_PER_ROUND: usize = 20;
+
+/// One load step. Brittle bonds (PMB with s0): sequentially linear rounds (sequentially
+/// linear analysis, Rots, Belletti & Invernizzi 2008, Eng. Fract. Mech. 75:590):
+/// equilibrium at the step's load f; if the largest stretch passes s0, the state is
+/// scaled down to the load at which only the most stretched bonds pass s0 (the response
+/// is nearly linear for a fixed set of bonds),
+/// those bonds break (`commit_history` at the scaled state), and equilibrium at f is
+/// sought again. Breaking every bond past s0 at once (Jacobi rounds) instead smears the
+/// damage over a wide zone as soon as growth turns unstable under load control (measured on
+/// a 40 x 40 node edge-cracked plate: a 15 mm wide damaged blob instead of a crack).
+/// Degrading bonds: Jacobi rounds as in [`Newton::load_step`]. `after` runs after every
+/// round that broke bonds (tracking) and may end the step.
+pub(super) fn load_step(
+    model: &mut PdModel,
+    eq: &mut Equilibrium,
+    f: f64,
+    max_rounds: usize,
+    mut after: impl FnMut(&PdModel) -> Result<Tracked>,
+) -> Result<()> {
+    let brittle = matches!(model.law(), BondLaw::Brittle { .. });
+    let s0 = model.law().damage_onset();
+    eq.predict_to(model, f)?;
+    for _ in 0..max_rounds {
+        eq.solve(model)?;
+        let broken = if brittle {
+            break_most_stretched(model, f, s0)?
+        } else {
+            model.commit_history().newly_broken
+        };
+        if broken == 0 {
+            return Ok(());
+        }
+        eq.bonds_changed(model)?;
+        if let Tracked::Separated = after(model)? {
+            return Ok(());
+        }
+    }
+    bail!("bonds still breaking after {max_rounds} equilibrium rounds at load {f}")
+}
+
+/// One sequentially linear round at the equilibrium of load `f`: when the largest stretch
+/// passes `s0`, scales the state down until only the [`BONDS_PER_ROUND`] most stretched
+/// bonds pass s0 and breaks them (`commit_history` at the scaled state); returns the
+/// directed bonds broken (0: the state holds at `f`). The displacements are restored to
+/// the load-f state.
+fn break_most_stretched(model: &mut PdModel, f: f64, s0: f64) -> Result<usize> {
+    let st = model.stretch_stats();
+    // NaN stretches (a diverged state) break nothing either.
+    if st.max_stretch.is_nan() || st.max_stretch <= s0 {
+        return Ok(0);
+    }
+    let u: Vec<[f64; 2]> = model.displacements().to_vec();
+    let scale = if st.growing <= 2 * BONDS_PER_ROUND {
+        1.0
+    } else {
+        critical_scale(model, &u, f, s0 / st.max_stretch)?
+    };
+    set_scaled(model, &u, f, scale)?;
+    let broken = model.commit_history().newly_broken;
+    set_scaled(model, &u, f, 1.0)?;
+    Ok(broken)
+}
+
+/// The state `scale u` at load `scale f`.
+fn set_scaled(model: &mut PdModel, u: &[[f64; 2]], f: f64, scale: f64) -> Result<()> {
+    let v: Vec<[f64; 2]> = u.iter().map(|p| [p[0] * scale, p[1] * scale]).collect();
+    model.set_load_factor(f * scale);
+    model.set_displacements(&v)?;
+    Ok(())
+}
+
+/// Scale in (0, 1] of the load-f state at which between [`BONDS_PER_ROUND`] and twice as
+/// many directed bonds pass s0, by bisection on the count (monotone in the scale); `lo` is
+/// a scale at which at most the most stretched bond passes (s0 / s_max). The stretch is
+/// linear in the displacements only for small rotations (a nearly cut plate reached
+/// 0.96 s0 instead of 1.02 s0 by linear scaling), hence the count rather than a formula.
+fn critical_scale(model: &mut PdModel, u: &[[f64; 2]], f: f64, lo: f64) -> Result<f64> {
+    let (mut lo, mut hi) = (lo.min(1.0), 1.0);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        set_scaled(model, u, f, mid)?;
+        let n = model.stretch_stats().growing;
+        if n < BONDS_PER_ROUND {
+            lo = mid;
+        } else if n > 2 * BONDS_PER_ROUND {
+            hi = mid;
+        } else {
+            return Ok(mid);
+        }
+        if hi - lo < 1e-12 {
+            break;
+        }
+    }
+    Ok(hi)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pdbem_pd::cases::{seed001_crack, CrackKind};
+
+    /// Seed 001's edge-cracked plate, 40 x 40 nodes, brittle bonds, at rest.
+    fn edge_plate() -> PdModel {
+        PdModel::new(&seed001_crack(CrackKind::Edge, 40).problem).unwrap()
+    }
+
+    /// Largest nodal distance between two states, and the largest displacement of `a`.
+    fn difference(a: &PdModel, b: &PdModel) -> (f64, f64) {
+        let (ua, ub) = (a.displacements(), b.displacements());
+        let scale = ua.iter().map(|u| u[0].hypot(u[1])).fold(0.0, f64::max);
+        let diff = ua
+            .iter()
+            .zip(ub)
+            .map(|(x, y)| (x[0] - y[0]).hypot(x[1] - y[1]))
+            .fold(0.0, f64::max);
+        (diff, scale)
+    }
+
+    /// Newton alone, as for degrading bonds.
+    fn newton_only(model: &PdModel) -> Equilibrium {
+        let mut eq = Equilibrium::new(model).unwrap();
+        eq.secant = None;
+        eq
+    }
+
+    #[test]
+    fn chord_iteration_breaks_the_same_bonds_as_newton_with_fewer_factorisations() {
+        // 12 MPa: above the plate's LEFM load at this resolution, so bonds break in many
+        // rounds (the crack runs), and the chord iteration must follow every round.
+        let load = 12.0;
+        let rounds = 40;
+        let mut by_chord = edge_plate();
+        let mut chord = Equilibrium::new(&by_chord).unwrap();
+        assert!(
+            chord.secant.is_some(),
+            "brittle bonds take the chord iteration"
+        );
+        let chord_done = load_step(&mut by_chord, &mut chord, load, rounds, |_| {
+            Ok(Tracked::Continue)
+        })
+        .is_ok();
+        let mut by_newton = edge_plate();
+        let mut newton = newton_only(&by_newton);
+        let newton_done = load_step(&mut by_newton, &mut newton, load, rounds, |_| {
+            Ok(Tracked::Continue)
+        })
+        .is_ok();
+        // Both settle within the rounds or both still break bonds after them.
+        assert_eq!(chord_done, newton_done);
+        let broken = by_chord.broken_bonds();
+        assert!(broken > 200, "the crack runs: {broken} broken bonds");
+        assert_eq!(broken, by_newton.broken_bonds(), "same bonds broken");
+        assert!(
+            by_chord.bond_intact() == by_newton.bond_intact(),
+            "same bonds broken"
+        );
+        let (diff, scale) = difference(&by_newton, &by_chord);
+        assert!(
+            diff < 1e-4 * scale,
+            "chord vs Newton: {diff:.3e} of {scale:.3e}"
+        );
+        let (fc, fn_) = (chord.info.factorizations, newton.info.factorizations);
+        assert!(2 * fc < fn_, "factorisations: chord {fc}, Newton {fn_}");
+        assert_eq!(chord.counts.newton + chord.counts.adr, 0, "no fallback");
+    }
+
+    #[test]
+    fn newton_then_adr_take_over_where_the_chord_iteration_fails() {
+        let load = 5.0;
+        let mut reference = edge_plate();
+        reference.set_load_factor(load);
+        let mut eq = Equilibrium::new(&reference).unwrap();
+        eq.solve(&mut reference).unwrap();
+        assert_eq!(eq.counts.newton + eq.counts.adr, 0);
+
+        // No chord iteration and no Newton iteration allowed: ADR must find it.
+        let mut starved = edge_plate();
+        starved.set_load_factor(load);
+        let mut eq = Equilibrium::new(&starved).unwrap();
+        eq.secant.as_mut().unwrap().1.max_iters = 0;
+        eq.ip.max_iters = 0;
+        eq.solve(&mut starved).unwrap();
+        assert_eq!((eq.counts.newton, eq.counts.adr), (1, 1));
+        let (diff, scale) = difference(&reference, &starved);
+        assert!(
+            diff < 1e-4 * scale,
+            "ADR vs chord: {diff:.3e} of {scale:.3e}"
+        );
+
+        // Newton alone after a failed chord iteration.
+        let mut by_newton = edge_plate();
+        by_newton.set_load_factor(load);
+        let mut eq = Equilibrium::new(&by_newton).unwrap();
+        eq.secant.as_mut().unwrap().1.max_iters = 0;
+        eq.solve(&mut by_newton).unwrap();
+        assert_eq!((eq.counts.newton, eq.counts.adr), (1, 0));
+        let (diff, scale) = difference(&reference, &by_newton);
+        assert!(
+            diff < 1e-5 * scale,
+            "Newton vs chord: {diff:.3e} of {scale:.3e}"
+        );
+    }
+}
