@@ -16,27 +16,27 @@
 //! Laws other than the brittle PMB law are committed in full.
 //!
 //! [`break_rounds`] repeats this with the window's interface held: break, re-equilibrate
-//! the PD model (Newton, ADR if Newton fails: [`crate::frozen`]), break again, up to a
+//! the PD model (the kept solvers of the window: [`crate::frozen::FrozenSolver`]), break again, up to a
 //! number of rounds or until no bond is past $s_0$. The load redistributes mostly inside
 //! the window, so a few PD rounds per converged interface state let the crack advance by
 //! several bonds for the price of one interface re-convergence.
 
 use pdbem_pd::material::BondLaw;
-use pdbem_pd::solvers::implicit::{ImplicitParams, Newton};
+use pdbem_pd::solvers::implicit::ImplicitParams;
 use pdbem_pd::{PdError, PdModel, SolveInfo};
 
-use crate::frozen;
+use crate::frozen::SolverSlot;
 
 /// Up to `rounds` progressive commits of `model`, each followed by a frozen-bond
 /// equilibrium at the held boundary values; returns the bond pairs broken.
 pub fn break_rounds(
     model: &mut PdModel,
+    slot: &mut SolverSlot,
     fraction: f64,
     rounds: usize,
     newton: &ImplicitParams,
 ) -> Result<usize, PdError> {
     let mut total = 0;
-    let mut solver: Option<Newton> = None;
     let mut info = SolveInfo::default();
     let start = model.displacements().to_vec();
     for _ in 0..rounds.max(1) {
@@ -45,11 +45,8 @@ pub fn break_rounds(
             break;
         }
         total += broke;
-        let n = match solver.as_mut() {
-            Some(n) => n,
-            None => solver.insert(Newton::new(model)?),
-        };
-        frozen::equilibrate(n, model, newton, &start, &mut info)?;
+        slot.get(model)?
+            .equilibrate(model, newton, &start, &mut info)?;
     }
     Ok(total)
 }

@@ -1,6 +1,15 @@
-//! Equilibrium of a window's PD model with the bond history frozen: Newton-Raphson
-//! (seed 000 section 2, Eq. 5), and adaptive dynamic relaxation (seed 002 Eqs. 9-15)
+//! Equilibrium of a window's PD model with the bond history frozen: the secant chord
+//! iteration on a kept factorisation for brittle bonds ([`FrozenSolver`],
+//! [`pdbem_pd::solvers::secant`]), Newton-Raphson (seed 000 section 2, Eq. 5) where it
+//! fails or for degrading bonds, and adaptive dynamic relaxation (seed 002 Eqs. 9-15)
 //! from the last finite state when Newton fails.
+//!
+//! Why a kept factorisation: between two coupling iterations only the prescribed
+//! displacements of the coupled virtual nodes change, and between two break rounds only
+//! a few bonds; Newton refactorised the window's tangent two or three times for each
+//! (a third of a PD-BEM run's time on `growth_tension_edge`, measured with perf). For
+//! brittle bonds the secant and the frozen-history forces are the same, so the chord
+//! iteration converges to Newton's equilibrium.
 //!
 //! Newton stalls once the bonds left make the tangent nearly singular: a fragment held
 //! by one bond, a node whose remaining bonds are collinear. Measured on the seed 001
@@ -9,10 +18,147 @@
 //! the forces, so such a state still equilibrates. No bond breaks in either solver; the
 //! caller commits the history.
 
+use std::fmt;
+
 use pdbem_pd::forces::History;
+use pdbem_pd::material::BondLaw;
 use pdbem_pd::solvers::implicit::{ImplicitParams, Newton};
+use pdbem_pd::solvers::secant::{SecantParams, SecantSolver, CONTRACTION_REFACTOR};
 use pdbem_pd::solvers::{adr, Convergence};
 use pdbem_pd::{PdError, PdModel, SolveInfo};
+
+/// Low-rank columns (changed bond pairs) kept before the chord iteration refactorises
+/// (the explicit-implicit switch's default).
+const CHORD_COLUMNS: usize = 256;
+/// Anderson depth of the chord iteration (the switch's default).
+const CHORD_ANDERSON: usize = 3;
+/// Chord iterations per equilibrium before Newton takes over.
+const CHORD_ITERS: usize = 50;
+
+/// The frozen-history solvers of one PD model, kept between equilibria: Newton's tangent
+/// pattern and symbolic factorisation, and for brittle bonds the chord iteration with its
+/// kept factor. Bonds broken since the last equilibrium are picked up by comparing every
+/// bond's stiffness with the factorised one, so the caller may commit between calls.
+pub struct FrozenSolver {
+    newton: Newton,
+    chord: Option<SecantSolver>,
+    /// Nodes and bonds of the model it was built for.
+    shape: (usize, usize),
+    /// Equilibria the chord iteration left to Newton.
+    pub newton_fallbacks: usize,
+}
+
+impl FrozenSolver {
+    /// Solvers for `model`.
+    pub fn new(model: &PdModel) -> Result<Self, PdError> {
+        let newton = Newton::new(model)?;
+        let chord = matches!(model.law(), BondLaw::Brittle { .. }).then(|| {
+            SecantSolver::new(model, newton.tangent.n_free, CHORD_COLUMNS, CHORD_ANDERSON)
+        });
+        Ok(FrozenSolver {
+            newton,
+            chord,
+            shape: (model.n_nodes(), model.n_bonds()),
+            newton_fallbacks: 0,
+        })
+    }
+
+    /// Whether it was built for a model of this size (a window rebuilt after a
+    /// relocation needs new solvers).
+    pub fn fits(&self, model: &PdModel) -> bool {
+        self.shape == (model.n_nodes(), model.n_bonds())
+    }
+
+    /// Moves the model to load factor `lam`: Newton's linear predictor when the load
+    /// changes (its factor replaces the chord iteration's), nothing otherwise.
+    pub fn predict_to(
+        &mut self,
+        model: &mut PdModel,
+        lam: f64,
+        info: &mut SolveInfo,
+    ) -> Result<(), PdError> {
+        if model.load_factor() == lam {
+            return Ok(());
+        }
+        if let Some(c) = self.chord.as_mut() {
+            c.invalidate();
+        }
+        self.newton.predict_to(model, lam, info)
+    }
+
+    /// Equilibrium at the model's load with the bond history frozen: the chord iteration
+    /// to `params`' tolerances, then [`equilibrate`] (Newton, then ADR from `start`) from
+    /// the same state if it fails. Returns the iterations of the solver that succeeded.
+    pub fn equilibrate(
+        &mut self,
+        model: &mut PdModel,
+        params: &ImplicitParams,
+        start: &[[f64; 2]],
+        info: &mut SolveInfo,
+    ) -> Result<usize, PdError> {
+        if let Some(chord) = self.chord.as_mut() {
+            let before = model.displacements().to_vec();
+            let tangent = &mut self.newton.tangent;
+            let sp = SecantParams {
+                convergence: params.convergence,
+                residual_tol: params.residual_tol,
+                max_iters: CHORD_ITERS,
+                max_columns: CHORD_COLUMNS,
+                anderson_depth: CHORD_ANDERSON,
+                refactor_contraction: CONTRACTION_REFACTOR,
+            };
+            let solved = chord
+                .track_changes(model, tangent, info)
+                .and_then(|_| chord.equilibrate(model, tangent, &sp, info));
+            match solved {
+                Ok((iters, _)) => return Ok(iters),
+                Err(_) => {
+                    // Newton's factorisations replace the kept factor.
+                    chord.invalidate();
+                    self.newton_fallbacks += 1;
+                    model.set_displacements(&before)?;
+                }
+            }
+        }
+        equilibrate(&mut self.newton, model, params, start, info)
+    }
+}
+
+/// A window's [`FrozenSolver`], built on first use; a clone starts empty.
+#[derive(Default)]
+pub struct SolverSlot(Option<Box<FrozenSolver>>);
+
+impl SolverSlot {
+    /// The solvers of `model`, built if there are none or they belong to a model of
+    /// another size.
+    pub fn get(&mut self, model: &PdModel) -> Result<&mut FrozenSolver, PdError> {
+        if !self.0.as_ref().is_some_and(|s| s.fits(model)) {
+            self.0 = Some(Box::new(FrozenSolver::new(model)?));
+        }
+        Ok(self.0.as_mut().expect("just built"))
+    }
+
+    /// Drops the solvers (the model was replaced).
+    pub fn clear(&mut self) {
+        self.0 = None;
+    }
+}
+
+impl Clone for SolverSlot {
+    fn clone(&self) -> Self {
+        SolverSlot(None)
+    }
+}
+
+impl fmt::Debug for SolverSlot {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "SolverSlot({})",
+            if self.0.is_some() { "built" } else { "empty" }
+        )
+    }
+}
 
 /// Newton to equilibrium at the model's load (history frozen), ADR when Newton does not
 /// converge, diverges or produces non-finite values. `start` is a finite state of the
@@ -115,6 +261,98 @@ mod tests {
             diff < 1e-6 * scale,
             "ADR vs Newton: {diff:.3e} of {scale:.3e}"
         );
+    }
+
+    /// Seed 001's edge-cracked plate (brittle bonds), 30 x 30 nodes, at `load` MPa.
+    fn edge_plate(load: f64) -> PdModel {
+        use pdbem_pd::cases::{seed001_crack, CrackKind};
+        let mut m = PdModel::new(&seed001_crack(CrackKind::Edge, 30).problem).unwrap();
+        m.set_load_factor(load);
+        m
+    }
+
+    /// Largest nodal distance between two states over the largest displacement of `a`.
+    fn relative_difference(a: &PdModel, b: &PdModel) -> f64 {
+        let (ua, ub) = (a.displacements(), b.displacements());
+        let scale = ua.iter().map(|u| u[0].hypot(u[1])).fold(0.0, f64::max);
+        let diff = ua
+            .iter()
+            .zip(ub)
+            .map(|(x, y)| (x[0] - y[0]).hypot(x[1] - y[1]))
+            .fold(0.0, f64::max);
+        diff / scale
+    }
+
+    /// Newton's equilibrium of `model` from its state, with a fresh solver.
+    fn by_newton(mut model: PdModel, params: &ImplicitParams) -> PdModel {
+        let start = model.displacements().to_vec();
+        let mut newton = Newton::new(&model).unwrap();
+        let mut info = SolveInfo::default();
+        equilibrate(&mut newton, &mut model, params, &start, &mut info).unwrap();
+        model
+    }
+
+    #[test]
+    fn the_kept_solver_finds_newtons_equilibria_without_refactorising_for_a_new_load() {
+        let params = ImplicitParams {
+            convergence: Convergence::Residual { tol: 1e-9 },
+            residual_tol: 1e-9,
+            ..Default::default()
+        };
+        let mut m = edge_plate(4.0);
+        let mut slot = SolverSlot::default();
+        let mut info = SolveInfo::default();
+        let start = m.displacements().to_vec();
+        slot.get(&m)
+            .unwrap()
+            .equilibrate(&mut m, &params, &start, &mut info)
+            .unwrap();
+        assert_eq!(
+            info.factorizations, 1,
+            "one factorisation for the first solve"
+        );
+        // A new load: the kept factor serves.
+        m.set_load_factor(6.0);
+        slot.get(&m)
+            .unwrap()
+            .equilibrate(&mut m, &params, &start, &mut info)
+            .unwrap();
+        assert_eq!(info.factorizations, 1, "no factorisation for the new load");
+        let d = relative_difference(&by_newton(edge_plate(6.0), &params), &m);
+        assert!(d < 1e-7, "kept solver vs Newton at 6 MPa: {d:.2e}");
+        // Bonds break: the change is picked up by comparison, Newton's state is found.
+        m.set_load_factor(20.0);
+        slot.get(&m)
+            .unwrap()
+            .equilibrate(&mut m, &params, &start, &mut info)
+            .unwrap();
+        let broken = m.commit_history().newly_broken;
+        assert!(broken > 0, "bonds break at the tip at 20 MPa on this grid");
+        let mut reference = m.clone();
+        reference.set_displacements(&start).unwrap();
+        let reference = by_newton(reference, &params);
+        slot.get(&m)
+            .unwrap()
+            .equilibrate(&mut m, &params, &start, &mut info)
+            .unwrap();
+        let d = relative_difference(&reference, &m);
+        assert!(
+            d < 1e-7,
+            "kept solver vs Newton after {broken} bonds broke: {d:.2e}"
+        );
+        assert_eq!(slot.get(&m).unwrap().newton_fallbacks, 0);
+        // A clone starts empty; a model of another size gets new solvers.
+        assert!(format!("{:?}", slot.clone()).contains("empty"));
+        let other = edge_plate(1.0);
+        let mut small = PdModel::new(
+            &pdbem_pd::cases::seed001_crack(pdbem_pd::cases::CrackKind::Edge, 20).problem,
+        )
+        .unwrap();
+        small.set_load_factor(1.0);
+        assert!(slot.get(&m).unwrap().fits(&other));
+        assert!(!slot.get(&m).unwrap().fits(&small));
+        slot.get(&small).unwrap();
+        assert!(slot.get(&small).unwrap().fits(&small));
     }
 
     #[test]

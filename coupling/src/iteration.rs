@@ -140,24 +140,26 @@ impl Default for StaggeredParams {
     }
 }
 
-/// [`PdSolve::Staggered`] on one model; returns the solver iterations.
+/// [`PdSolve::Staggered`] on one model with its kept solvers; returns the solver
+/// iterations.
 ///
-/// Each equilibrium is Newton's, with ADR when Newton fails
-/// ([`crate::frozen::equilibrate`]).
+/// Each equilibrium is the chord iteration's, with Newton and then ADR where it fails
+/// ([`crate::frozen::FrozenSolver`]).
 fn staggered(
     model: &mut pdbem_pd::PdModel,
+    slot: &mut frozen::SolverSlot,
     p: &StaggeredParams,
 ) -> Result<usize, pdbem_pd::PdError> {
     let mut info = pdbem_pd::SolveInfo::default();
-    let mut newton = implicit::Newton::new(model)?;
+    let solver = slot.get(model)?;
     let start = model.displacements().to_vec();
-    newton.predict_to(model, p.newton.target_load, &mut info)?;
-    let mut iters = frozen::equilibrate(&mut newton, model, &p.newton, &start, &mut info)?;
+    solver.predict_to(model, p.newton.target_load, &mut info)?;
+    let mut iters = solver.equilibrate(model, &p.newton, &start, &mut info)?;
     for _ in 0..p.rounds {
         if model.commit_history().newly_broken == 0 {
             break;
         }
-        iters += frozen::equilibrate(&mut newton, model, &p.newton, &start, &mut info)?;
+        iters += solver.equilibrate(model, &p.newton, &start, &mut info)?;
     }
     Ok(iters)
 }
@@ -602,7 +604,8 @@ fn commit_windows(
         .par_iter_mut()
         .enumerate()
         .map(|(i, w)| {
-            crate::breaking::break_rounds(&mut w.model, p.break_fraction, p.break_rounds, &p.newton)
+            let (model, slot) = (&mut w.model, &mut w.solver);
+            crate::breaking::break_rounds(model, slot, p.break_fraction, p.break_rounds, &p.newton)
                 .map_err(|e| CouplingError::pd(i, e))
         })
         .collect();
@@ -805,7 +808,7 @@ pub fn solve_window_at(
         PdSolve::Switching(p) => switching::solve(&mut w.model, p)?,
         PdSolve::Implicit(p) => implicit::solve(&mut w.model, p)?,
         PdSolve::Adr(p) => adr::solve(&mut w.model, p)?,
-        PdSolve::Staggered(p) => return staggered(&mut w.model, p),
+        PdSolve::Staggered(p) => return staggered(&mut w.model, &mut w.solver, p),
     };
     Ok(info.iterations)
 }

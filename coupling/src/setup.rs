@@ -64,6 +64,8 @@ pub struct WindowModel {
     pub interface: Interface,
     /// BEM group of its interface elements.
     pub group: String,
+    /// Its frozen-history solvers, kept between equilibria (built on first use).
+    pub solver: crate::frozen::SolverSlot,
 }
 
 /// The built coupled geometry.
@@ -208,5 +210,6 @@ fn window_model(
         model,
         interface,
         group,
+        solver: Default::default(),
     })
 }
