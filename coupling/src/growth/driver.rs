@@ -767,6 +767,53 @@ mod tests {
         }
     }
 
+    /// A 10 m x 5 m plate with an edge crack from (5, 0) up to (5, `tip_y`), its window
+    /// (1 m) centred at (5, `window_y`).
+    fn edge_crack_plate(tip_y: f64, window_y: f64) -> Growth<'static, PlateScenario> {
+        let crack = vec![V2::new(5.0, 0.0), V2::new(5.0, tip_y)];
+        let mut setup = plate_setup((10.0, 5.0), vec![], vec![crack], Some(3e-3));
+        setup.layout.windows[0].center = V2::new(5.0, window_y);
+        let loads = LoadSteps {
+            initial: 1.0,
+            step: 0.5,
+            count: 1,
+        };
+        Growth::new(setup, &PlateScenario, GrowthParams::new(loads, 0.5)).unwrap()
+    }
+
+    #[test]
+    fn a_coupling_breakdown_while_the_crack_runs_to_the_outline_in_pd_ends_the_run() {
+        let stall = CouplingError::NoConvergence {
+            iterations: 50,
+            last: 2e-3,
+            psi: 1e-4,
+            residuals: vec![],
+        };
+        // The window's top side lies on the top edge; the tip (0.7 m from it) is nearer
+        // to it than the crack's entry at the window's bottom (1 m): the ligament ahead
+        // of the tip is in PD, and a stall means it gave way.
+        let g = edge_crack_plate(4.3, 4.5);
+        assert!(g.problem.windows[0].window.sides.contains(&SideKind::Outer));
+        let (t, what) = g.ligament_gave_way(&stall).expect("the ligament gave way");
+        assert_eq!(t, 0);
+        assert!(
+            what.contains("coupling residual 2.000e-3 after 50 iterations"),
+            "{what}"
+        );
+        // Other errors are not a breakdown of the coupling.
+        let other = CouplingError::InvalidStep {
+            message: "bad".into(),
+        };
+        assert!(g.ligament_gave_way(&other).is_none());
+        // The window inside the body: the ligament is in BEM, the stall is an error.
+        let inside = edge_crack_plate(3.0, 3.0);
+        assert!(!inside.problem.windows[0]
+            .window
+            .sides
+            .contains(&SideKind::Outer));
+        assert!(inside.ligament_gave_way(&stall).is_none());
+    }
+
     #[test]
     fn tip_growing_into_a_hole_ends_there() {
         // A 10 m x 5 m plate pulled along x, an edge crack from (5, 0) up to (5, 1.5) and
