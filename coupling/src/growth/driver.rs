@@ -192,7 +192,8 @@ impl<'s, S: Scenario> Growth<'s, S> {
         &self.body
     }
 
-    /// The last coupled solution (interface state and BEM solution), if any.
+    /// The last coupled solution (interface state and BEM solution) of the current
+    /// geometry: None before the first solve and after a relocation until the next one.
     pub fn last_solution(&self) -> Option<&CoupledSolution> {
         self.last.as_ref()
     }

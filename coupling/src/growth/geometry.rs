@@ -131,15 +131,14 @@ impl<S: Scenario> Growth<'_, S> {
             self.params.trigger_ratio,
         )?;
         let old = std::mem::take(&mut self.problem.windows);
-        let sol = self
-            .last
-            .as_ref()
-            .ok_or_else(|| CouplingError::Relocation {
-                tip: moves
-                    .first()
-                    .map_or_else(String::new, |m| names[m.0].clone()),
-                reason: "no solution to take the new window's state from".into(),
-            })?;
+        // The last solution belongs to the old mesh: it serves the transfer and goes, so
+        // nothing pairs it with the new mesh (element indices differ).
+        let sol = self.last.take().ok_or_else(|| CouplingError::Relocation {
+            tip: moves
+                .first()
+                .map_or_else(String::new, |m| names[m.0].clone()),
+            reason: "no solution to take the new window's state from".into(),
+        })?;
         let ev = FieldEvaluator::new(
             &self.problem.mesh,
             &self.problem.material,
@@ -417,6 +416,8 @@ mod tests {
         let before = g.layout().cracks.clone();
         let recs = g.relocate(&[0, 1], 0, 1.0, &mut Silent).unwrap();
         assert_eq!(recs.len(), 2);
+        // No solution of the new geometry yet (the old one does not fit its mesh).
+        assert!(g.last_solution().is_none() && g.cmod("c0").is_none());
         assert!(recs.iter().all(|r| r.elements_added == 5), "{recs:?}");
         // One window covering both moved windows: [9.35, 10.35] x [3.95, 6.05].
         assert_eq!(g.problem().windows.len(), 1);
@@ -460,5 +461,8 @@ mod tests {
                 "crack {t} faces reach x = {reach}"
             );
         }
+        g.solve_at(0, 1.0, &mut Silent).unwrap();
+        let sol = &g.last_solution().unwrap().solution;
+        assert_eq!(sol.u.len(), g.problem().mesh.elements.len());
     }
 }
