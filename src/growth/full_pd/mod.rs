@@ -289,7 +289,10 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
         let t0 = Instant::now();
         let broken0 = model.broken_bonds();
         let outcome = load_step(&mut model, &mut eq, f, max_rounds, |m| {
-            track(&mut front, &mut tr, &mut history, m, &params, k, f, &log)
+            let tracked = track(&mut front, &mut tr, &mut history, m, &params, k, f, &log);
+            // A step can run for many minutes on a fine grid: show every round.
+            bar.set_message(round_message(f, m.broken_bonds(), &front.tip_positions()));
+            tracked
         });
         let collapsed = match outcome {
             Ok(()) => None,
@@ -319,9 +322,10 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
         };
         log.event("step", json!(rec))?;
         history.steps.push(rec);
-        bar.set_message(format!(
-            "load {f:.4e}, {} broken bonds",
-            model.broken_bonds()
+        bar.set_message(round_message(
+            f,
+            model.broken_bonds(),
+            &front.tip_positions(),
         ));
         bar.inc(1);
         if let Some(msg) = collapsed {
@@ -379,6 +383,18 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
         p.ended = t.ended.clone();
     }
     Ok(history)
+}
+
+/// Progress message after a break round: load, broken bonds, tip positions.
+fn round_message(load: f64, broken: usize, tips: &[[f64; 2]]) -> String {
+    let tips: Vec<String> = tips
+        .iter()
+        .map(|p| format!("({:.4e}, {:.4e})", p[0], p[1]))
+        .collect();
+    format!(
+        "load {load:.4e}, {broken} broken bonds, tips {}",
+        tips.join(" ")
+    )
 }
 
 /// Traces every growing tip, records paths, stops tips at obstacles; `Separated` once the
