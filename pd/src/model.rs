@@ -154,6 +154,24 @@ impl PdModel {
             / 2
     }
 
+    /// Largest nodal distance between the displacements of `self` and `other`, a model on
+    /// the same grid, relative to the largest displacement of `self` (0 for two states at
+    /// rest). For comparing the equilibria of two solvers.
+    pub fn relative_displacement_gap(&self, other: &PdModel) -> f64 {
+        let scale = self.u.iter().map(|u| u[0].hypot(u[1])).fold(0.0, f64::max);
+        let gap = self
+            .u
+            .iter()
+            .zip(&other.u)
+            .map(|(x, y)| (x[0] - y[0]).hypot(x[1] - y[1]))
+            .fold(0.0, f64::max);
+        if scale > 0.0 {
+            gap / scale
+        } else {
+            gap
+        }
+    }
+
     /// No-fail zone: every intact bond with an end node at which `protect` holds can no
     /// longer break (flag [`crate::forces::NO_FAIL`]; degrading bonds stay elastic).
     /// Returns the number of directed bonds marked.
