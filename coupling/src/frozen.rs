@@ -35,6 +35,58 @@ const CHORD_ANDERSON: usize = 3;
 /// Chord iterations per equilibrium before Newton takes over.
 const CHORD_ITERS: usize = 50;
 
+/// What [`FrozenSolver`] does where its first solvers fail.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Fallbacks {
+    /// Contraction per chord iteration above which the kept factor is renewed.
+    pub refactor_contraction: f64,
+    /// Chord iterations before Newton takes over.
+    pub chord_iters: usize,
+    /// A Newton stall ([`PdError::NoConvergence`]) below this measure is accepted as the
+    /// equilibrium ([`Solved::Loose`]); 0 accepts none.
+    pub loose_measure: f64,
+    /// Relative residual of the ADR fallback.
+    pub adr_tol: f64,
+    /// ADR steps allowed to the fallback.
+    pub adr_max_iters: usize,
+}
+
+impl Default for Fallbacks {
+    /// The windows' settings: the switch's refactorisation threshold, no loose Newton
+    /// stalls, ADR to [`ADR_FALLBACK_TOL`] within [`ADR_FALLBACK_MAX_ITERS`] steps.
+    fn default() -> Self {
+        Fallbacks {
+            refactor_contraction: CONTRACTION_REFACTOR,
+            chord_iters: CHORD_ITERS,
+            loose_measure: 0.0,
+            adr_tol: ADR_FALLBACK_TOL,
+            adr_max_iters: ADR_FALLBACK_MAX_ITERS,
+        }
+    }
+}
+
+/// The solver that found an equilibrium, with its iterations.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Solved {
+    /// The chord iteration on the kept factor.
+    Chord(usize),
+    /// Newton.
+    Newton(usize),
+    /// A Newton stall below [`Fallbacks::loose_measure`].
+    Loose(usize),
+    /// ADR after Newton failed.
+    Adr(usize),
+}
+
+impl Solved {
+    /// Iterations of the solver that succeeded.
+    pub fn iterations(self) -> usize {
+        match self {
+            Solved::Chord(n) | Solved::Newton(n) | Solved::Loose(n) | Solved::Adr(n) => n,
+        }
+    }
+}
+
 /// The frozen-history solvers of one PD model, kept between equilibria: Newton's tangent
 /// pattern and symbolic factorisation, and for brittle bonds the chord iteration with its
 /// kept factor. Bonds broken since the last equilibrium are picked up by comparing every
@@ -44,12 +96,12 @@ pub struct FrozenSolver {
     chord: Option<SecantSolver>,
     /// Nodes and bonds of the model it was built for.
     shape: (usize, usize),
-    /// Equilibria the chord iteration left to Newton.
-    pub newton_fallbacks: usize,
+    /// Its fallback settings.
+    pub fallbacks: Fallbacks,
 }
 
 impl FrozenSolver {
-    /// Solvers for `model`.
+    /// Solvers for `model` with the windows' [`Fallbacks`].
     pub fn new(model: &PdModel) -> Result<Self, PdError> {
         let newton = Newton::new(model)?;
         let chord = matches!(model.law(), BondLaw::Brittle { .. }).then(|| {
@@ -59,8 +111,30 @@ impl FrozenSolver {
             newton,
             chord,
             shape: (model.n_nodes(), model.n_bonds()),
-            newton_fallbacks: 0,
+            fallbacks: Fallbacks::default(),
         })
+    }
+
+    /// The same with other fallbacks.
+    pub fn with_fallbacks(mut self, fallbacks: Fallbacks) -> Self {
+        self.fallbacks = fallbacks;
+        self
+    }
+
+    /// Newton only (no chord iteration), as for degrading bonds.
+    pub fn without_chord(mut self) -> Self {
+        self.chord = None;
+        self
+    }
+
+    /// Whether the chord iteration is used (brittle bonds).
+    pub fn has_chord(&self) -> bool {
+        self.chord.is_some()
+    }
+
+    /// Triangular solve pairs of the chord iteration so far.
+    pub fn chord_solves(&self) -> usize {
+        self.chord.as_ref().map_or(0, |c| c.solves)
     }
 
     /// Whether it was built for a model of this size (a window rebuilt after a
@@ -69,58 +143,82 @@ impl FrozenSolver {
         self.shape == (model.n_nodes(), model.n_bonds())
     }
 
-    /// Moves the model to load factor `lam`: Newton's linear predictor when the load
-    /// changes (its factor replaces the chord iteration's), nothing otherwise.
+    /// Moves the model to load factor `lam`. With the chord iteration the load is only
+    /// set: its first update from the state with the prescribed displacements at `lam`
+    /// solves the predictor's linear system with the kept factor. Newton alone starts
+    /// from its linear predictor ([`Newton::predict_to`]).
     pub fn predict_to(
         &mut self,
         model: &mut PdModel,
         lam: f64,
         info: &mut SolveInfo,
     ) -> Result<(), PdError> {
-        if model.load_factor() == lam {
+        if self.chord.is_some() || model.load_factor() == lam {
+            model.set_load_factor(lam);
             return Ok(());
-        }
-        if let Some(c) = self.chord.as_mut() {
-            c.invalidate();
         }
         self.newton.predict_to(model, lam, info)
     }
 
     /// Equilibrium at the model's load with the bond history frozen: the chord iteration
-    /// to `params`' tolerances, then [`equilibrate`] (Newton, then ADR from `start`) from
-    /// the same state if it fails. Returns the iterations of the solver that succeeded.
+    /// to `params`' tolerances; where it fails Newton from the same state, where Newton
+    /// fails ADR from Newton's last finite state (or from `start`), as set by
+    /// [`Self::fallbacks`]. Returns the solver that succeeded.
     pub fn equilibrate(
         &mut self,
         model: &mut PdModel,
         params: &ImplicitParams,
         start: &[[f64; 2]],
         info: &mut SolveInfo,
-    ) -> Result<usize, PdError> {
+    ) -> Result<Solved, PdError> {
+        let fb = self.fallbacks;
         if let Some(chord) = self.chord.as_mut() {
             let before = model.displacements().to_vec();
             let tangent = &mut self.newton.tangent;
             let sp = SecantParams {
                 convergence: params.convergence,
                 residual_tol: params.residual_tol,
-                max_iters: CHORD_ITERS,
+                max_iters: fb.chord_iters,
                 max_columns: CHORD_COLUMNS,
                 anderson_depth: CHORD_ANDERSON,
-                refactor_contraction: CONTRACTION_REFACTOR,
+                refactor_contraction: fb.refactor_contraction,
             };
             let solved = chord
                 .track_changes(model, tangent, info)
                 .and_then(|_| chord.equilibrate(model, tangent, &sp, info));
             match solved {
-                Ok((iters, _)) => return Ok(iters),
+                Ok((iters, _)) => return Ok(Solved::Chord(iters)),
                 Err(_) => {
                     // Newton's factorisations replace the kept factor.
                     chord.invalidate();
-                    self.newton_fallbacks += 1;
                     model.set_displacements(&before)?;
                 }
             }
         }
-        equilibrate(&mut self.newton, model, params, start, info)
+        let newton_start = model.displacements().to_vec();
+        match self.newton.equilibrate(model, params, info) {
+            Ok((iters, _)) => Ok(Solved::Newton(iters)),
+            Err(PdError::NoConvergence {
+                measure,
+                iterations,
+                ..
+            }) if measure < fb.loose_measure => Ok(Solved::Loose(iterations)),
+            Err(
+                PdError::NoConvergence { .. }
+                | PdError::Diverged { .. }
+                | PdError::NonFinite { .. },
+            ) => {
+                let finite =
+                    |u: &[[f64; 2]]| u.iter().all(|p| p[0].is_finite() && p[1].is_finite());
+                let from = if finite(&newton_start) {
+                    &newton_start[..]
+                } else {
+                    start
+                };
+                equilibrate_adr(model, from, fb.adr_tol, fb.adr_max_iters, info).map(Solved::Adr)
+            }
+            Err(e) => Err(e),
+        }
     }
 }
 
@@ -160,27 +258,7 @@ impl fmt::Debug for SolverSlot {
     }
 }
 
-/// Newton to equilibrium at the model's load (history frozen), ADR when Newton does not
-/// converge, diverges or produces non-finite values. `start` is a finite state of the
-/// model to restart ADR from when Newton left a non-finite one. Returns the iterations of
-/// the solver that succeeded.
-pub fn equilibrate(
-    newton: &mut Newton,
-    model: &mut PdModel,
-    params: &ImplicitParams,
-    start: &[[f64; 2]],
-    info: &mut SolveInfo,
-) -> Result<usize, PdError> {
-    match newton.equilibrate(model, params, info) {
-        Ok((iters, _)) => Ok(iters),
-        Err(
-            PdError::NoConvergence { .. } | PdError::Diverged { .. } | PdError::NonFinite { .. },
-        ) => equilibrate_adr(model, start, ADR_FALLBACK_TOL, ADR_FALLBACK_MAX_ITERS, info),
-        Err(e) => Err(e),
-    }
-}
-
-/// Relative residual of the ADR fallback of [`equilibrate`]: far below the interface
+/// Relative residual of the windows' ADR fallback ([`Fallbacks`]): far below the interface
 /// tolerance psi (1e-4 by default) at which the windows' forces are used.
 const ADR_FALLBACK_TOL: f64 = 1e-8;
 
@@ -233,12 +311,15 @@ mod tests {
         let params = ImplicitParams::default();
         let mut by_newton = loaded_bar();
         let start = by_newton.displacements().to_vec();
-        let mut newton = Newton::new(&by_newton).unwrap();
+        let mut solver = FrozenSolver::new(&by_newton).unwrap();
+        assert!(!solver.has_chord(), "elastic bonds: Newton alone");
         let mut info = SolveInfo::default();
-        let it = equilibrate(&mut newton, &mut by_newton, &params, &start, &mut info).unwrap();
+        let solved = solver
+            .equilibrate(&mut by_newton, &params, &start, &mut info)
+            .unwrap();
         assert!(
-            it > 0 && it < 10,
-            "Newton converges by itself ({it} iterations)"
+            matches!(solved, Solved::Newton(it) if it > 0 && it < 10),
+            "Newton converges by itself: {solved:?}"
         );
         // No Newton iteration allowed: Newton reports no convergence and ADR takes over.
         let mut by_adr = loaded_bar();
@@ -246,9 +327,11 @@ mod tests {
             max_iters: 0,
             ..params
         };
-        let mut newton = Newton::new(&by_adr).unwrap();
-        let it = equilibrate(&mut newton, &mut by_adr, &starved, &start, &mut info).unwrap();
-        assert!(it > 100, "ADR steps: {it}");
+        let solved = FrozenSolver::new(&by_adr)
+            .unwrap()
+            .equilibrate(&mut by_adr, &starved, &start, &mut info)
+            .unwrap();
+        assert!(matches!(solved, Solved::Adr(it) if it > 100), "{solved:?}");
         let (a, b) = (by_newton.displacements(), by_adr.displacements());
         let scale = a.iter().map(|u| u[0].hypot(u[1])).fold(0.0, f64::max);
         assert!(scale > 0.0);
@@ -274,9 +357,13 @@ mod tests {
     /// Newton's equilibrium of `model` from its state, with a fresh solver.
     fn by_newton(mut model: PdModel, params: &ImplicitParams) -> PdModel {
         let start = model.displacements().to_vec();
-        let mut newton = Newton::new(&model).unwrap();
         let mut info = SolveInfo::default();
-        equilibrate(&mut newton, &mut model, params, &start, &mut info).unwrap();
+        let solved = FrozenSolver::new(&model)
+            .unwrap()
+            .without_chord()
+            .equilibrate(&mut model, params, &start, &mut info)
+            .unwrap();
+        assert!(matches!(solved, Solved::Newton(_)), "{solved:?}");
         model
     }
 
@@ -291,44 +378,52 @@ mod tests {
         let mut slot = SolverSlot::default();
         let mut info = SolveInfo::default();
         let start = m.displacements().to_vec();
-        slot.get(&m)
+        let solved = slot
+            .get(&m)
             .unwrap()
             .equilibrate(&mut m, &params, &start, &mut info)
             .unwrap();
+        assert!(matches!(solved, Solved::Chord(_)), "{solved:?}");
         assert_eq!(
             info.factorizations, 1,
             "one factorisation for the first solve"
         );
         // A new load: the kept factor serves.
         m.set_load_factor(6.0);
-        slot.get(&m)
+        let solved = slot
+            .get(&m)
             .unwrap()
             .equilibrate(&mut m, &params, &start, &mut info)
             .unwrap();
+        assert!(matches!(solved, Solved::Chord(_)), "{solved:?}");
         assert_eq!(info.factorizations, 1, "no factorisation for the new load");
         let d = by_newton(edge_plate(6.0), &params).relative_displacement_gap(&m);
         assert!(d < 1e-7, "kept solver vs Newton at 6 MPa: {d:.2e}");
         // Bonds break: the change is picked up by comparison, Newton's state is found.
         m.set_load_factor(20.0);
-        slot.get(&m)
+        let solved = slot
+            .get(&m)
             .unwrap()
             .equilibrate(&mut m, &params, &start, &mut info)
             .unwrap();
+        assert!(matches!(solved, Solved::Chord(_)), "{solved:?}");
         let broken = m.commit_history().newly_broken;
         assert!(broken > 0, "bonds break at the tip at 20 MPa on this grid");
         let mut reference = m.clone();
         reference.set_displacements(&start).unwrap();
         let reference = by_newton(reference, &params);
-        slot.get(&m)
+        let solved = slot
+            .get(&m)
             .unwrap()
             .equilibrate(&mut m, &params, &start, &mut info)
             .unwrap();
+        assert!(matches!(solved, Solved::Chord(_)), "{solved:?}");
         let d = reference.relative_displacement_gap(&m);
         assert!(
             d < 1e-7,
             "kept solver vs Newton after {broken} bonds broke: {d:.2e}"
         );
-        assert_eq!(slot.get(&m).unwrap().newton_fallbacks, 0);
+
         // A clone starts empty; a model of another size gets new solvers.
         assert!(format!("{:?}", slot.clone()).contains("empty"));
         let other = edge_plate(1.0);
@@ -350,16 +445,12 @@ mod tests {
         let mut bad = start.clone();
         bad[3] = [f64::NAN, 0.0];
         m.set_displacements(&bad).unwrap();
-        let mut newton = Newton::new(&m).unwrap();
         let mut info = SolveInfo::default();
-        equilibrate(
-            &mut newton,
-            &mut m,
-            &ImplicitParams::default(),
-            &start,
-            &mut info,
-        )
-        .unwrap();
+        let solved = FrozenSolver::new(&m)
+            .unwrap()
+            .equilibrate(&mut m, &ImplicitParams::default(), &start, &mut info)
+            .unwrap();
+        assert!(matches!(solved, Solved::Adr(_)), "{solved:?}");
         assert!(m
             .displacements()
             .iter()

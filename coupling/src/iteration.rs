@@ -154,12 +154,16 @@ fn staggered(
     let solver = slot.get(model)?;
     let start = model.displacements().to_vec();
     solver.predict_to(model, p.newton.target_load, &mut info)?;
-    let mut iters = solver.equilibrate(model, &p.newton, &start, &mut info)?;
+    let mut iters = solver
+        .equilibrate(model, &p.newton, &start, &mut info)?
+        .iterations();
     for _ in 0..p.rounds {
         if model.commit_history().newly_broken == 0 {
             break;
         }
-        iters += solver.equilibrate(model, &p.newton, &start, &mut info)?;
+        iters += solver
+            .equilibrate(model, &p.newton, &start, &mut info)?
+            .iterations();
     }
     Ok(iters)
 }

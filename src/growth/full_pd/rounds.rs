@@ -6,7 +6,8 @@
 //! bonds broken since corrected by Woodbury updates, Anderson mixing); for brittle bonds
 //! the secant and the frozen-history forces are the same, so it converges to the same
 //! equilibrium as Newton. Newton (seed 000 Eq. 5) takes over where the chord iteration
-//! fails, and ADR where Newton fails (`pdbem_coupling::frozen::equilibrate_adr`).
+//! fails, and ADR where Newton fails: `pdbem_coupling::frozen::FrozenSolver`, the solvers
+//! of the PD-BEM windows, with the whole-body settings of [`Equilibrium::new`].
 //! Degrading bonds go to Newton directly (their secant force, at the committed
 //! history, is not the frozen-history force Newton balances).
 //!
@@ -17,10 +18,9 @@
 
 use anyhow::{bail, Result};
 
-use pdbem_coupling::frozen;
+use pdbem_coupling::frozen::{Fallbacks, FrozenSolver, Solved};
 use pdbem_pd::material::BondLaw;
-use pdbem_pd::solvers::implicit::{ImplicitParams, Newton};
-use pdbem_pd::solvers::secant::{SecantParams, SecantSolver};
+use pdbem_pd::solvers::implicit::ImplicitParams;
 use pdbem_pd::solvers::{Convergence, SolveInfo};
 use pdbem_pd::{PdError, PdModel};
 
@@ -45,73 +45,57 @@ pub(super) const LOOSE_MEASURE: f64 = 1e-3;
 /// 836 s (Newton alone had stopped there and called it collapse, 492 s in all).
 const ADR_STEPS_PER_ROW: usize = 200;
 
-/// Low-rank columns (changed bond pairs) the chord iteration keeps before it
-/// refactorises: the default of the explicit-implicit switch
-/// (`pdbem_pd::solvers::switching::SwitchingParams::max_secant_columns`).
-const SECANT_COLUMNS: usize = 256;
-
-/// Anderson depth of the chord iteration (the switch's default, measured there).
-const ANDERSON_DEPTH: usize = 3;
-
 /// Contraction per chord iteration above which the factor is renewed. Higher than the
-/// switch's 0.1 (`pdbem_pd::solvers::secant::CONTRACTION_REFACTOR`): the factorisations
+/// windows' 0.1 (`pdbem_pd::solvers::secant::CONTRACTION_REFACTOR`): the factorisations
 /// here are of the whole body. Measured on `growth_tension_edge` at dx = 0.1 m (40 000
 /// DOFs, 2 cores, identical paths): 0.1: 327 factorisations and 3255 solves, 246 s;
 /// 0.3: 223 and 3394, 181 s; 0.6: 175 and 3566, 170 s (Newton: 618 s).
 const REFACTOR_CONTRACTION: f64 = 0.6;
 
 /// Chord iterations per equilibrium before Newton takes over.
-const SECANT_ITERS: usize = 50;
+const CHORD_ITERS: usize = 50;
 
 /// Equilibria not found by the first solver.
 #[derive(Debug, Default)]
-pub(super) struct Fallbacks {
+pub(super) struct Counts {
+    /// Left by the chord iteration to Newton (and ADR).
+    pub newton: usize,
     /// Newton stalled below [`LOOSE_MEASURE`].
     pub loose: usize,
-    /// Found by Newton after the chord iteration failed.
-    pub newton: usize,
     /// Found by ADR after Newton failed.
     pub adr: usize,
 }
 
-/// The solvers of the frozen-history equilibria and their bookkeeping.
+/// The solvers of the frozen-history equilibria ([`FrozenSolver`]) and their bookkeeping.
 pub(super) struct Equilibrium {
-    newton: Newton,
+    solver: FrozenSolver,
     ip: ImplicitParams,
-    /// `None` for degrading bonds (Newton only).
-    secant: Option<(SecantSolver, SecantParams)>,
-    pub counts: Fallbacks,
+    pub counts: Counts,
     pub info: SolveInfo,
 }
 
 impl Equilibrium {
-    /// Solvers for `model`: tolerances 1e-6 as in [`pdbem_pd::measure::ramp_to_initiation`].
+    /// Solvers for `model`: tolerances 1e-6 as in [`pdbem_pd::measure::ramp_to_initiation`];
+    /// ADR to a residual of 1e-6 within [`ADR_STEPS_PER_ROW`] steps per node row; Newton
+    /// stalls below [`LOOSE_MEASURE`] accepted.
     pub fn new(model: &PdModel) -> Result<Self, PdError> {
-        let newton = Newton::new(model)?;
-        let convergence = Convergence::Displacement { e0: 1e-6 };
-        let secant = matches!(model.law(), BondLaw::Brittle { .. }).then(|| {
-            let solver =
-                SecantSolver::new(model, newton.tangent.n_free, SECANT_COLUMNS, ANDERSON_DEPTH);
-            let params = SecantParams {
-                convergence,
-                residual_tol: 1e-6,
-                max_iters: SECANT_ITERS,
-                max_columns: SECANT_COLUMNS,
-                anderson_depth: ANDERSON_DEPTH,
-                refactor_contraction: REFACTOR_CONTRACTION,
-            };
-            (solver, params)
-        });
+        let rows = (model.n_real() as f64).sqrt().ceil() as usize;
+        let fallbacks = Fallbacks {
+            refactor_contraction: REFACTOR_CONTRACTION,
+            chord_iters: CHORD_ITERS,
+            loose_measure: LOOSE_MEASURE,
+            adr_tol: 1e-6,
+            adr_max_iters: ADR_STEPS_PER_ROW * rows,
+        };
         Ok(Equilibrium {
-            newton,
+            solver: FrozenSolver::new(model)?.with_fallbacks(fallbacks),
             ip: ImplicitParams {
                 residual_tol: 1e-6,
-                convergence,
+                convergence: Convergence::Displacement { e0: 1e-6 },
                 max_iters: 10,
                 ..Default::default()
             },
-            secant,
-            counts: Fallbacks::default(),
+            counts: Counts::default(),
             info: SolveInfo::default(),
         })
     }
@@ -120,10 +104,9 @@ impl Equilibrium {
     /// predictor and chord iteration), the chord iteration's triangular solves, the
     /// seconds spent assembling and in factorisations and solves, the fallbacks.
     pub fn work(&self) -> serde_json::Value {
-        let solves = self.secant.as_ref().map_or(0, |(s, _)| s.solves);
         serde_json::json!({
             "factorizations": self.info.factorizations,
-            "chord_solves": solves,
+            "chord_solves": self.solver.chord_solves(),
             "assembly_s": self.info.time_assembly_s,
             "factor_and_solve_s": self.info.time_factorization_s,
             "newton_fallbacks": self.counts.newton,
@@ -132,68 +115,31 @@ impl Equilibrium {
         })
     }
 
-    /// Moves the model to load `f`. Newton starts from its linear predictor
-    /// ([`Newton::predict_to`]); the chord iteration needs none: its first update from
-    /// the state with the prescribed displacements at `f` solves the same linear system
-    /// with the kept factor, instead of a fresh factorisation that would replace it.
+    /// Moves the model to load `f` ([`FrozenSolver::predict_to`]).
     pub fn predict_to(&mut self, model: &mut PdModel, f: f64) -> Result<(), PdError> {
-        if self.secant.is_some() {
-            model.set_load_factor(f);
-            return Ok(());
-        }
-        self.newton.predict_to(model, f, &mut self.info)
+        self.solver.predict_to(model, f, &mut self.info)
     }
 
-    /// After bonds broke: the chord iteration records them as low-rank changes.
-    pub fn bonds_changed(&mut self, model: &PdModel) -> Result<(), PdError> {
-        match self.secant.as_mut() {
-            Some((s, _)) => s.track_changes(model, &mut self.newton.tangent, &mut self.info),
-            None => Ok(()),
-        }
-    }
-
-    /// Equilibrium at the model's load with the bond history frozen: the chord iteration,
-    /// then Newton from the same start, then ADR from Newton's last finite state. A Newton
-    /// stall below [`LOOSE_MEASURE`] is accepted and counted in `loose`; ADR's
-    /// equilibrium (residual 1e-6, [`ADR_STEPS_PER_ROW`] steps per node row) is counted
-    /// in `adr`; the failure of all is the error.
+    /// Equilibrium at the model's load with the bond history frozen
+    /// ([`FrozenSolver::equilibrate`]: the chord iteration, Newton, ADR), counting the
+    /// fallbacks; the failure of all is the error.
     pub fn solve(&mut self, model: &mut PdModel) -> Result<()> {
         let start = model.displacements().to_vec();
-        if let Some((s, p)) = self.secant.as_mut() {
-            match s.equilibrate(model, &mut self.newton.tangent, p, &mut self.info) {
-                Ok(_) => return Ok(()),
-                Err(_) => {
-                    // Newton's factorisations replace the kept factor.
-                    s.invalidate();
-                    model.set_displacements(&start)?;
-                    self.counts.newton += 1;
-                }
-            }
+        let solved = self
+            .solver
+            .equilibrate(model, &self.ip, &start, &mut self.info)
+            .map_err(|e| {
+                anyhow::anyhow!("no frozen-bond equilibrium (chord iteration, Newton, ADR): {e}")
+            })?;
+        if self.solver.has_chord() && !matches!(solved, Solved::Chord(_)) {
+            self.counts.newton += 1;
         }
-        let start = model.displacements().to_vec();
-        match self.newton.equilibrate(model, &self.ip, &mut self.info) {
-            Ok(_) => Ok(()),
-            Err(PdError::NoConvergence { measure, .. }) if measure < LOOSE_MEASURE => {
-                self.counts.loose += 1;
-                Ok(())
-            }
-            Err(
-                e @ (PdError::NoConvergence { .. }
-                | PdError::Diverged { .. }
-                | PdError::NonFinite { .. }),
-            ) => {
-                let rows = (model.n_real() as f64).sqrt().ceil() as usize;
-                let steps = ADR_STEPS_PER_ROW * rows;
-                match frozen::equilibrate_adr(model, &start, 1e-6, steps, &mut self.info) {
-                    Ok(_) => {
-                        self.counts.adr += 1;
-                        Ok(())
-                    }
-                    Err(a) => Err(anyhow::anyhow!("{e}; ADR from its last state: {a}")),
-                }
-            }
-            Err(e) => Err(e.into()),
+        match solved {
+            Solved::Loose(_) => self.counts.loose += 1,
+            Solved::Adr(_) => self.counts.adr += 1,
+            Solved::Chord(_) | Solved::Newton(_) => {}
         }
+        Ok(())
     }
 }
 
@@ -212,7 +158,7 @@ const BONDS_PER_ROUND: usize = 20;
 /// sought again. Breaking every bond past s0 at once (Jacobi rounds) instead smears the
 /// damage over a wide zone as soon as growth turns unstable under load control (measured on
 /// a 40 x 40 node edge-cracked plate: a 15 mm wide damaged blob instead of a crack).
-/// Degrading bonds: Jacobi rounds as in [`Newton::load_step`]. `after` runs after every
+/// Degrading bonds: Jacobi rounds as in `pdbem_pd::solvers::implicit::Newton::load_step`. `after` runs after every
 /// round that broke bonds (tracking) and may end the step.
 pub(super) fn load_step(
     model: &mut PdModel,
@@ -234,7 +180,6 @@ pub(super) fn load_step(
         if broken == 0 {
             return Ok(());
         }
-        eq.bonds_changed(model)?;
         if let Tracked::Separated = after(model)? {
             return Ok(());
         }
@@ -311,7 +256,11 @@ mod tests {
     /// Newton alone, as for degrading bonds.
     fn newton_only(model: &PdModel) -> Equilibrium {
         let mut eq = Equilibrium::new(model).unwrap();
-        eq.secant = None;
+        let fallbacks = eq.solver.fallbacks;
+        eq.solver = FrozenSolver::new(model)
+            .unwrap()
+            .without_chord()
+            .with_fallbacks(fallbacks);
         eq
     }
 
@@ -324,7 +273,7 @@ mod tests {
         let mut by_chord = edge_plate();
         let mut chord = Equilibrium::new(&by_chord).unwrap();
         assert!(
-            chord.secant.is_some(),
+            chord.solver.has_chord(),
             "brittle bonds take the chord iteration"
         );
         let chord_done = load_step(&mut by_chord, &mut chord, load, rounds, |_| {
@@ -366,7 +315,7 @@ mod tests {
         let mut starved = edge_plate();
         starved.set_load_factor(load);
         let mut eq = Equilibrium::new(&starved).unwrap();
-        eq.secant.as_mut().unwrap().1.max_iters = 0;
+        eq.solver.fallbacks.chord_iters = 0;
         eq.ip.max_iters = 0;
         eq.solve(&mut starved).unwrap();
         assert_eq!((eq.counts.newton, eq.counts.adr), (1, 1));
@@ -377,7 +326,7 @@ mod tests {
         let mut by_newton = edge_plate();
         by_newton.set_load_factor(load);
         let mut eq = Equilibrium::new(&by_newton).unwrap();
-        eq.secant.as_mut().unwrap().1.max_iters = 0;
+        eq.solver.fallbacks.chord_iters = 0;
         eq.solve(&mut by_newton).unwrap();
         assert_eq!((eq.counts.newton, eq.counts.adr), (1, 0));
         let gap = reference.relative_displacement_gap(&by_newton);
