@@ -367,6 +367,22 @@ mod tests {
         model
     }
 
+    /// Equilibrium of `m` by the slot's solver, which must be the chord iteration's.
+    fn by_chord(
+        slot: &mut SolverSlot,
+        m: &mut PdModel,
+        params: &ImplicitParams,
+        start: &[[f64; 2]],
+        info: &mut SolveInfo,
+    ) {
+        let solved = slot
+            .get(m)
+            .unwrap()
+            .equilibrate(m, params, start, info)
+            .unwrap();
+        assert!(matches!(solved, Solved::Chord(_)), "{solved:?}");
+    }
+
     #[test]
     fn the_kept_solver_finds_newtons_equilibria_without_refactorising_for_a_new_load() {
         let params = ImplicitParams {
@@ -378,46 +394,26 @@ mod tests {
         let mut slot = SolverSlot::default();
         let mut info = SolveInfo::default();
         let start = m.displacements().to_vec();
-        let solved = slot
-            .get(&m)
-            .unwrap()
-            .equilibrate(&mut m, &params, &start, &mut info)
-            .unwrap();
-        assert!(matches!(solved, Solved::Chord(_)), "{solved:?}");
+        by_chord(&mut slot, &mut m, &params, &start, &mut info);
         assert_eq!(
             info.factorizations, 1,
             "one factorisation for the first solve"
         );
         // A new load: the kept factor serves.
         m.set_load_factor(6.0);
-        let solved = slot
-            .get(&m)
-            .unwrap()
-            .equilibrate(&mut m, &params, &start, &mut info)
-            .unwrap();
-        assert!(matches!(solved, Solved::Chord(_)), "{solved:?}");
+        by_chord(&mut slot, &mut m, &params, &start, &mut info);
         assert_eq!(info.factorizations, 1, "no factorisation for the new load");
         let d = by_newton(edge_plate(6.0), &params).relative_displacement_gap(&m);
         assert!(d < 1e-7, "kept solver vs Newton at 6 MPa: {d:.2e}");
         // Bonds break: the change is picked up by comparison, Newton's state is found.
         m.set_load_factor(20.0);
-        let solved = slot
-            .get(&m)
-            .unwrap()
-            .equilibrate(&mut m, &params, &start, &mut info)
-            .unwrap();
-        assert!(matches!(solved, Solved::Chord(_)), "{solved:?}");
+        by_chord(&mut slot, &mut m, &params, &start, &mut info);
         let broken = m.commit_history().newly_broken;
         assert!(broken > 0, "bonds break at the tip at 20 MPa on this grid");
         let mut reference = m.clone();
         reference.set_displacements(&start).unwrap();
         let reference = by_newton(reference, &params);
-        let solved = slot
-            .get(&m)
-            .unwrap()
-            .equilibrate(&mut m, &params, &start, &mut info)
-            .unwrap();
-        assert!(matches!(solved, Solved::Chord(_)), "{solved:?}");
+        by_chord(&mut slot, &mut m, &params, &start, &mut info);
         let d = reference.relative_displacement_gap(&m);
         assert!(
             d < 1e-7,
