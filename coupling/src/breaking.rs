@@ -16,10 +16,11 @@
 //! Laws other than the brittle PMB law are committed in full.
 //!
 //! [`break_rounds`] repeats this with the window's interface held: break, re-equilibrate
-//! the PD model (the kept solvers of the window: [`crate::frozen::FrozenSolver`]), break again, up to a
-//! number of rounds or until no bond is past $s_0$. The load redistributes mostly inside
-//! the window, so a few PD rounds per converged interface state let the crack advance by
-//! several bonds for the price of one interface re-convergence.
+//! the PD model (the window's kept solvers, [`crate::frozen::FrozenSolver`]), break
+//! again, up to a number of rounds or until no bond is past $s_0$. The load
+//! redistributes mostly inside the window, so a few PD rounds per converged interface
+//! state let the crack advance by several bonds for the price of one interface
+//! re-convergence.
 
 use pdbem_pd::material::BondLaw;
 use pdbem_pd::solvers::implicit::ImplicitParams;
