@@ -172,8 +172,10 @@ impl FrozenSolver {
         info: &mut SolveInfo,
     ) -> Result<Solved, PdError> {
         let fb = self.fallbacks;
+        // The state this call starts from: Newton restarts from it, ADR too if Newton
+        // leaves a non-finite state (and `start` if it is not finite itself).
+        let before = model.displacements().to_vec();
         if let Some(chord) = self.chord.as_mut() {
-            let before = model.displacements().to_vec();
             let tangent = &mut self.newton.tangent;
             let sp = SecantParams {
                 convergence: params.convergence,
@@ -195,7 +197,6 @@ impl FrozenSolver {
                 }
             }
         }
-        let newton_start = model.displacements().to_vec();
         match self.newton.equilibrate(model, params, info) {
             Ok((iters, _)) => Ok(Solved::Newton(iters)),
             Err(PdError::NoConvergence {
@@ -210,11 +211,7 @@ impl FrozenSolver {
             ) => {
                 let finite =
                     |u: &[[f64; 2]]| u.iter().all(|p| p[0].is_finite() && p[1].is_finite());
-                let from = if finite(&newton_start) {
-                    &newton_start[..]
-                } else {
-                    start
-                };
+                let from = if finite(&before) { &before[..] } else { start };
                 equilibrate_adr(model, from, fb.adr_tol, fb.adr_max_iters, info).map(Solved::Adr)
             }
             Err(e) => Err(e),
