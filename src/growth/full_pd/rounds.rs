@@ -83,6 +83,7 @@ impl Equilibrium {
         let fallbacks = Fallbacks {
             refactor_contraction: REFACTOR_CONTRACTION,
             chord_iters: CHORD_ITERS,
+            adr_before_newton: false,
             loose_measure: LOOSE_MEASURE,
             adr_tol: 1e-6,
             adr_max_iters: ADR_STEPS_PER_ROW * rows,
