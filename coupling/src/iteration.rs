@@ -35,7 +35,7 @@ use std::ops::ControlFlow;
 use std::time::Instant;
 
 use pdbem_bem::post::Background;
-use pdbem_bem::{Bc, BemSystem, Material, Mesh, Solution, SolveParams};
+use pdbem_bem::{Bc, BemSystem, Material, Mesh, PairCache, Solution, SolveParams};
 use pdbem_pd::solvers::{adr, implicit, switching, Convergence};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -335,7 +335,18 @@ impl PreparedBem {
     /// Marks the interface groups variable (traction) in `problem`, then assembles and
     /// factors. Changing the mesh or the scene conditions needs a new `PreparedBem`.
     pub fn new(problem: &mut CoupledProblem) -> Result<Self, CouplingError> {
-        let system = factor_bem(problem)?;
+        let system = factor_bem(problem, None)?;
+        let floating = FloatingPieces::new(&problem.mesh, &system)?;
+        Ok(PreparedBem { system, floating })
+    }
+
+    /// The same, reusing the element-pair blocks `pairs` holds from an earlier geometry
+    /// and leaving this one's there ([`PairCache`]).
+    pub fn with_cache(
+        problem: &mut CoupledProblem,
+        pairs: &mut PairCache,
+    ) -> Result<Self, CouplingError> {
+        let system = factor_bem(problem, Some(pairs))?;
         let floating = FloatingPieces::new(&problem.mesh, &system)?;
         Ok(PreparedBem { system, floating })
     }
@@ -343,6 +354,11 @@ impl PreparedBem {
     /// Assembly wall time (s).
     pub fn assembly_s(&self) -> f64 {
         self.system.info().assembly_s
+    }
+
+    /// Element pairs of the assembly copied from a [`PairCache`] (0 without one).
+    pub fn reused_pairs(&self) -> usize {
+        self.system.info().reused_pairs
     }
 
     /// Factorization and response precomputation wall time (s).
@@ -629,7 +645,10 @@ fn pd_solve_at(solve: &PdSolve, scale: f64) -> PdSolve {
 }
 
 /// Assembles and factors the BEM system with the interface groups variable.
-fn factor_bem(problem: &mut CoupledProblem) -> Result<BemSystem, CouplingError> {
+fn factor_bem(
+    problem: &mut CoupledProblem,
+    pairs: Option<&mut PairCache>,
+) -> Result<BemSystem, CouplingError> {
     for w in &problem.windows {
         if let Some(g) = problem.mesh.group(&w.group) {
             if !problem.bem_params.variable_groups.contains(&g) {
@@ -644,13 +663,16 @@ fn factor_bem(problem: &mut CoupledProblem) -> Result<BemSystem, CouplingError> 
     // unknowns to them once (one blocked substitution with a few hundred columns), so each
     // iteration costs a product with it instead of a substitution through the whole factor.
     problem.bem_params.precompute_response = true;
-    let sys = BemSystem::new(
+    let (mesh, material, bcs, params) = (
         &problem.mesh,
         &problem.material,
         &problem.bcs,
         &problem.bem_params,
-    )?;
-    Ok(sys)
+    );
+    Ok(match pairs {
+        Some(cache) => BemSystem::new_with_cache(mesh, material, bcs, params, cache)?,
+        None => BemSystem::new(mesh, material, bcs, params)?,
+    })
 }
 
 /// One evaluation of the fixed-point map $\tilde x = H(x)$ at load scale 1, for analysis

@@ -222,9 +222,10 @@ impl Observer for Progress<'_> {
 
     fn relocation(&mut self, r: &RelocationRecord) {
         let msg = format!(
-            "step {} (load {:.4e}): window of {} moved ({:.4}, {:.4}) -> ({:.4}, {:.4}), tip at ({:.4}, {:.4}), +{} BEM elements per face, {} elements, rebuild {:.2} s{}",
+            "step {} (load {:.4e}): window of {} moved ({:.4}, {:.4}) -> ({:.4}, {:.4}), tip at ({:.4}, {:.4}), +{} BEM elements per face, {} elements ({:.0} % of the pairs reused), rebuild {:.2} s{}",
             r.step, r.load, r.tip, r.from.x, r.from.y, r.to.x, r.to.y, r.tip_at.x, r.tip_at.y,
-            r.elements_added, r.elements, r.rebuild_s * r.rebuild_shared_by as f64,
+            r.elements_added, r.elements, 100.0 * r.bem_pairs_reused,
+            r.rebuild_s * r.rebuild_shared_by as f64,
             if r.rebuild_shared_by > 1 {
                 format!(" (shared by {} relocations)", r.rebuild_shared_by)
             } else {
@@ -242,7 +243,9 @@ impl Observer for Progress<'_> {
                                 "near_nodes": r.transfer.near_nodes,
                                 "bem_nodes": r.transfer.bem_nodes,
                                 "bonds_copied": r.transfer.bonds_copied},
-                   "rebuild_s": r.rebuild_s, "rebuild_shared_by": r.rebuild_shared_by}),
+                   "rebuild_s": r.rebuild_s, "rebuild_shared_by": r.rebuild_shared_by,
+                   "bem_assembly_s": r.bem_assembly_s, "bem_factor_s": r.bem_factor_s,
+                   "bem_pairs_reused": r.bem_pairs_reused}),
         );
     }
 

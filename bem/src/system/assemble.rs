@@ -1,7 +1,8 @@
 //! Parallel assembly of the scaled, bordered system (column pairs per element, rayon).
 
+use super::cache::{pair_blocks, PairBlocks, PairCache};
 use super::{Bc, SolveParams};
-use crate::integrate::{integrate_element, integrate_element_linear, KernelConsts, PairIntegrals};
+use crate::integrate::KernelConsts;
 use crate::mesh::stencil::Stencil;
 use crate::mesh::Mesh;
 use crate::Material;
@@ -15,6 +16,8 @@ pub(super) struct Assembled {
     pub col_scale: Vec<f64>,
     pub variable: Vec<(usize, Vec<f64>)>,
     pub norm1: f64,
+    /// Element pairs copied from the cache.
+    pub reused: usize,
 }
 
 /// Per-thread accumulator of the right-hand side and the kept columns.
@@ -22,21 +25,6 @@ pub(super) struct Assembled {
 struct Acc {
     rhs: Vec<f64>,
     variable: Vec<(usize, Vec<f64>)>,
-}
-
-/// Coefficient blocks of collocation element i (normal m, length hi) on element j.
-#[inline]
-fn blocks(p: &PairIntegrals, same: bool, alpha: f64, beta: f64) -> ([[f64; 2]; 2], [[f64; 2]; 2]) {
-    let mut hc = [[0.0; 2]; 2];
-    let mut gc = [[0.0; 2]; 2];
-    for r in 0..2 {
-        for c in 0..2 {
-            let d = if same && r == c { 1.0 } else { 0.0 };
-            hc[r][c] = alpha * (d + p.t[r][c]) + beta * p.h[r][c];
-            gc[r][c] = alpha * p.u[r][c] + beta * (p.k[r][c] - d);
-        }
-    }
-    (hc, gc)
 }
 
 /// Elements per sequential fold of the assembly's right-hand side (a fixed split keeps
@@ -50,9 +38,28 @@ pub(super) fn assemble(
     params: &SolveParams,
     modes: &[Vec<f64>],
     stencil: Option<&Stencil>,
+    cache: Option<&mut PairCache>,
 ) -> Assembled {
     let kc = KernelConsts::from(material);
     let nel = mesh.len();
+    // Old index of every element in the cached mesh, and storage for this mesh's blocks.
+    let old: Vec<Option<usize>> = match cache.as_deref() {
+        Some(c) => c.matches(mesh, material, params),
+        None => vec![None; nel],
+    };
+    let reused = old.iter().filter(|o| o.is_some()).count().pow(2);
+    let keep = cache.is_some() && PairCache::keeps(nel);
+    let mut kept: Vec<PairBlocks> = if keep {
+        vec![[0.0; 12]; nel * nel]
+    } else {
+        Vec::new()
+    };
+    let mut kept_cols: Vec<Option<&mut [PairBlocks]>> = if keep {
+        kept.chunks_mut(nel).map(Some).collect()
+    } else {
+        (0..nel).map(|_| None).collect()
+    };
+    let from = cache.as_deref();
     let ndof = 2 * nel;
     let n = ndof + modes.len();
     let mut a = vec![0.0; n * n];
@@ -76,78 +83,88 @@ pub(super) fn assemble(
     let acc = a[..n * ndof]
         .par_chunks_mut(2 * n)
         .zip(first_cols.par_iter_mut())
+        .zip(kept_cols.par_iter_mut())
         .enumerate()
         // Fixed chunks folded in order, then merged in order: the right-hand side sums do
         // not depend on how rayon splits the work (a plain fold + reduce groups them by
         // rayon's adaptive splitting, which depends on the thread scheduling).
-        .fold_chunks(FOLD_CHUNK, Acc::default, |mut acc, (j, (cols, fcols))| {
-            let ej = &els[j];
-            let (c0, c1) = cols.split_at_mut(n);
-            let mut known = [vec![0.0; 0], vec![0.0; 0]];
-            let keep = [0, 1].map(|c| bcs[j][c].value() != 0.0 || variable_el[j]);
-            for c in 0..2 {
-                if keep[c] {
-                    known[c] = vec![0.0; n];
+        .fold_chunks(
+            FOLD_CHUNK,
+            Acc::default,
+            |mut acc, (j, ((cols, fcols), kcol))| {
+                let ej = &els[j];
+                let (c0, c1) = cols.split_at_mut(n);
+                let mut known = [vec![0.0; 0], vec![0.0; 0]];
+                let keep = [0, 1].map(|c| bcs[j][c].value() != 0.0 || variable_el[j]);
+                for c in 0..2 {
+                    if keep[c] {
+                        known[c] = vec![0.0; n];
+                    }
                 }
-            }
-            for (i, ei) in els.iter().enumerate() {
-                let beta = params.beta_factor * ei.h / material.e;
-                let p = match fcols.as_deref_mut() {
-                    None => integrate_element(ei.mid, ei.normal, ej, &kc),
-                    Some(f) => {
-                        let (p, p1) = integrate_element_linear(ei.mid, ei.normal, ej, &kc);
+                for (i, ei) in els.iter().enumerate() {
+                    let blk = match (from, old[i], old[j]) {
+                        (Some(c), Some(oi), Some(oj)) => *c.get(oi, oj),
+                        _ => {
+                            let beta = params.beta_factor * ei.h / material.e;
+                            let linear = fcols.is_some();
+                            pair_blocks(ei, ej, i == j, &kc, params.alpha, beta, linear)
+                        }
+                    };
+                    if let Some(k) = kcol.as_deref_mut() {
+                        k[i] = blk;
+                    }
+                    if let Some(f) = fcols.as_deref_mut() {
                         for r in 0..2 {
                             for c in 0..2 {
-                                f[c * ndof + 2 * i + r] =
-                                    params.alpha * p1.t[r][c] + beta * p1.h[r][c];
+                                f[c * ndof + 2 * i + r] = blk[8 + 2 * r + c];
                             }
                         }
-                        p
                     }
-                };
-                let (hc, gc) = blocks(&p, i == j, params.alpha, beta);
-                for c in 0..2 {
-                    let col = if c == 0 { &mut *c0 } else { &mut *c1 };
-                    for r in 0..2 {
-                        // (coefficient of the unknown, left-hand-side coefficient of the known)
-                        let (unk, kno) = if bcs[j][c].is_displacement() {
-                            (-gc[r][c], hc[r][c])
-                        } else {
-                            (hc[r][c], -gc[r][c])
-                        };
-                        col[2 * i + r] = unk;
-                        if keep[c] {
-                            // Known values move to the right-hand side with opposite sign.
-                            known[c][2 * i + r] = -kno;
+                    let hc = |r: usize, c: usize| blk[2 * r + c];
+                    let gc = |r: usize, c: usize| blk[4 + 2 * r + c];
+                    for c in 0..2 {
+                        let col = if c == 0 { &mut *c0 } else { &mut *c1 };
+                        for r in 0..2 {
+                            // (coefficient of the unknown, left-hand-side coefficient of the known)
+                            let (unk, kno) = if bcs[j][c].is_displacement() {
+                                (-gc(r, c), hc(r, c))
+                            } else {
+                                (hc(r, c), -gc(r, c))
+                            };
+                            col[2 * i + r] = unk;
+                            if keep[c] {
+                                // Known values move to the right-hand side with opposite sign.
+                                known[c][2 * i + r] = -kno;
+                            }
                         }
                     }
                 }
-            }
-            if acc.rhs.is_empty() {
-                acc.rhs = vec![0.0; n];
-            }
-            for c in 0..2 {
-                if !keep[c] {
-                    continue;
+                if acc.rhs.is_empty() {
+                    acc.rhs = vec![0.0; n];
                 }
-                let v = bcs[j][c].value();
-                for (b, k) in acc.rhs.iter_mut().zip(&known[c]) {
-                    *b += k * v;
-                }
-                if variable_el[j] {
-                    acc.variable
-                        .push((2 * j + c, std::mem::take(&mut known[c])));
-                }
-            }
-            // Rigid-mode multiplier rows: R^T x = 0 (entries on u-unknown columns).
-            for (k, mode) in modes.iter().enumerate() {
                 for c in 0..2 {
-                    let col = if c == 0 { &mut *c0 } else { &mut *c1 };
-                    col[ndof + k] = mode[2 * j + c];
+                    if !keep[c] {
+                        continue;
+                    }
+                    let v = bcs[j][c].value();
+                    for (b, k) in acc.rhs.iter_mut().zip(&known[c]) {
+                        *b += k * v;
+                    }
+                    if variable_el[j] {
+                        acc.variable
+                            .push((2 * j + c, std::mem::take(&mut known[c])));
+                    }
                 }
-            }
-            acc
-        })
+                // Rigid-mode multiplier rows: R^T x = 0 (entries on u-unknown columns).
+                for (k, mode) in modes.iter().enumerate() {
+                    for c in 0..2 {
+                        let col = if c == 0 { &mut *c0 } else { &mut *c1 };
+                        col[ndof + k] = mode[2 * j + c];
+                    }
+                }
+                acc
+            },
+        )
         .collect::<Vec<Acc>>()
         .into_iter()
         .fold(Acc::default(), |mut x, y| {
@@ -173,6 +190,10 @@ pub(super) fn assemble(
     let mut variable = acc.variable;
     variable.sort_by_key(|(d, _)| *d);
     drop(first_cols);
+    drop(kept_cols);
+    if let Some(c) = cache {
+        c.store(mesh, material, params, kept);
+    }
     if let Some(st) = stencil {
         add_reconstruction(&mut a, n, ndof, &first, st, bcs, &mut rhs, &mut variable);
     }
@@ -204,6 +225,7 @@ pub(super) fn assemble(
         col_scale,
         variable,
         norm1,
+        reused,
     }
 }
 

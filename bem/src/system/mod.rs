@@ -26,6 +26,7 @@
 //! scaled matrix.
 
 mod assemble;
+mod cache;
 mod condition;
 mod rigid;
 
@@ -36,6 +37,8 @@ use faer::linalg::lu::partial_pivoting::{factor, solve};
 use faer::perm::PermRef;
 use faer::{MatMut, MatRef, Par};
 use std::time::Instant;
+
+pub use cache::PairCache;
 
 /// Prescribed value of one component on one element.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -118,6 +121,8 @@ pub struct SolveInfo {
     pub memory_bytes: usize,
     /// Wall time of the precomputed response (s; 0 without `precompute_response`).
     pub response_s: f64,
+    /// Element pairs whose blocks came from a [`PairCache`] instead of integration.
+    pub reused_pairs: usize,
 }
 
 /// Boundary solution: displacement and traction of every element (global x, y).
@@ -166,6 +171,29 @@ impl BemSystem {
         bcs: &[[Bc; 2]],
         params: &SolveParams,
     ) -> Result<Self, BemError> {
+        Self::build(mesh, material, bcs, params, None)
+    }
+
+    /// The same, copying the blocks of element pairs `cache` holds from an earlier
+    /// assembly instead of integrating them, and leaving this mesh's blocks in `cache`
+    /// ([`PairCache`]; bit-identical to [`Self::new`]).
+    pub fn new_with_cache(
+        mesh: &Mesh,
+        material: &Material,
+        bcs: &[[Bc; 2]],
+        params: &SolveParams,
+        cache: &mut PairCache,
+    ) -> Result<Self, BemError> {
+        Self::build(mesh, material, bcs, params, Some(cache))
+    }
+
+    fn build(
+        mesh: &Mesh,
+        material: &Material,
+        bcs: &[[Bc; 2]],
+        params: &SolveParams,
+        cache: Option<&mut PairCache>,
+    ) -> Result<Self, BemError> {
         if bcs.len() != mesh.len() {
             return Err(BemError::Boundary(format!(
                 "{} conditions for {} elements",
@@ -193,7 +221,7 @@ impl BemSystem {
         let stencil = params
             .reconstruct
             .then(|| crate::mesh::stencil::tangential_stencil(mesh));
-        let asm = assemble::assemble(mesh, material, bcs, params, &modes, stencil.as_ref());
+        let asm = assemble::assemble(mesh, material, bcs, params, &modes, stencil.as_ref(), cache);
         let assembly_s = t0.elapsed().as_secs_f64();
         let n = asm.n;
         let mut sys = Self {
@@ -216,6 +244,7 @@ impl BemSystem {
                 unknowns: n,
                 rigid_modes: modes.len(),
                 assembly_s,
+                reused_pairs: asm.reused,
                 ..Default::default()
             },
         };

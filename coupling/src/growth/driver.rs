@@ -32,7 +32,7 @@ use std::ops::ControlFlow;
 use std::time::Instant;
 
 use pdbem_bem::post::sif::cmod;
-use pdbem_bem::V2;
+use pdbem_bem::{PairCache, V2};
 use pdbem_pd::crack_path::CrackPath;
 
 use crate::error::CouplingError;
@@ -75,6 +75,9 @@ pub struct Growth<'s, S: Scenario> {
     /// Tip positions before the last solve (where joined cracks are cut to meet).
     pub(super) before: Vec<V2>,
     pub(super) geometries: usize,
+    /// Element-pair blocks of the last BEM assembly, reused by the next (relocations
+    /// change only the crack faces near the tips and the window interfaces).
+    pub(super) pairs: PairCache,
 }
 
 /// Builds mesh, windows (with their no-fail bands) and the factored BEM system of a
@@ -84,6 +87,7 @@ pub(super) fn build_geometry<S: Scenario>(
     setup: &GrowthSetup,
     scenario: &S,
     ratio: f64,
+    pairs: &mut PairCache,
 ) -> Result<(CoupledProblem, PreparedBem), CouplingError> {
     let built = build(layout, |_, w| scenario.outer_conditions(w))?;
     let bcs =
@@ -105,7 +109,7 @@ pub(super) fn build_geometry<S: Scenario>(
     for wm in problem.windows.iter_mut() {
         protect_band(wm, ratio);
     }
-    let bem = PreparedBem::new(&mut problem)?;
+    let bem = PreparedBem::with_cache(&mut problem, pairs)?;
     Ok((problem, bem))
 }
 
@@ -130,7 +134,14 @@ impl<'s, S: Scenario> Growth<'s, S> {
         let names: Vec<String> = setup.tips.iter().map(|t| t.name.clone()).collect();
         let mut owner = tip_windows(&setup, &body)?;
         resolve_overlaps(&mut setup.layout.windows, &mut owner, &names, &body)?;
-        let (problem, bem) = build_geometry(&setup.layout, &setup, scenario, params.trigger_ratio)?;
+        let mut pairs = PairCache::default();
+        let (problem, bem) = build_geometry(
+            &setup.layout,
+            &setup,
+            scenario,
+            params.trigger_ratio,
+            &mut pairs,
+        )?;
         let mut tips = Vec::new();
         let mut initial_s = Vec::new();
         for (t, spec) in setup.tips.iter().enumerate() {
@@ -167,6 +178,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
             before: initial_tip.clone(),
             initial_tip,
             geometries: 1,
+            pairs,
         };
         g.retrace()?;
         Ok(g)

@@ -129,6 +129,7 @@ impl<S: Scenario> Growth<'_, S> {
             &self.setup,
             self.scenario,
             self.params.trigger_ratio,
+            &mut self.pairs,
         )?;
         let old = std::mem::take(&mut self.problem.windows);
         // The last solution belongs to the old mesh: it serves the transfer and goes, so
@@ -187,6 +188,10 @@ impl<S: Scenario> Growth<'_, S> {
                 elements: self.problem.mesh.len(),
                 rebuild_s,
                 rebuild_shared_by: shared_by,
+                bem_assembly_s: self.bem.assembly_s(),
+                bem_factor_s: self.bem.factor_s(),
+                bem_pairs_reused: self.bem.reused_pairs() as f64
+                    / (self.problem.mesh.len() as f64).powi(2),
             };
             observer.relocation(&rec);
             records.push(rec);

@@ -131,6 +131,14 @@ pub struct RelocationRecord {
     pub rebuild_s: f64,
     /// Relocations carried out by one rebuild together with this one (itself included).
     pub rebuild_shared_by: usize,
+    /// Wall time of the rebuild's BEM assembly and of its factorization with the
+    /// response precomputation (s; whole rebuild, not shared out).
+    pub bem_assembly_s: f64,
+    /// See [`Self::bem_assembly_s`].
+    pub bem_factor_s: f64,
+    /// Fraction of the new mesh's element pairs whose blocks were copied from the last
+    /// assembly ([`pdbem_bem::PairCache`]) instead of integrated.
+    pub bem_pairs_reused: f64,
 }
 
 /// A relocation worked out but not yet carried out ([`Growth::plan`]).
