@@ -1,8 +1,9 @@
-//! Equilibrium of a window's PD model with the bond history frozen: the secant chord
-//! iteration on a kept factorisation for brittle bonds ([`FrozenSolver`],
-//! [`pdbem_pd::solvers::secant`]), Newton-Raphson (seed 000 section 2, Eq. 5) where it
-//! fails or for degrading bonds, and adaptive dynamic relaxation (seed 002 Eqs. 9-15)
-//! from the last finite state when Newton fails.
+//! Equilibrium of a PD model (a window, or the whole body in full-PD growth) with the
+//! bond history frozen: the secant chord iteration on a kept factorisation for brittle
+//! bonds ([`FrozenSolver`], [`pdbem_pd::solvers::secant`]), Newton-Raphson (seed 000
+//! section 2, Eq. 5) for degrading bonds, and where the first solver fails adaptive
+//! dynamic relaxation (seed 002 Eqs. 9-15) and Newton in the order [`Fallbacks`] sets
+//! (windows: ADR first; full PD: Newton first).
 //!
 //! Why a kept factorisation: between two coupling iterations only the prescribed
 //! displacements of the coupled virtual nodes change, and between two break rounds only

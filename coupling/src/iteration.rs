@@ -143,8 +143,8 @@ impl Default for StaggeredParams {
 /// [`PdSolve::Staggered`] on one model with its kept solvers; returns the solver
 /// iterations.
 ///
-/// Each equilibrium is the chord iteration's, with Newton and then ADR where it fails
-/// ([`crate::frozen::FrozenSolver`]).
+/// Each equilibrium is the chord iteration's, with ADR and then Newton where it fails
+/// ([`crate::frozen::FrozenSolver`] with the windows' [`crate::frozen::Fallbacks`]).
 fn staggered(
     model: &mut pdbem_pd::PdModel,
     slot: &mut frozen::SolverSlot,
