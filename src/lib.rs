@@ -10,7 +10,7 @@
 //! - [`output`]: atomic files, CSV tables, `summary.json`;
 //! - [`plot`]: report plots (geometry, value vs parameter, error vs time, scatter fields);
 //! - [`sweep`]: `pdbem sweep` (grid of dotted-path overrides);
-//! - [`bench`]: `pdbem bench`;
+//! - [`bench`](mod@bench): `pdbem bench`;
 //! - [`cli`]: the `pdbem` command line.
 
 pub mod analytic;

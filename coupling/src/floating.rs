@@ -19,7 +19,7 @@
 //! 2. it is corrected by the out-of-balance load, $\tilde q = q + K^{-1} G$ with
 //!    $G = (F_x, F_y, M / L)$ ($L$ the piece's RMS element distance from its
 //!    centroid $c$) and $K = 0.01 E$ (a deliberately soft guess of the window's
-//!    stiffness against the motion, [`STIFFNESS_FACTOR`]; the accelerators correct it
+//!    stiffness against the motion, `STIFFNESS_FACTOR`; the accelerators correct it
 //!    from the iterates);
 //! 3. $\tilde x = \tilde x_0 + R \tilde q$, and the BEM solution of the piece is moved by
 //!    the same motion.

@@ -64,8 +64,8 @@ pub struct Fallbacks {
 
 impl Default for Fallbacks {
     /// The windows' settings: the switch's refactorisation threshold, ADR before Newton
-    /// after a failed chord iteration, no loose Newton stalls, ADR to [`ADR_FALLBACK_TOL`]
-    /// within [`ADR_FALLBACK_MAX_ITERS`] steps.
+    /// after a failed chord iteration, no loose Newton stalls, ADR to `ADR_FALLBACK_TOL`
+    /// within `ADR_FALLBACK_MAX_ITERS` steps.
     fn default() -> Self {
         Fallbacks {
             refactor_contraction: CONTRACTION_REFACTOR,

@@ -16,7 +16,7 @@
 //! - [`measure`]: initiation load and kink angle from the damage field.
 //! - [`crack_path`]: tip tracking: the macro crack connected to an entry
 //!   point, its tip and smoothed path ([`crack_path::trace_crack`]).
-//! - [`cases`]: the seed cases as problem constructors; [`bench`]: benchmarks.
+//! - [`cases`]: the seed cases as problem constructors; [`bench`](mod@bench): benchmarks.
 
 pub mod bench;
 pub mod bonds;

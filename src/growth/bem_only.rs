@@ -1,4 +1,4 @@
-//! BEM-only crack growth (Liu, Li & Xie 2017 style, seed 002 ref. [34]): linear-elastic
+//! BEM-only crack growth (Liu, Li & Xie 2017 style, seed 002 ref. \[34\]): linear-elastic
 //! fracture mechanics on the BEM body, re-meshed after every crack increment.
 //!
 //! Algorithm, for every load factor f of the scene (`load.initial + k load.step`):

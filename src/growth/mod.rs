@@ -5,12 +5,12 @@
 //! - PD-BEM: moving PD windows over the tips iterated against the BEM body
 //!   (`pdbem_coupling::growth`);
 //! - BEM-only: SIF at the tip, kink by maximum circumferential stress, fixed increment
-//!   `da`, critical load from K_c = sqrt(E' G_c) (Liu, Li & Xie 2017, seed 002 ref. [34]);
+//!   `da`, critical load from K_c = sqrt(E' G_c) (Liu, Li & Xie 2017, seed 002 ref. \[34\]);
 //! - full PD: the whole body in PD at the window resolution.
 //!
 //! Shared pieces: [`front`] (crack polylines, tips, failure), [`criterion`] (MCS kink and
 //! K_eq, Griffith K_c), [`log`] (`growth_log.jsonl`, progress bar), [`output`] (files and
-//! plots of a run, [`output::finish`]), [`overlay`] (`pdbem plot-paths`), [`bench`]
+//! plots of a run, [`output::finish`]), [`overlay`] (`pdbem plot-paths`), [`bench`](mod@bench)
 //! (`pdbem bench growth`).
 //!
 //! Loads: step k applies the factor `load.initial + k load.step` to every boundary value

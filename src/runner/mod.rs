@@ -4,7 +4,7 @@
 //!
 //! Entry points: [`run_scene`], [`mode_of`]; types [`RunContext`] (what a
 //! solver gets), [`RunSummary`] (what it returns), [`TipResult`], [`CrackResult`].
-//! Reference values: [`reference`]; tables and plots: [`report`].
+//! Reference values: [`reference`](mod@reference); tables and plots: [`report`].
 
 pub mod reference;
 pub mod report;

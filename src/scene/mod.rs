@@ -7,7 +7,7 @@
 //!
 //! Sections: `material` ([`material`]), `body` ([`body`]), `cracks`
 //! ([`crack`]), `boundary` and `load` ([`boundary`]), `bem` ([`bem`]),
-//! `reference` ([`reference`]), `pd` ([`pd`]), `coupling` and `growth`
+//! `reference` ([`reference`](mod@reference)), `pd` ([`pd`]), `coupling` and `growth`
 //! ([`coupling`]), `outputs` ([`outputs`]). What is absent is not built: no
 //! `pd` = BEM alone; `pd` without `coupling` = stand-alone PD; `coupling` =
 //! PD windows in a BEM body; `growth` = crack growth.

@@ -141,7 +141,7 @@ pub struct RelocationRecord {
     pub bem_pairs_reused: f64,
 }
 
-/// A relocation worked out but not yet carried out ([`Growth::plan`]).
+/// A relocation worked out but not yet carried out ([`crate::growth::Growth::plan`]).
 #[derive(Debug, Clone)]
 pub struct RelocationPlan {
     /// The macro layout after the moves and merges.

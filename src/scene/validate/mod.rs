@@ -2,9 +2,9 @@
 //! field path, the value and the reason (STYLE.md: "one `validate()` whose
 //! messages state the violated constraint").
 //!
-//! Rules by section: [`material`], [`body`] (outline, holes, patches),
-//! [`cracks`], [`boundary`] (conditions, load, "nothing to solve"),
-//! [`sections`] (bem, reference, outputs), [`pd`] (pd, coupling, growth).
+//! Rules by section: `material`, `body` (outline, holes, patches),
+//! `cracks`, `boundary` (conditions, load, "nothing to solve"),
+//! `sections` (bem, reference, outputs), `pd` (pd, coupling, growth).
 
 mod body;
 mod boundary;
