@@ -18,7 +18,7 @@ use crate::scene::Scene;
 use anyhow::{Context, Result};
 use pdbem_bem::post::sif::{analyze_tips, cmod, SifOptions};
 use pdbem_bem::post::FieldEvaluator;
-use pdbem_bem::{BemSystem, Solution, V2};
+use pdbem_bem::{BemSystem, PairCache, Solution, V2};
 use serde_json::json;
 use std::time::Instant;
 
@@ -40,10 +40,26 @@ pub struct Level {
 
 /// Solves `scene` at load `factor` with element sizes divided by `refine`.
 pub fn solve_level(scene: &Scene, factor: f64, refine: f64) -> Result<Level> {
+    solve_level_with(scene, factor, refine, None)
+}
+
+/// The same, reusing the element-pair blocks of an earlier mesh held in `pairs` and
+/// leaving this mesh's there ([`PairCache`]: a sequence of related meshes, such as the
+/// geometries of BEM-only growth).
+pub fn solve_level_with(
+    scene: &Scene,
+    factor: f64,
+    refine: f64,
+    pairs: Option<&mut PairCache>,
+) -> Result<Level> {
     let setup = bem_setup::build(scene, factor, refine)?;
     let file = scene.file_label();
-    let sys = BemSystem::new(&setup.mesh, &setup.material, &setup.bcs, &setup.params)
-        .with_context(|| format!("{}: BEM assembly", file.display()))?;
+    let (mesh, material, bcs, params) = (&setup.mesh, &setup.material, &setup.bcs, &setup.params);
+    let sys = match pairs {
+        Some(cache) => BemSystem::new_with_cache(mesh, material, bcs, params, cache),
+        None => BemSystem::new(mesh, material, bcs, params),
+    }
+    .with_context(|| format!("{}: BEM assembly", file.display()))?;
     let t0 = Instant::now();
     let solution = sys
         .solve()

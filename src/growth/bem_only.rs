@@ -40,9 +40,10 @@ use super::front::{Front, Obstacle};
 use super::log::{step_bar, stop_after_step, GrowthLog};
 use super::{FieldSnapshot, GrowthHistory, PathPoint, StepRecord, TipPath};
 use crate::geometry::P2;
-use crate::run_bem::{solve_level, Level};
+use crate::run_bem::{solve_level_with, Level};
 use crate::runner::RunContext;
 use crate::scene::{Crack, Scene, TipRefinement};
+use pdbem_bem::PairCache;
 
 /// SIFs of one tip at unit load.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -197,11 +198,18 @@ fn tip_sifs(scene: &Scene, front: &Front, level: &Level, cap: f64) -> Result<Vec
     Ok(sifs)
 }
 
-/// Meshes and solves the current geometry at unit load.
-fn solve_geometry(scene: &Scene, front: &Front, sizes: &Sizes, grown: bool) -> Result<Solved> {
+/// Meshes and solves the current geometry at unit load, reusing the element-pair blocks
+/// of the last geometry (`pairs`: the outline and the crack away from the tips stay).
+fn solve_geometry(
+    scene: &Scene,
+    front: &Front,
+    sizes: &Sizes,
+    grown: bool,
+    pairs: &mut PairCache,
+) -> Result<Solved> {
     let t0 = Instant::now();
     let gs = geometry_scene(scene, front, sizes, grown);
-    let level = solve_level(&gs, 1.0, 1.0)?;
+    let level = solve_level_with(&gs, 1.0, 1.0, Some(pairs))?;
     let cap = if grown {
         sizes.tip_zone().radius
     } else {
@@ -232,7 +240,7 @@ pub fn critical_loads(scene: &Scene) -> Result<Vec<TipCritical>> {
     let k_c = scene_toughness(scene)?;
     let front = Front::of(scene);
     let sizes = sizes_of(scene)?;
-    let solved = solve_geometry(scene, &front, &sizes, false)?;
+    let solved = solve_geometry(scene, &front, &sizes, false, &mut PairCache::default())?;
     Ok(solved
         .sifs
         .iter()
@@ -361,7 +369,8 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
         ..Default::default()
     };
     let mut geometry = 0;
-    let mut solved = solve_geometry(scene, &front, &sizes, false)
+    let mut pairs = PairCache::default();
+    let mut solved = solve_geometry(scene, &front, &sizes, false, &mut pairs)
         .with_context(|| format!("{}: BEM-only growth, initial geometry", file.display()))?;
     log.event("solve", solve_event(&front, &solved, k_c, geometry))?;
     let cap = increment_cap(scene, &front, &sizes);
@@ -398,12 +407,13 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
                 break;
             }
             geometry += 1;
-            solved = solve_geometry(scene, &front, &sizes, true).with_context(|| {
-                format!(
-                    "{}: BEM-only growth, step {k} (load {f}), geometry {geometry}",
-                    file.display()
-                )
-            })?;
+            solved =
+                solve_geometry(scene, &front, &sizes, true, &mut pairs).with_context(|| {
+                    format!(
+                        "{}: BEM-only growth, step {k} (load {f}), geometry {geometry}",
+                        file.display()
+                    )
+                })?;
             log.event("solve", solve_event(&front, &solved, k_c, geometry))?;
         }
         let rec = StepRecord {
