@@ -43,9 +43,6 @@ pub struct Fallbacks {
     pub refactor_contraction: f64,
     /// Chord iterations before a fallback takes over.
     pub chord_iters: usize,
-    /// Updates over which the chord iteration's contraction is measured
-    /// ([`SecantParams::contraction_iters`]).
-    pub contraction_iters: usize,
     /// After a failed chord iteration, ADR before Newton (Newton only where ADR fails).
     /// The windows' choice: where the chord iteration fails a window is nearly cut, and
     /// there Newton (LU on an indefinite tangent) failed too in every case measured on
@@ -70,7 +67,6 @@ impl Default for Fallbacks {
         Fallbacks {
             refactor_contraction: CONTRACTION_REFACTOR,
             chord_iters: CHORD_ITERS,
-            contraction_iters: 1,
             adr_before_newton: true,
             loose_measure: 0.0,
             adr_tol: ADR_FALLBACK_TOL,
@@ -204,7 +200,6 @@ impl FrozenSolver {
                 max_columns: CHORD_COLUMNS,
                 anderson_depth: CHORD_ANDERSON,
                 refactor_contraction: fb.refactor_contraction,
-                contraction_iters: fb.contraction_iters,
             };
             let solved = chord
                 .track_changes(model, tangent, info)

@@ -298,7 +298,6 @@ impl<'p> Switcher<'p> {
                 max_columns: p.max_secant_columns,
                 anderson_depth: p.anderson_depth,
                 refactor_contraction: super::secant::CONTRACTION_REFACTOR,
-                contraction_iters: 1,
             },
             newton,
             secant,

@@ -55,10 +55,6 @@ const REFACTOR_CONTRACTION: f64 = 0.6;
 /// Chord iterations per equilibrium before Newton takes over.
 const CHORD_ITERS: usize = 50;
 
-/// Updates over which the chord iteration's contraction is measured before the factor is
-/// renewed ([`pdbem_pd::solvers::secant::SecantParams::contraction_iters`]).
-const CONTRACTION_ITERS: usize = 2;
-
 /// Equilibria not found by the first solver.
 #[derive(Debug, Default)]
 pub(super) struct Counts {
@@ -87,7 +83,6 @@ impl Equilibrium {
         let fallbacks = Fallbacks {
             refactor_contraction: REFACTOR_CONTRACTION,
             chord_iters: CHORD_ITERS,
-            contraction_iters: CONTRACTION_ITERS,
             adr_before_newton: false,
             loose_measure: LOOSE_MEASURE,
             adr_tol: 1e-6,

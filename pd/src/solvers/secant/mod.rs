@@ -60,13 +60,6 @@ const FIXED: usize = usize::MAX;
 /// (0.1: 1984 iterations and 15 factorisations, and 900 and 22).
 pub const CONTRACTION_REFACTOR: f64 = 0.1;
 
-/// Whether the last `span` of the update norms `chords` contracted by more than
-/// `limit` per update (geometric mean); false with fewer than `span + 1` norms.
-fn contracts_poorly(chords: &[f64], span: usize, limit: f64) -> bool {
-    let n = chords.len();
-    n > span && chords[n - 1] > limit.powi(span as i32) * chords[n - 1 - span]
-}
-
 fn norm(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
@@ -87,16 +80,6 @@ pub struct SecantParams {
     /// Contraction per iteration above which $K_0$ is refactorised
     /// ([`CONTRACTION_REFACTOR`] by default).
     pub refactor_contraction: f64,
-    /// Iterations over which the contraction is measured (geometric mean)
-    /// before it is compared with `refactor_contraction`. 1: every update
-    /// against the one before, across refactorisations (the switch's rule).
-    /// k > 1: the last k updates, all made with the current $K_0$, so a
-    /// fresh factor is kept for at least k + 1 updates and one poor update
-    /// after a good one (Anderson mixing) does not refactorise. Near
-    /// separation (the shear plate's full PD at dx = 0.05 m) a third of the
-    /// refactorisations under k = 1 came right after another, the secant
-    /// tangent being indefinite there, so refactorising did not help.
-    pub contraction_iters: usize,
 }
 
 /// Chord iteration on a factorised secant tangent with Woodbury updates.
@@ -226,10 +209,7 @@ impl SecantSolver {
             self.refactor(model, tangent, info)?;
         }
         self.anderson.reset();
-        let span = p.contraction_iters.max(1);
-        // Update norms of this call, and where the ones made with the current K0 start.
-        let mut chords: Vec<f64> = Vec::new();
-        let mut on_factor = 0;
+        let mut prev = f64::INFINITY;
         let mut measure = f64::INFINITY;
         let mut rref = 0.0f64;
         for it in 1..=p.max_iters {
@@ -260,13 +240,11 @@ impl SecantSolver {
                     return Ok((it, measure));
                 }
             }
-            chords.push(chord);
-            let from = if span == 1 { 0 } else { on_factor };
-            if contracts_poorly(&chords[from..], span, p.refactor_contraction) {
+            if it > 1 && chord > p.refactor_contraction * prev {
                 self.refactor(model, tangent, info)?;
                 self.anderson.reset();
-                on_factor = chords.len();
             }
+            prev = chord;
         }
         Err(PdError::NoConvergence {
             solver: "secant",
