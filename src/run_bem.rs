@@ -54,11 +54,13 @@ pub fn solve_level_with(
 ) -> Result<Level> {
     let setup = bem_setup::build(scene, factor, refine)?;
     let file = scene.file_label();
-    let (mesh, material, bcs, params) = (&setup.mesh, &setup.material, &setup.bcs, &setup.params);
-    let sys = match pairs {
-        Some(cache) => BemSystem::new_with_cache(mesh, material, bcs, params, cache),
-        None => BemSystem::new(mesh, material, bcs, params),
-    }
+    let sys = BemSystem::new_with_cache(
+        &setup.mesh,
+        &setup.material,
+        &setup.bcs,
+        &setup.params,
+        pairs,
+    )
     .with_context(|| format!("{}: BEM assembly", file.display()))?;
     let t0 = Instant::now();
     let solution = sys

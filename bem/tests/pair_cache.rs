@@ -43,11 +43,7 @@ fn conditions(mesh: &Mesh) -> Vec<[Bc; 2]> {
 fn solve(mesh: &Mesh, mat: &Material, cache: Option<&mut PairCache>) -> (Solution, usize) {
     let bcs = conditions(mesh);
     let params = SolveParams::default();
-    let sys = match cache {
-        Some(c) => BemSystem::new_with_cache(mesh, mat, &bcs, &params, c),
-        None => BemSystem::new(mesh, mat, &bcs, &params),
-    }
-    .unwrap();
+    let sys = BemSystem::new_with_cache(mesh, mat, &bcs, &params, cache).unwrap();
     (sys.solve().unwrap(), sys.info().reused_pairs)
 }
 

@@ -335,18 +335,16 @@ impl PreparedBem {
     /// Marks the interface groups variable (traction) in `problem`, then assembles and
     /// factors. Changing the mesh or the scene conditions needs a new `PreparedBem`.
     pub fn new(problem: &mut CoupledProblem) -> Result<Self, CouplingError> {
-        let system = factor_bem(problem, None)?;
-        let floating = FloatingPieces::new(&problem.mesh, &system)?;
-        Ok(PreparedBem { system, floating })
+        Self::with_cache(problem, None)
     }
 
     /// The same, reusing the element-pair blocks `pairs` holds from an earlier geometry
     /// and leaving this one's there ([`PairCache`]).
     pub fn with_cache(
         problem: &mut CoupledProblem,
-        pairs: &mut PairCache,
+        pairs: Option<&mut PairCache>,
     ) -> Result<Self, CouplingError> {
-        let system = factor_bem(problem, Some(pairs))?;
+        let system = factor_bem(problem, pairs)?;
         let floating = FloatingPieces::new(&problem.mesh, &system)?;
         Ok(PreparedBem { system, floating })
     }
@@ -663,16 +661,13 @@ fn factor_bem(
     // unknowns to them once (one blocked substitution with a few hundred columns), so each
     // iteration costs a product with it instead of a substitution through the whole factor.
     problem.bem_params.precompute_response = true;
-    let (mesh, material, bcs, params) = (
+    Ok(BemSystem::new_with_cache(
         &problem.mesh,
         &problem.material,
         &problem.bcs,
         &problem.bem_params,
-    );
-    Ok(match pairs {
-        Some(cache) => BemSystem::new_with_cache(mesh, material, bcs, params, cache)?,
-        None => BemSystem::new(mesh, material, bcs, params)?,
-    })
+        pairs,
+    )?)
 }
 
 /// One evaluation of the fixed-point map $\tilde x = H(x)$ at load scale 1, for analysis

@@ -171,23 +171,13 @@ impl BemSystem {
         bcs: &[[Bc; 2]],
         params: &SolveParams,
     ) -> Result<Self, BemError> {
-        Self::build(mesh, material, bcs, params, None)
+        Self::new_with_cache(mesh, material, bcs, params, None)
     }
 
-    /// The same, copying the blocks of element pairs `cache` holds from an earlier
-    /// assembly instead of integrating them, and leaving this mesh's blocks in `cache`
+    /// The same; with a `cache`, the blocks of the element pairs it holds from an earlier
+    /// assembly are copied instead of integrated, and this mesh's blocks are left in it
     /// ([`PairCache`]; bit-identical to [`Self::new`]).
     pub fn new_with_cache(
-        mesh: &Mesh,
-        material: &Material,
-        bcs: &[[Bc; 2]],
-        params: &SolveParams,
-        cache: &mut PairCache,
-    ) -> Result<Self, BemError> {
-        Self::build(mesh, material, bcs, params, Some(cache))
-    }
-
-    fn build(
         mesh: &Mesh,
         material: &Material,
         bcs: &[[Bc; 2]],

@@ -109,7 +109,7 @@ pub(super) fn build_geometry<S: Scenario>(
     for wm in problem.windows.iter_mut() {
         protect_band(wm, ratio);
     }
-    let bem = PreparedBem::with_cache(&mut problem, pairs)?;
+    let bem = PreparedBem::with_cache(&mut problem, Some(pairs))?;
     Ok((problem, bem))
 }
 
