@@ -7,6 +7,10 @@
 //! - [`trace_crack`]: on a [`PdModel`] (real nodes, current damage).
 //! - [`trace_crack_in`]: the same on plain arrays (positions, damage, `dx`),
 //!   for callers that keep their own fields.
+//! - [`trace_crack_beyond`]: on plain arrays, with the tip continuing a
+//!   previous tip (growth tracking over load steps).
+//! - [`crack_clusters`]: every macro crack of a field (its connected
+//!   components), with no entry point.
 //!
 //! Both return a [`CrackPath`]; [`PathParams`] sets the threshold and the
 //! lengths, all in units of the grid spacing `dx`.
@@ -20,7 +24,14 @@
 //!    shortest in-crack distance from the entry to every connected node.
 //! 4. Tip: the connected node with the largest in-crack distance (the
 //!    farthest point along the path, so a crack that turns back towards the
-//!    entry still has its tip at the far end).
+//!    entry still has its tip at the far end). Given the previous tip
+//!    ([`trace_crack_beyond`]), only nodes beyond it count: those whose
+//!    shortest in-crack route from the entry may pass through the connected
+//!    node nearest the previous tip $p$ (within [`BEYOND_DX`]):
+//!    $d_e(p) + d_p(n) \le d_e(n) + $ `BEYOND_DX` dx. A second crack that
+//!    joins the path behind the tip (a branch from elsewhere in the body)
+//!    then never takes the tip over, however far it reaches; the tip does not
+//!    move back either.
 //! 5. Path: the predecessor chain from the tip back to a seed, with the
 //!    entry point prepended, resampled every `spacing` along its length.
 //! 6. Smoothing: a broken-bond band is about two node rows wide and the
@@ -168,6 +179,89 @@ pub fn trace_crack_in(
     entry: P2,
     params: &PathParams,
 ) -> Result<CrackPath, PdError> {
+    trace(positions, damage, dx, entry, None, params)
+}
+
+/// The macro cracks of a damage field: the connected components of the nodes
+/// with damage above `params.threshold`, linked within `params.link` dx
+/// (steps 1-2 of the module docs), each as node indices in increasing order,
+/// the components ordered by their first node. For failure checks that do not
+/// depend on which tip is tracked (a crack cutting the body from outline to
+/// outline).
+pub fn crack_clusters(
+    positions: &[P2],
+    damage: &[f64],
+    dx: f64,
+    params: &PathParams,
+) -> Result<Vec<Vec<usize>>, PdError> {
+    params.validate()?;
+    if damage.len() != positions.len() {
+        return Err(PdError::LengthMismatch {
+            what: "damage",
+            expected: positions.len(),
+            got: damage.len(),
+        });
+    }
+    let cand: Vec<usize> = (0..positions.len())
+        .filter(|&i| damage[i] > params.threshold)
+        .collect();
+    let pts: Vec<P2> = cand.iter().map(|&i| positions[i]).collect();
+    let link = params.link * dx;
+    let hash = CellHash::new(&pts, link);
+    let mut seen = vec![false; pts.len()];
+    let mut clusters = Vec::new();
+    for start in 0..pts.len() {
+        if seen[start] {
+            continue;
+        }
+        seen[start] = true;
+        let (mut stack, mut members) = (vec![start], Vec::new());
+        while let Some(k) = stack.pop() {
+            members.push(cand[k]);
+            hash.for_each_within(&pts, pts[k], link, |j| {
+                if !seen[j] {
+                    seen[j] = true;
+                    stack.push(j);
+                }
+            });
+        }
+        members.sort_unstable();
+        clusters.push(members);
+    }
+    Ok(clusters)
+}
+
+/// Slack of the beyond-the-previous-tip test (dx): the in-crack route from
+/// the entry to a tip candidate may be this much shorter than the route
+/// through the previous tip. Both routes run inside a band two node rows
+/// wide, so a candidate ahead of the previous tip on the other row is a few
+/// tenths of dx off; a branch leaving the path more than 1.5 dx behind the
+/// previous tip is twice its distance off and is excluded.
+pub const BEYOND_DX: f64 = 3.0;
+
+/// [`trace_crack_in`] with the tip restricted to the part of the crack
+/// beyond `previous_tip` (a tip traced earlier on the same, since grown,
+/// crack): see step 4 of the module docs. With `previous_tip` at the entry
+/// this is [`trace_crack_in`].
+pub fn trace_crack_beyond(
+    positions: &[P2],
+    damage: &[f64],
+    dx: f64,
+    entry: P2,
+    previous_tip: P2,
+    params: &PathParams,
+) -> Result<CrackPath, PdError> {
+    trace(positions, damage, dx, entry, Some(previous_tip), params)
+}
+
+fn trace(
+    positions: &[P2],
+    damage: &[f64],
+    dx: f64,
+    entry: P2,
+    previous_tip: Option<P2>,
+    params: &PathParams,
+) -> Result<CrackPath, PdError> {
     params.validate()?;
     if damage.len() != positions.len() {
         return Err(PdError::LengthMismatch {
@@ -187,12 +281,15 @@ pub fn trace_crack_in(
         .collect();
     let pts: Vec<P2> = cand.iter().map(|&i| positions[i]).collect();
     let hash = CellHash::new(&pts, params.link * dx);
-    let Some(search) = shortest_paths(&pts, &hash, entry, params, dx) else {
+    let Some(mut search) = shortest_paths(&pts, &hash, entry, params, dx) else {
         return Ok(CrackPath {
             points: vec![entry],
             ..Default::default()
         });
     };
+    if let Some(p) = previous_tip {
+        search.tip = tip_beyond(&pts, &hash, &search, p, params.link * dx, BEYOND_DX * dx);
+    }
     let chain = chain_to_tip(&pts, &search, entry);
     let raw = resample(&chain, params.spacing * dx);
     let connected: Vec<P2> = search.reached.iter().map(|&k| pts[k]).collect();
@@ -208,11 +305,39 @@ pub fn trace_crack_in(
     })
 }
 
+/// The farthest reached candidate beyond the previous tip `p` (module docs,
+/// step 4): $d_e(q) + d_q(n) \le d_e(n) + $ `slack`, with $q$ the reached
+/// candidate nearest `p` and $d_q$ the in-crack distance from it. $q$
+/// itself always qualifies.
+fn tip_beyond(pts: &[P2], hash: &CellHash, s: &Search, p: P2, link: f64, slack: f64) -> usize {
+    let q = *s
+        .reached
+        .iter()
+        .min_by(|&&a, &&b| {
+            dist2(pts[a], p)
+                .total_cmp(&dist2(pts[b], p))
+                .then(a.cmp(&b))
+        })
+        .expect("a search reaches its seeds");
+    let dq = dijkstra(pts, hash, &[(q, 0.0)], link).dist;
+    let mut tip = q;
+    for &n in &s.reached {
+        let beyond = s.dist[q] + dq[n] <= s.dist[n] + slack;
+        if beyond && (s.dist[n], std::cmp::Reverse(n)) > (s.dist[tip], std::cmp::Reverse(tip)) {
+            tip = n;
+        }
+    }
+    tip
+}
+
 /// Result of the Dijkstra search over the candidate graph.
 struct Search {
     /// Predecessor of each reached candidate (`usize::MAX` for a seed).
     pred: Vec<usize>,
-    /// Candidates reached from the seeds.
+    /// In-crack distance of each candidate from the entry (infinite if not
+    /// reached).
+    dist: Vec<f64>,
+    /// Candidates reached from the seeds, in order of distance.
     reached: Vec<usize>,
     /// The reached candidate farthest along the crack.
     tip: usize,
@@ -244,36 +369,49 @@ fn shortest_paths(
     params: &PathParams,
     dx: f64,
 ) -> Option<Search> {
+    let r_entry = params.entry_radius * dx;
+    let seeds: Vec<(usize, f64)> = pts
+        .iter()
+        .enumerate()
+        .map(|(k, p)| (k, dist2(*p, entry).sqrt()))
+        .filter(|(_, d)| *d <= r_entry)
+        .collect();
+    if seeds.is_empty() {
+        return None;
+    }
+    let s = dijkstra(pts, hash, &seeds, params.link * dx);
+    // The farthest candidate; of equal distances the first settled (the
+    // smallest index).
+    let mut far = s.reached[0];
+    for &k in &s.reached {
+        if s.dist[k] > s.dist[far] {
+            far = k;
+        }
+    }
+    Some(Search { tip: far, ..s })
+}
+
+/// Dijkstra over the candidates linked within `link` from `seeds` (candidate,
+/// starting distance); `tip` is left at the first seed settled.
+fn dijkstra(pts: &[P2], hash: &CellHash, seeds: &[(usize, f64)], link: f64) -> Search {
     let n = pts.len();
     let mut dist = vec![f64::INFINITY; n];
     let mut pred = vec![usize::MAX; n];
     let mut heap = BinaryHeap::new();
-    let r_entry = params.entry_radius * dx;
-    for (k, p) in pts.iter().enumerate() {
-        let d = dist2(*p, entry).sqrt();
-        if d <= r_entry {
+    for &(k, d) in seeds {
+        if d < dist[k] {
             dist[k] = d;
             heap.push(Item(d, k));
         }
     }
-    if heap.is_empty() {
-        return None;
-    }
-    let link = params.link * dx;
     let mut done = vec![false; n];
     let mut reached = Vec::new();
-    let mut tip = usize::MAX;
-    let mut far = f64::NEG_INFINITY;
     while let Some(Item(d, k)) = heap.pop() {
         if done[k] {
             continue;
         }
         done[k] = true;
         reached.push(k);
-        if d > far {
-            far = d;
-            tip = k;
-        }
         hash.for_each_within(pts, pts[k], link, |j| {
             let nd = d + dist2(pts[k], pts[j]).sqrt();
             if !done[j] && nd < dist[j] {
@@ -283,7 +421,13 @@ fn shortest_paths(
             }
         });
     }
-    Some(Search { pred, reached, tip })
+    let tip = reached.first().copied().unwrap_or(usize::MAX);
+    Search {
+        pred,
+        dist,
+        reached,
+        tip,
+    }
 }
 
 /// The entry followed by the node positions from the seed to the tip.
@@ -525,6 +669,62 @@ mod tests {
         });
         let p = trace_crack_in(&pos, &phi, 1.0, [0.0, 20.0], &PathParams::default()).unwrap();
         assert!((p.tip()[0] - 14.5).abs() < 1e-12, "tip {:?}", p.tip());
+    }
+
+    #[test]
+    fn a_crack_joining_behind_the_previous_tip_does_not_take_the_tip_over() {
+        // Main band along y = 20 to x = 15 (entry at x = 0); a second crack
+        // joins it at x = 3 and runs down to y = 0, 22 dx along the crack
+        // from the entry against the main band's 14.5. Traced from scratch
+        // its end is the farthest point; traced beyond the previous tip at
+        // x = 10 the tip stays on the main band, at its end.
+        let (pos, phi) = field(30, 30, |x, y| {
+            (x < 15.0 && (y - 20.0).abs() < 1.0) || ((x - 3.0).abs() < 1.0 && y < 20.0)
+        });
+        let prm = PathParams::default();
+        let free = trace_crack_in(&pos, &phi, 1.0, [0.0, 20.0], &prm).unwrap();
+        assert!(free.tip()[1] < 1.0, "from scratch: tip {:?}", free.tip());
+        let on = trace_crack_beyond(&pos, &phi, 1.0, [0.0, 20.0], [10.0, 20.0], &prm).unwrap();
+        assert!((on.tip()[0] - 14.5).abs() < 1e-12, "tip {:?}", on.tip());
+        assert!(
+            max_offset_from_line(&on.points, 20.0) < 0.6,
+            "{:?}",
+            on.points
+        );
+        // A previous tip at the end of the band: the tip stays there, and
+        // one at the entry gives the trace from scratch.
+        let end = trace_crack_beyond(&pos, &phi, 1.0, [0.0, 20.0], [14.5, 20.0], &prm).unwrap();
+        assert!((end.tip()[0] - 14.5).abs() < 1e-12, "tip {:?}", end.tip());
+        let entry = trace_crack_beyond(&pos, &phi, 1.0, [0.0, 20.0], [0.0, 20.0], &prm).unwrap();
+        assert_eq!(entry, free);
+    }
+
+    #[test]
+    fn a_fork_just_behind_the_previous_tip_still_continues_it() {
+        // The band forks 1 dx behind the previous tip (x = 9, tip at x = 10):
+        // both arms are beyond it within BEYOND_DX, and the longer one (down,
+        // 12 dx against 5 along y = 20) is the tip.
+        let (pos, phi) = field(30, 30, |x, y| {
+            (x < 15.0 && (y - 20.0).abs() < 1.0) || ((x - 9.0).abs() < 1.0 && y < 20.0 && y > 7.0)
+        });
+        let prm = PathParams::default();
+        let on = trace_crack_beyond(&pos, &phi, 1.0, [0.0, 20.0], [10.0, 20.0], &prm).unwrap();
+        assert!(on.tip()[1] < 8.0, "tip {:?}", on.tip());
+    }
+
+    #[test]
+    fn clusters_are_the_connected_cracks() {
+        // Two bands two cells apart (more than the 1.5 dx link) and a band
+        // touching the first diagonally (linked): two clusters.
+        let (pos, phi) = field(20, 20, |x, y| {
+            (x < 8.0 && (y - 10.0).abs() < 1.0)
+                || ((10.0..16.0).contains(&x) && (y - 10.0).abs() < 1.0)
+                || ((x - 8.5).abs() < 0.6 && (y - 11.5).abs() < 0.6)
+        });
+        let c = crack_clusters(&pos, &phi, 1.0, &PathParams::default()).unwrap();
+        assert_eq!(c.len(), 2, "{c:?}");
+        assert_eq!((c[0].len(), c[1].len()), (17, 12));
+        assert!(c[0].contains(&(11 * 20 + 8)));
     }
 
     #[test]

@@ -14,16 +14,20 @@
 //!    for brittle bonds (the 20 most stretched bonds break at the load where they reach
 //!    s0, see `rounds::load_step`), Jacobi for degrading ones.
 //! 3. After every round each growing tip is traced by
-//!    [`pdbem_pd::crack_path::trace_crack_in`] from its initial position, on the damage
-//!    ahead of it (nodes more than 1.5 dx behind the initial tip, or within 2 dx of
+//!    [`pdbem_pd::crack_path::trace_crack_beyond`] from its initial position, beyond its
+//!    previous position (a crack that joins the path behind the tip does not take the
+//!    tip over), on the damage ahead of it (nodes more than 1.5 dx behind the initial tip, or within 2 dx of
 //!    another crack, are left out so the trace neither runs back along the pre-crack nor
 //!    into a neighbouring crack). A tip within one horizon of the outline has reached it
 //!    (its path is ended on the outline by the PD-BEM rule,
 //!    `pdbem_coupling::growth::polyline::end_on_outline`), within one horizon of a hole
 //!    is arrested there, within 3 dx of another crack has joined it ([`Front`] decides
 //!    failure).
-//! 4. Failure ends the run: a crack cut the body through. When the chord iteration and
-//!    Newton fail (nearly singular tangents once pieces hang by a few bonds), ADR looks
+//! 4. Failure ends the run: a crack cut the body through, either a tracked tip reached
+//!    the outline ([`Front::separated`]) or any macro crack reaches the outline at two
+//!    places more than two horizons apart (also one nucleated away from the tips, or a
+//!    branch). When the chord iteration and Newton fail (nearly singular tangents once
+//!    pieces hang by a few bonds), ADR looks
 //!    for the equilibrium. Under load control the last equilibria before separation do not
 //!    exist: a failure of all three after bonds broke in the same step is taken as collapse
 //!    (failure, with the solvers' messages in the notes); a failure without breaking is
@@ -48,7 +52,7 @@ use super::{FieldSnapshot, GrowthHistory, PathPoint, StepRecord, TipPath};
 use crate::geometry::P2;
 use crate::runner::RunContext;
 use crate::scene::Scene;
-use pdbem_pd::crack_path::{trace_crack_in, PathParams};
+use pdbem_pd::crack_path::{crack_clusters, trace_crack_beyond, PathParams};
 use pdbem_pd::PdModel;
 use rounds::{load_step, Equilibrium, Tracked, LOOSE_MEASURE};
 
@@ -60,6 +64,58 @@ const BEHIND_DX: f64 = 1.5;
 const OTHER_CRACK_DX: f64 = 2.0;
 /// A tip this close to another crack (in dx) has joined it.
 const JOIN_DX: f64 = 3.0;
+/// Whether a macro crack of `model` ([`crack_clusters`] at `params`) cuts the body: it
+/// reaches the outline (a node within one dx of it) at two places, its outline contacts
+/// falling into two groups or more when linked within two horizons, the rule of [`Front::separated`] for any crack, also one no tracked tip followed
+/// (on the shear plate a crack from the end of the bottom clamp up to the kink of the
+/// main crack, seed 002 section 3.2.3). Returns the two outline contacts.
+fn crack_cuts_body(
+    model: &PdModel,
+    front: &Front,
+    params: &PathParams,
+    dx: f64,
+    delta: f64,
+) -> Result<Option<(P2, P2)>> {
+    let n = model.n_real();
+    let x = &model.positions()[..n];
+    let phi = model.damage();
+    for cluster in crack_clusters(x, &phi[..n], dx, params)? {
+        let contacts: Vec<P2> = cluster
+            .iter()
+            .map(|&i| P2::new(x[i][0], x[i][1]))
+            .filter(|p| front.outline_distance(p) <= dx)
+            .collect();
+        let groups = single_linkage(&contacts, 2.0 * delta);
+        if let [a, b, ..] = groups[..] {
+            return Ok(Some((contacts[a], contacts[b])));
+        }
+    }
+    Ok(None)
+}
+
+/// One point of every group of `points` linked within `link` (single linkage), in order
+/// of first appearance. A damage band along the outline is one group however long it is.
+fn single_linkage(points: &[P2], link: f64) -> Vec<usize> {
+    let mut group = vec![usize::MAX; points.len()];
+    let mut firsts = Vec::new();
+    for start in 0..points.len() {
+        if group[start] != usize::MAX {
+            continue;
+        }
+        group[start] = start;
+        firsts.push(start);
+        let mut stack = vec![start];
+        while let Some(k) = stack.pop() {
+            for j in 0..points.len() {
+                if group[j] == usize::MAX && (points[j] - points[k]).norm() <= link {
+                    group[j] = start;
+                    stack.push(j);
+                }
+            }
+        }
+    }
+    firsts
+}
 
 /// The PD model of the scene at the window spacing, and that spacing.
 pub fn model_of(scene: &Scene) -> Result<(PdModel, f64, f64)> {
@@ -91,6 +147,8 @@ struct Tracker {
     recorded: Vec<f64>,
     dx: f64,
     delta: f64,
+    /// The body came apart other than by a tracked tip reaching the outline.
+    apart: bool,
 }
 
 impl Tracker {
@@ -138,8 +196,8 @@ impl Tracker {
         let x = &model.positions()[..n];
         let phi = model.damage();
         let masked = self.masked_damage(front, t, x, &phi[..n]);
-        let o = front.tips[t].initial;
-        let path = trace_crack_in(x, &masked, self.dx, [o.x, o.y], params)?;
+        let (o, last) = (front.tips[t].initial, front.tip_position(t));
+        let path = trace_crack_beyond(x, &masked, self.dx, [o.x, o.y], [last.x, last.y], params)?;
         let tip = path.tip();
         let ahead = (P2::new(tip[0], tip[1]) - o).dot(&self.dir0[t]);
         if path.is_empty() || ahead <= 0.5 * self.dx {
@@ -259,6 +317,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
         recorded: vec![0.0; front.tips.len()],
         dx,
         delta,
+        apart: false,
     };
     let mut tr = tr;
     let first = factors.first().copied().unwrap_or(1.0);
@@ -334,16 +393,13 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
             ));
             history.failure = true;
         }
-        let failed = history.failure || front.separated();
-        if stop_after_step(
-            &mut history,
-            &log,
-            &front,
-            failed,
-            k,
-            f,
-            "the body came apart",
-        )? {
+        let failed = history.failure || front.separated() || tr.apart;
+        let why = if front.separated() || !tr.apart {
+            "the body came apart"
+        } else {
+            "the body came apart along damage no tracked tip followed (a crack from elsewhere)"
+        };
+        if stop_after_step(&mut history, &log, &front, failed, k, f, why)? {
             break;
         }
     }
@@ -436,11 +492,18 @@ fn track(
             )?;
         }
     }
-    Ok(if front.separated() {
-        Tracked::Separated
-    } else {
-        Tracked::Continue
-    })
+    if front.separated() {
+        return Ok(Tracked::Separated);
+    }
+    if let Some((a, b)) = crack_cuts_body(model, front, params, tr.dx, tr.delta)? {
+        tr.apart = true;
+        log.event(
+            "cut",
+            json!({"step": step, "load": load, "outline_contacts": [[a.x, a.y], [b.x, b.y]]}),
+        )?;
+        return Ok(Tracked::Separated);
+    }
+    Ok(Tracked::Continue)
 }
 
 /// Ends the path on the outline by the rule of the PD-BEM mode
@@ -451,4 +514,55 @@ fn extend_to_outline(front: &Front, path: &mut Vec<P2>, tr: &Tracker) {
     };
     let chord = polyline::OUTLINE_CHORD_DX * tr.dx;
     *path = polyline::end_on_outline(path, outline, tr.delta, chord);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pdbem_pd::{PdProblem, Region};
+
+    /// The 10 m square plate of a scene (for its outline) and a PD model of it at
+    /// dx = 0.5 m with the pre-cracks `cracks` (polylines).
+    fn plate(cracks: Vec<Vec<[f64; 2]>>) -> (Front, PdModel, f64) {
+        let src = "(name: \"cut\", material: (E: 1, nu: 0.3, plane: Stress),
+              body: (outline: Rectangle(x0: 0, y0: 0, width: 10, height: 10)),
+              boundary: [(on: \"top\", y: Traction(1)), (on: \"bottom\", y: Traction(-1))])";
+        let front = Front::of(&Scene::from_ron_str(src, "cut.ron").expect("scene"));
+        let p = PdProblem {
+            region: Region::rectangle([0.0, 0.0], [10.0, 10.0]),
+            dx: 0.5,
+            youngs_modulus: 1.0,
+            cracks,
+            ..Default::default()
+        };
+        let delta = p.horizon();
+        (front, PdModel::new(&p).expect("model"), delta)
+    }
+
+    fn cuts(cracks: Vec<Vec<[f64; 2]>>) -> Option<(P2, P2)> {
+        let (front, model, delta) = plate(cracks);
+        crack_cuts_body(&model, &front, &PathParams::default(), 0.5, delta).expect("clusters")
+    }
+
+    #[test]
+    fn a_crack_from_outline_to_outline_cuts_the_body_whichever_way_it_runs() {
+        // Straight across: contacts on the left and right edges.
+        let (a, b) = cuts(vec![vec![[-1.0, 5.0], [11.0, 5.0]]]).expect("cut");
+        assert!(a.x < 0.5 && b.x > 9.5, "{a} {b}");
+        // Down from the top, along, and back out through the bottom (a kinked crack
+        // whose far end no tip tracked).
+        let kinked = vec![[5.0, 11.0], [5.0, 5.0], [3.0, 5.0], [3.0, -1.0]];
+        assert!(cuts(vec![kinked]).is_some());
+    }
+
+    #[test]
+    fn edge_cracks_and_damage_along_an_edge_do_not_cut_it() {
+        // An edge crack stopping 4 m short of the far edge.
+        assert_eq!(cuts(vec![vec![[-1.0, 5.0], [6.0, 5.0]]]), None);
+        // Two edge cracks from opposite edges, 2 m apart (two clusters).
+        let two = vec![vec![[-1.0, 5.0], [4.0, 5.0]], vec![[6.0, 5.0], [11.0, 5.0]]];
+        assert_eq!(cuts(two), None);
+        // A damaged band along the whole left edge: one stretch of contacts.
+        assert_eq!(cuts(vec![vec![[0.5, -1.0], [0.5, 11.0]]]), None);
+    }
 }
