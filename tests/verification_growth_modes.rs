@@ -368,6 +368,40 @@ fn growth_run_writes_the_documented_files_and_columns() {
 }
 
 #[test]
+fn full_pd_logs_every_break_round() {
+    // The `round` events of the coarse edge crack: broken bonds never decrease, the
+    // wall time runs on, the tip moves only forward (x of the horizontal crack), and the
+    // last round of each step agrees with its `step` event.
+    let mut scene = coarse_edge_scene();
+    scene.outputs.plots = false;
+    let (dir, _) = run_into(&scene, "pd_rounds");
+    let events: Vec<serde_json::Value> = read(&dir, "growth_log.jsonl")
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("one JSON object per line"))
+        .collect();
+    let rounds: Vec<&serde_json::Value> = events.iter().filter(|e| e["event"] == "round").collect();
+    assert!(rounds.len() >= 10, "{} rounds", rounds.len());
+    let f = |e: &serde_json::Value, k: &str| e[k].as_f64().expect(k);
+    for w in rounds.windows(2) {
+        assert!(f(w[1], "broken_bonds") >= f(w[0], "broken_bonds"));
+        assert!(f(w[1], "wall_time_s") >= f(w[0], "wall_time_s"));
+        let x = |e: &serde_json::Value| e["tips"][0][0].as_f64().expect("tip x");
+        assert!(
+            x(w[1]) >= x(w[0]),
+            "tip moved back: {} -> {}",
+            x(w[0]),
+            x(w[1])
+        );
+    }
+    for step in events.iter().filter(|e| e["event"] == "step") {
+        if let Some(last) = rounds.iter().rev().find(|r| r["step"] == step["step"]) {
+            assert_eq!(last["broken_bonds"], step["broken_bonds"]);
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn plot_paths_overlays_two_run_folders() {
     let (bem, _) = run_into(&sent_scene(0.05, 0.2), "overlay_bem");
     let mut pd_scene = coarse_edge_scene();

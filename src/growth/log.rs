@@ -5,7 +5,8 @@
 //! followed with `tail -f <out>/.staging-<pid>/growth_log.jsonl`; like every output it
 //! reaches the run folder only when the run succeeds. Events (docs/outputs.md):
 //! `start`, `solve` (BEM-only: SIF of every tip at unit load), `grow` (one increment of a
-//! tip), `tip_end`, `step` (one converged load step), `relocation` (PD-BEM), `failure`,
+//! tip), `tip_end`, `step` (one converged load step), `round` and `cut` (full PD: a break
+//! round, a crack no tip followed cutting the body), `relocation` (PD-BEM), `failure`,
 //! `note` and `end`. A solver that does not log (PD-BEM) gets its `step`, `relocation`,
 //! `tip_end` and `note` events written from its [`GrowthHistory`] by the output layer.
 

@@ -149,6 +149,8 @@ struct Tracker {
     delta: f64,
     /// The body came apart other than by a tracked tip reaching the outline.
     apart: bool,
+    /// Start of the run (for the `round` events).
+    start: Instant,
 }
 
 impl Tracker {
@@ -318,6 +320,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
         dx,
         delta,
         apart: false,
+        start: Instant::now(),
     };
     let mut tr = tr;
     let first = factors.first().copied().unwrap_or(1.0);
@@ -492,6 +495,11 @@ fn track(
             )?;
         }
     }
+    log.event(
+        "round",
+        json!({"step": step, "load": load, "broken_bonds": model.broken_bonds(),
+               "tips": front.tip_positions(), "wall_time_s": tr.start.elapsed().as_secs_f64()}),
+    )?;
     if front.separated() {
         return Ok(Tracked::Separated);
     }
