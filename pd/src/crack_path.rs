@@ -194,18 +194,7 @@ pub fn crack_clusters(
     dx: f64,
     params: &PathParams,
 ) -> Result<Vec<Vec<usize>>, PdError> {
-    params.validate()?;
-    if damage.len() != positions.len() {
-        return Err(PdError::LengthMismatch {
-            what: "damage",
-            expected: positions.len(),
-            got: damage.len(),
-        });
-    }
-    let cand: Vec<usize> = (0..positions.len())
-        .filter(|&i| damage[i] > params.threshold)
-        .collect();
-    let pts: Vec<P2> = cand.iter().map(|&i| positions[i]).collect();
+    let (cand, pts) = crack_nodes(positions, damage, dx, params)?;
     let link = params.link * dx;
     let hash = CellHash::new(&pts, link);
     let mut seen = vec![false; pts.len()];
@@ -262,24 +251,7 @@ fn trace(
     previous_tip: Option<P2>,
     params: &PathParams,
 ) -> Result<CrackPath, PdError> {
-    params.validate()?;
-    if damage.len() != positions.len() {
-        return Err(PdError::LengthMismatch {
-            what: "damage",
-            expected: positions.len(),
-            got: damage.len(),
-        });
-    }
-    if !(dx > 0.0 && dx.is_finite()) {
-        return Err(PdError::invalid(
-            "dx",
-            format!("grid spacing {dx} m must be positive"),
-        ));
-    }
-    let cand: Vec<usize> = (0..positions.len())
-        .filter(|&i| damage[i] > params.threshold)
-        .collect();
-    let pts: Vec<P2> = cand.iter().map(|&i| positions[i]).collect();
+    let (cand, pts) = crack_nodes(positions, damage, dx, params)?;
     let hash = CellHash::new(&pts, params.link * dx);
     let Some(mut search) = shortest_paths(&pts, &hash, entry, params, dx) else {
         return Ok(CrackPath {
@@ -328,6 +300,35 @@ fn tip_beyond(pts: &[P2], hash: &CellHash, s: &Search, p: P2, link: f64, slack: 
         }
     }
     tip
+}
+
+/// The candidates (step 1 of the module docs): indices and positions of the
+/// nodes with damage above the threshold, after checking the inputs.
+fn crack_nodes(
+    positions: &[P2],
+    damage: &[f64],
+    dx: f64,
+    params: &PathParams,
+) -> Result<(Vec<usize>, Vec<P2>), PdError> {
+    params.validate()?;
+    if damage.len() != positions.len() {
+        return Err(PdError::LengthMismatch {
+            what: "damage",
+            expected: positions.len(),
+            got: damage.len(),
+        });
+    }
+    if !(dx > 0.0 && dx.is_finite()) {
+        return Err(PdError::invalid(
+            "dx",
+            format!("grid spacing {dx} m must be positive"),
+        ));
+    }
+    let cand: Vec<usize> = (0..positions.len())
+        .filter(|&i| damage[i] > params.threshold)
+        .collect();
+    let pts = cand.iter().map(|&i| positions[i]).collect();
+    Ok((cand, pts))
 }
 
 /// Result of the Dijkstra search over the candidate graph.
