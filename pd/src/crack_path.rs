@@ -230,8 +230,7 @@ pub const BEYOND_DX: f64 = 3.0;
 
 /// [`trace_crack_in`] with the tip restricted to the part of the crack
 /// beyond `previous_tip` (a tip traced earlier on the same, since grown,
-/// crack): see step 4 of the module docs. With `previous_tip` at the entry
-/// this is [`trace_crack_in`].
+/// crack): see step 4 of the module docs.
 pub fn trace_crack_beyond(
     positions: &[P2],
     damage: &[f64],

@@ -16,7 +16,8 @@
 //! 3. After every round each growing tip is traced by
 //!    [`pdbem_pd::crack_path::trace_crack_beyond`] from its initial position, beyond its
 //!    previous position (a crack that joins the path behind the tip does not take the
-//!    tip over), on the damage ahead of it (nodes more than 1.5 dx behind the initial tip, or within 2 dx of
+//!    tip over), on the damage ahead of it (nodes more than 1.5 dx behind the initial
+//!    tip, or within 2 dx of
 //!    another crack, are left out so the trace neither runs back along the pre-crack nor
 //!    into a neighbouring crack). A tip within one horizon of the outline has reached it
 //!    (its path is ended on the outline by the PD-BEM rule,
@@ -64,22 +65,21 @@ const BEHIND_DX: f64 = 1.5;
 const OTHER_CRACK_DX: f64 = 2.0;
 /// A tip this close to another crack (in dx) has joined it.
 const JOIN_DX: f64 = 3.0;
-/// Whether a macro crack of `model` ([`crack_clusters`] at `params`) cuts the body: it
-/// reaches the outline (a node within one dx of it) at two places, its outline contacts
-/// falling into two groups or more when linked within two horizons, the rule of [`Front::separated`] for any crack, also one no tracked tip followed
-/// (on the shear plate a crack from the end of the bottom clamp up to the kink of the
-/// main crack, seed 002 section 3.2.3). Returns the two outline contacts.
+
+/// Whether a macro crack ([`crack_clusters`] of the damage `phi` of the real nodes at
+/// `x`) cuts the body: it reaches the outline (a node within one dx of it) at two places,
+/// its outline contacts falling into two groups or more when linked within two horizons.
+/// The rule of [`Front::separated`] for any crack, also one no tracked tip followed (on
+/// the shear plate a crack from the end of the bottom clamp up to the kink of the main
+/// crack, seed 002 section 3.2.3). Returns a contact of each of two groups.
 fn crack_cuts_body(
-    model: &PdModel,
+    x: &[[f64; 2]],
+    phi: &[f64],
     front: &Front,
     params: &PathParams,
-    dx: f64,
-    delta: f64,
+    (dx, delta): (f64, f64),
 ) -> Result<Option<(P2, P2)>> {
-    let n = model.n_real();
-    let x = &model.positions()[..n];
-    let phi = model.damage();
-    for cluster in crack_clusters(x, &phi[..n], dx, params)? {
+    for cluster in crack_clusters(x, phi, dx, params)? {
         let contacts: Vec<P2> = cluster
             .iter()
             .map(|&i| P2::new(x[i][0], x[i][1]))
@@ -191,13 +191,10 @@ impl Tracker {
         &self,
         front: &Front,
         t: usize,
-        model: &PdModel,
+        (x, phi): (&[[f64; 2]], &[f64]),
         params: &PathParams,
     ) -> Result<Option<Vec<P2>>> {
-        let n = model.n_real();
-        let x = &model.positions()[..n];
-        let phi = model.damage();
-        let masked = self.masked_damage(front, t, x, &phi[..n]);
+        let masked = self.masked_damage(front, t, x, phi);
         let (o, last) = (front.tips[t].initial, front.tip_position(t));
         let path = trace_crack_beyond(x, &masked, self.dx, [o.x, o.y], [last.x, last.y], params)?;
         let tip = path.tip();
@@ -312,7 +309,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
         model.n_real()
     ));
     let mut front = Front::of(scene);
-    let tr = Tracker {
+    let mut tr = Tracker {
         dir0: (0..front.tips.len())
             .map(|t| front.tip_direction(t))
             .collect(),
@@ -322,7 +319,6 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
         apart: false,
         start: Instant::now(),
     };
-    let mut tr = tr;
     let first = factors.first().copied().unwrap_or(1.0);
     let mut history = GrowthHistory {
         mode: "full-pd".into(),
@@ -468,8 +464,12 @@ fn track(
     load: f64,
     log: &GrowthLog,
 ) -> Result<Tracked> {
+    let n = model.n_real();
+    let x = &model.positions()[..n];
+    let phi = model.damage();
+    let phi = &phi[..n];
     for t in front.active() {
-        let Some(mut path) = tr.trace(front, t, model, params)? else {
+        let Some(mut path) = tr.trace(front, t, (x, phi), params)? else {
             continue;
         };
         let tip = *path.last().unwrap_or(&front.tips[t].initial);
@@ -503,7 +503,7 @@ fn track(
     if front.separated() {
         return Ok(Tracked::Separated);
     }
-    if let Some((a, b)) = crack_cuts_body(model, front, params, tr.dx, tr.delta)? {
+    if let Some((a, b)) = crack_cuts_body(x, phi, front, params, (tr.dx, tr.delta))? {
         tr.apart = true;
         log.event(
             "cut",
@@ -549,7 +549,8 @@ mod tests {
 
     fn cuts(cracks: Vec<Vec<[f64; 2]>>) -> Option<(P2, P2)> {
         let (front, model, delta) = plate(cracks);
-        crack_cuts_body(&model, &front, &PathParams::default(), 0.5, delta).expect("clusters")
+        let (x, phi) = (model.positions(), model.damage());
+        crack_cuts_body(x, &phi, &front, &PathParams::default(), (0.5, delta)).expect("clusters")
     }
 
     #[test]
