@@ -27,8 +27,8 @@
 //!    entry still has its tip at the far end). Given the previous tip
 //!    ([`trace_crack_beyond`]), only nodes beyond it count: those whose
 //!    shortest in-crack route from the entry may pass through the connected
-//!    node nearest the previous tip $p$ (within [`BEYOND_DX`]):
-//!    $d_e(p) + d_p(n) \le d_e(n) + $ `BEYOND_DX` dx. A second crack that
+//!    node $q$ nearest the previous tip (within [`BEYOND_DX`]):
+//!    $d_e(q) + d_q(n) \le d_e(n) + $ `BEYOND_DX` dx. A second crack that
 //!    joins the path behind the tip (a branch from elsewhere in the body)
 //!    then never takes the tip over, however far it reaches; the tip does not
 //!    move back either.
