@@ -412,13 +412,18 @@ mod tests {
         assert!(matches!(solved, Solved::Chord(_)), "{solved:?}");
     }
 
-    #[test]
-    fn the_kept_solver_finds_newtons_equilibria_without_refactorising_for_a_new_load() {
-        let params = ImplicitParams {
+    /// Newton settings converging to a residual of 1e-9.
+    fn tight() -> ImplicitParams {
+        ImplicitParams {
             convergence: Convergence::Residual { tol: 1e-9 },
             residual_tol: 1e-9,
             ..Default::default()
-        };
+        }
+    }
+
+    #[test]
+    fn the_kept_solver_finds_newtons_equilibria_without_refactorising_for_a_new_load() {
+        let params = tight();
         let mut m = edge_plate(4.0);
         let mut slot = SolverSlot::default();
         let mut info = SolveInfo::default();
@@ -465,11 +470,7 @@ mod tests {
 
     #[test]
     fn after_a_failed_chord_iteration_adr_comes_before_newton_in_the_windows() {
-        let params = ImplicitParams {
-            convergence: Convergence::Residual { tol: 1e-9 },
-            residual_tol: 1e-9,
-            ..Default::default()
-        };
+        let params = tight();
         let reference = by_newton(edge_plate(6.0), &params);
         let mut info = SolveInfo::default();
         // The chord iteration gets no iteration: ADR takes over (the windows' order).
