@@ -155,7 +155,7 @@ pub fn steps_table(h: &GrowthHistory) -> CsvTable {
             num(s.load),
             opt(s.cmod),
             s.coupling_iterations.to_string(),
-            num(s.coupling_residual),
+            opt(s.coupling_residual),
             s.broken_bonds.to_string(),
             num(s.wall_time_s),
         ];

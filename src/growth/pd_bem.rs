@@ -390,7 +390,7 @@ fn history<S: Scenario>(
             cmod: s.cmod,
             tips: s.tips.iter().map(|p| [p.x, p.y]).collect(),
             coupling_iterations: s.iterations,
-            coupling_residual: s.residual,
+            coupling_residual: s.residual.is_finite().then_some(s.residual),
             broken_bonds: s.broken_bonds,
             wall_time_s: s.wall_s,
         })

@@ -43,8 +43,10 @@ pub struct StepRecord {
     pub tips: Vec<[f64; 2]>,
     /// Coupling iterations of the step (0 for BEM-only and full PD).
     pub coupling_iterations: usize,
-    /// Final coupling residual (0 when not coupled).
-    pub coupling_residual: f64,
+    /// Final coupling residual (0 when not coupled); `None` (`null` in `growth.json`,
+    /// empty in `steps.csv`) when the coupling broke down in the step: the failure step of
+    /// a PD-BEM run whose ligament gave way in a window.
+    pub coupling_residual: Option<f64>,
     /// Bonds broken so far (PD modes), 0 otherwise.
     pub broken_bonds: usize,
     /// Wall time of the step (s).
@@ -122,4 +124,40 @@ pub struct FieldSnapshot {
     pub points: Vec<[f64; 2]>,
     /// Values at the points.
     pub values: Vec<f64>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `pdbem plot-paths` reads `growth.json` back: a step whose coupling broke down (no
+    /// residual, no CMOD) must survive the round trip, not stop the overlay (it did while
+    /// the residual was a bare f64 written as `null`).
+    #[test]
+    fn a_history_with_a_broken_down_step_reads_back() {
+        let h = GrowthHistory {
+            mode: "pd-bem".into(),
+            steps: vec![
+                StepRecord {
+                    step: 0,
+                    load: 0.1,
+                    cmod: Some(1e-3),
+                    coupling_residual: Some(2e-5),
+                    ..Default::default()
+                },
+                StepRecord {
+                    step: 1,
+                    load: 0.12,
+                    ..Default::default()
+                },
+            ],
+            failure: true,
+            failure_load: Some(0.12),
+            ..Default::default()
+        };
+        let text = serde_json::to_string(&h).unwrap();
+        assert!(text.contains("\"coupling_residual\":null"), "{text}");
+        let back: GrowthHistory = serde_json::from_str(&text).unwrap();
+        assert_eq!(back, h);
+    }
 }

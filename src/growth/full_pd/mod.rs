@@ -376,6 +376,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
             tips: front.tip_positions(),
             broken_bonds: model.broken_bonds(),
             wall_time_s: t0.elapsed().as_secs_f64(),
+            coupling_residual: Some(0.0),
             ..Default::default()
         };
         log.event("step", json!(rec))?;
