@@ -89,28 +89,36 @@ fn tension_edge_pd_bem_bem_only_and_full_pd_paths_agree_within_two_dx() {
         runs.iter().all(|(_, h)| h.failure),
         "all three cut the plate"
     );
+    // Full PD breaks no bond away from the crack here, and the PD-BEM strain watch sees
+    // none coming (measured: at most 0.0043 = 0.21 s0, at the clamped corner (0, 0)).
+    assert_eq!(runs[0].1.overstrain, None, "PD-BEM strain watch");
 }
 
 #[test]
 fn shear_edge_pd_bem_and_bem_only_paths_agree_within_five_percent_of_the_width() {
     // PD-BEM with a 40 x 40 window (dx = 0.05 m, as in the kink test of
     // verification_growth_pdbem.rs) against BEM-only at the scene's dx = 0.1 m (da = dx).
+    // W = 10 m: seed 002 calls the plate 20 m long and 10 m wide.
     // Measured: 0.455 m over a reach of 4.69 m; with the seed's 20 x 20 window 0.64 m over
     // 4.54 m, 0.48 m up to a reach of 4.2 m (its lattice pulls the first kink to -50.7
-    // degrees instead of -58.5, and its last 0.3 m hooks right once the window reaches
-    // the clamped bottom edge), with 60 x 60 (dx = 0.033 m) 0.396 m: PD-BEM approaches
-    // BEM-only as the horizon shrinks, while BEM-only is converged in its increment
-    // (da = 0.05 m against 0.1 m: 0.006 m). Full PD (`--growth-mode full-pd`; `pdbem bench
+    // degrees instead of -58.5, and its last 0.3 m hooks right once the window reaches the
+    // clamped bottom edge); with 60 x 60 (dx = 0.033 m) 0.396 m, with 80 x 80 (dx =
+    // 0.025 m) 0.389 m. PD-BEM approaches BEM-only as the horizon shrinks and levels off
+    // near 0.37 m, 3.7 % of W (the two PD modes agree within 0.11 m), while BEM-only is
+    // converged in its increment and elements (da = 0.05 m against 0.1 m: 0.006 m; da and
+    // elements 0.05 m: 0.012 m). It is the horizon, not the lattice: at dx = 0.05 m, m =
+    // delta/dx = 4 and 5 give 0.528 and 0.635 m, close to the m = 3 line at the same delta
+    // (0.2 and 0.25 m: 0.52 and 0.58 m). Full PD (`--growth-mode full-pd`; `pdbem bench
     // growth --case growth_shear_edge` runs all three at dx = 0.1 m) fails this plate by a
-    // second crack from the end of the bottom clamp, (10, 0), which cuts the plate
-    // (`cut` in the run log); PD-BEM and BEM-only cannot start a crack away from a tip.
+    // second crack from the end of the bottom clamp, (10, 0), which cuts the plate (`cut`
+    // in the run log); PD-BEM and BEM-only cannot start a crack away from a tip.
     // Measured 2026-11-22, deviations over the common reach:
-    // - dx = 0.1 m (145 s): full PD vs PD-BEM 20 x 20 0.251 m, vs BEM-only 0.749 m
-    //   (reach 4.33 m; cut at load 0.22 with the main tip at (8.76, 0.86));
-    // - dx = 0.05 m (160 000 DOFs, 74 min, 66 of them in the last step): full PD vs
-    //   PD-BEM 40 x 40 0.111 m over 4.58 m; vs BEM-only 0.444 m up to the last step
-    //   (reach 4.48 m) and 0.548 m over 4.58 m: in its last step (load 0.20, cut) the
-    //   full-PD main crack turns from (8.6, 0.7) towards the crack from the clamp end.
+    // - dx = 0.1 m (145 s): full PD vs PD-BEM 20 x 20 0.251 m, vs BEM-only 0.749 m (reach
+    //   4.33 m; cut at load 0.22 with the main tip at (8.76, 0.86));
+    // - dx = 0.05 m (160 000 DOFs, 74 min, 66 of them in the last step): full PD vs PD-BEM
+    //   40 x 40 0.111 m over 4.58 m; vs BEM-only 0.444 m up to the last step (reach
+    //   4.48 m) and 0.548 m over 4.58 m: in its last step (load 0.20, cut) the full-PD
+    //   main crack turns from (8.6, 0.7) towards the crack from the clamp end.
     // Too long for the suite: the full-PD figures come from the bench and `run`.
     let b = base("growth_shear_edge");
     let mut fine = b.clone();
@@ -123,4 +131,22 @@ fn shear_edge_pd_bem_and_bem_only_paths_agree_within_five_percent_of_the_width()
     println!("shear: PD-BEM vs BEM-only {d:.4} m over {reach:.3} m");
     assert!(reach > 4.0, "common reach {reach}");
     assert!(d < 0.05 * 10.0, "{d} m");
+    // The strain watch of PD-BEM (pdbem_coupling::growth::overstrain) finds where and when
+    // full PD starts its second crack: one horizon (0.15 m) above the end of the bottom
+    // clamp, at load 0.20, the load at which full PD at this dx cuts the plate from there
+    // (at dx = 0.1 m: 0.24 against full PD's 0.22). Measured: eps_1 = 0.0219 at
+    // (10.05, 0.151), 0.0196 at load 0.18.
+    let o = hp
+        .overstrain
+        .expect("the strain watch fires at the clamp end");
+    println!(
+        "shear: BEM body strained to {:.4} at {:?}, load {}",
+        o.strain, o.position, o.load
+    );
+    assert!(
+        (o.position[0] - 10.0).abs() <= 0.1 && o.position[1] < 0.2,
+        "{o:?}"
+    );
+    assert!((0.18..0.22).contains(&o.load), "{o:?}");
+    assert!(o.strain >= o.onset && o.onset == 0.02, "{o:?}");
 }

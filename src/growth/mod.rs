@@ -30,5 +30,6 @@ pub mod pd_bem;
 pub mod record;
 
 pub use record::{
-    FieldSnapshot, GrowthHistory, PathPoint, Relocation, StepRecord, TipPath, WindowOutline,
+    FieldSnapshot, GrowthHistory, Overstrain, PathPoint, Relocation, StepRecord, TipPath,
+    WindowOutline,
 };

@@ -76,6 +76,9 @@ pub fn growth_summary(scene: &Scene, h: &GrowthHistory) -> RunSummary {
     );
     let rebuild = h.relocations.iter().fold(0.0, |a, r| a + r.rebuild_s);
     extra.insert("relocation_rebuild_s".into(), json!(rebuild));
+    if h.mode == "pd-bem" {
+        extra.insert("bem_overstrain".into(), json!(h.overstrain));
+    }
     RunSummary {
         scene: scene.name.clone(),
         mode: "growth".into(),

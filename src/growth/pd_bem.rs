@@ -20,6 +20,7 @@ use anyhow::{bail, Context, Result};
 use pdbem_bem::mesh::LoopSpec;
 use pdbem_bem::post::{Background, FieldEvaluator};
 use pdbem_bem::{Bc, Mesh, SolveParams, V2};
+use pdbem_coupling::growth::overstrain::Hotspot;
 use pdbem_coupling::growth::{
     Growth, GrowthParams, GrowthResult, GrowthSetup, IterationEvent, LoadSteps, Observer,
     RelocationRecord, Scenario, StepResult, TipSpec,
@@ -31,7 +32,9 @@ use pdbem_coupling::CouplingParams;
 use serde_json::json;
 
 use super::log::{step_bar, GrowthLog};
-use super::{FieldSnapshot, GrowthHistory, PathPoint, Relocation, TipPath, WindowOutline};
+use super::{
+    FieldSnapshot, GrowthHistory, Overstrain, PathPoint, Relocation, TipPath, WindowOutline,
+};
 use crate::bem_setup::{material, MissingGroup};
 use crate::geometry::P2;
 use crate::run_coupled::{
@@ -216,7 +219,10 @@ impl Observer for Progress<'_> {
                    "residual": s.residual, "converged": s.converged,
                    "broken_bonds": s.broken_bonds, "cmod": s.cmod,
                    "tips": s.tips.iter().map(|p| [p.x, p.y]).collect::<Vec<_>>(),
-                   "relocations": s.relocations, "wall_time_s": s.wall_s, "pd_s": s.pd_s}),
+                   "relocations": s.relocations, "wall_time_s": s.wall_s, "pd_s": s.pd_s,
+                   "overstrain": s.overstrain.map(|h| json!({
+                       "position": [h.position.x, h.position.y],
+                       "strain": h.strain, "onset": h.onset}))}),
         );
     }
 
@@ -413,6 +419,10 @@ fn history<S: Scenario>(
     if let Some(f) = result.initiation_load {
         notes.push(format!("first bond broke at load {f}"));
     }
+    let overstrain = first_overstrain(&result.steps);
+    if let Some(o) = &overstrain {
+        notes.push(overstrain_note(o));
+    }
     GrowthHistory {
         mode: "pd-bem".into(),
         paths,
@@ -433,9 +443,36 @@ fn history<S: Scenario>(
         initiation_load,
         failure: result.failure.is_some(),
         failure_load: result.failure.as_ref().map(|f| f.load),
+        overstrain,
         notes,
         snapshots: Vec::new(),
     }
+}
+
+/// The first step whose BEM body reached the PD onset stretch away from the windows.
+fn first_overstrain(steps: &[StepResult]) -> Option<Overstrain> {
+    steps.iter().find_map(|s| {
+        let h = s.overstrain.filter(Hotspot::breaks)?;
+        Some(Overstrain {
+            step: s.step,
+            load: s.load,
+            position: [h.position.x, h.position.y],
+            strain: h.strain,
+            onset: h.onset,
+        })
+    })
+}
+
+/// The note of [`first_overstrain`].
+pub fn overstrain_note(o: &Overstrain) -> String {
+    format!(
+        "from step {} (load {}) the BEM body is strained past the PD onset stretch away from \
+         the windows: maximum principal strain {:.3e} >= {:.3e} one horizon inside the \
+         boundary at ({:.3}, {:.3}). A full-PD model would break bonds there and may start \
+         a crack that PD-BEM, growing cracks only in its windows, cannot model; results from \
+         this load on assume the body stays elastic there (check with --growth-mode full-pd)",
+        o.step, o.load, o.strain, o.onset, o.position[0], o.position[1]
+    )
 }
 
 /// Runs PD-BEM growth of `scene`.

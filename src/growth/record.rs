@@ -65,6 +65,22 @@ pub struct WindowOutline {
     pub corners: [[f64; 2]; 4],
 }
 
+/// Where and when the BEM body of a PD-BEM run first reached the PD onset stretch
+/// (`pdbem_coupling::growth::overstrain`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Overstrain {
+    /// Load step (0-based).
+    pub step: usize,
+    /// Load factor.
+    pub load: f64,
+    /// The most strained sample, one horizon inside the boundary (m).
+    pub position: [f64; 2],
+    /// Maximum principal strain there (-).
+    pub strain: f64,
+    /// Onset stretch of the PD failure law (-).
+    pub onset: f64,
+}
+
 /// One window relocation (the geometry iteration of Algorithm 2).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Relocation {
@@ -104,6 +120,11 @@ pub struct GrowthHistory {
     pub failure: bool,
     /// Load factor at failure.
     pub failure_load: Option<f64>,
+    /// PD-BEM: the first step in which the BEM body away from the windows is strained to
+    /// the PD onset stretch (where full PD would start a crack PD-BEM cannot grow); None
+    /// when it never is, and in the other modes.
+    #[serde(default)]
+    pub overstrain: Option<Overstrain>,
     /// Messages for the user (why the run stopped, merged windows, ...).
     pub notes: Vec<String>,
     /// Field snapshots for plots (damage in the active windows, displacement at chosen

@@ -31,12 +31,14 @@
 use std::ops::ControlFlow;
 use std::time::Instant;
 
+use pdbem_bem::post::field::{Background, FieldEvaluator};
 use pdbem_bem::post::sif::cmod;
 use pdbem_bem::{PairCache, V2};
 use pdbem_pd::crack_path::CrackPath;
 
 use crate::error::CouplingError;
 use crate::growth::merge::resolve_overlaps;
+use crate::growth::overstrain::{self, Hotspot};
 use crate::growth::params::GrowthParams;
 use crate::growth::polyline;
 use crate::growth::records::{
@@ -231,6 +233,32 @@ impl<'s, S: Scenario> Growth<'s, S> {
             .iter()
             .position(|c| c.name == crack)?;
         cmod(&self.problem.mesh, &sol.solution, i)
+    }
+
+    /// The most strained point of the BEM body away from the windows in the last solution
+    /// at load factor `load` ([`overstrain`]); None without a solution, windows or a
+    /// failure law.
+    fn overstrain(&self, load: f64) -> Option<Hotspot> {
+        let sol = self.last.as_ref()?;
+        let windows = &self.problem.windows;
+        let first = windows.first()?;
+        let pd = &first.problem;
+        let delta = first.window.delta();
+        let onset = overstrain::onset_stretch(&pd.failure, pd.plane, pd.youngs_modulus, delta)?;
+        let mesh = &self.problem.mesh;
+        let skip: Vec<usize> = windows
+            .iter()
+            .filter_map(|w| mesh.group(&w.group))
+            .collect();
+        let boxes: Vec<&Window> = windows.iter().map(|w| &w.window).collect();
+        let tips: Vec<V2> = self.tips.iter().map(TipState::position).collect();
+        let (w, h) = first.window.size();
+        let points = overstrain::sample_points(mesh, &skip, &boxes, &tips, delta, 0.5 * w.max(h));
+        let background = Background {
+            stress: self.problem.background.stress.map(|s| s * load),
+        };
+        let eval = FieldEvaluator::new(mesh, &self.problem.material, &sol.solution, background);
+        overstrain::hottest(&eval, &points, onset)
     }
 
     /// CMOD of the first crack of the mesh that has one.
@@ -658,6 +686,12 @@ impl<'s, S: Scenario> Growth<'s, S> {
                 relocations,
                 wall_s: t0.elapsed().as_secs_f64(),
                 pd_s,
+                // Only an equilibrium says how strained the body is.
+                overstrain: if converged {
+                    self.overstrain(load)
+                } else {
+                    None
+                },
             };
             observer.step(&rec);
             out.steps.push(rec);

@@ -64,6 +64,7 @@
 pub mod driver;
 pub mod geometry;
 pub mod merge;
+pub mod overstrain;
 pub mod params;
 pub mod polyline;
 pub mod records;

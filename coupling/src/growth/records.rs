@@ -5,6 +5,7 @@
 use pdbem_bem::post::Background;
 use pdbem_bem::{Bc, Material, Mesh, SolveParams, V2};
 
+use crate::growth::overstrain::Hotspot;
 use crate::growth::tips::TipSpec;
 use crate::growth::transfer::TransferInfo;
 use crate::pd_window::EdgeCondition;
@@ -98,6 +99,10 @@ pub struct StepResult {
     pub wall_s: f64,
     /// Of which PD solves (s).
     pub pd_s: f64,
+    /// The most strained point of the BEM body one horizon inside its boundary, away from
+    /// the windows ([`crate::growth::overstrain`]); None when the step did not converge
+    /// (failure) or the bonds never break.
+    pub overstrain: Option<Hotspot>,
 }
 
 /// One window relocation.

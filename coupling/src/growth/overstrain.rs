@@ -1,0 +1,247 @@
+//! Strain watch of the BEM body: where a full-PD model would start a crack that PD-BEM
+//! cannot see.
+//!
+//! PD-BEM lets cracks grow only inside the PD windows; the BEM body around them is linear
+//! elastic however far it is strained. In bond-based PD a bond of direction e under a
+//! uniform strain has the stretch s = e . eps e (seed 002 Eq. 6 with a small
+//! deformation), so the most stretched bond at a point has s = eps_1, the maximum
+//! principal strain, and bonds start to break where eps_1 reaches the onset stretch of the
+//! failure law (s0 of the PMB law, seed 002 Eqs. 6-7; s_m of the tanh law, seed 000
+//! Eq. 12). After every converged step the BEM strain is therefore sampled one horizon
+//! inside the body's boundary (outline, holes, crack faces), where stress concentrations
+//! away from the tips sit (clamp ends, corners, holes), at points about half a horizon
+//! apart: one horizon from a sharp corner, where the elastic strain is singular, is about
+//! where PD, which averages the deformation over the horizon, keeps it finite. Points
+//! inside a window (grown by a horizon) or within half a window side of a tip are left
+//! out: their strain is the tip's, which the windows model.
+//!
+//! The sample at depth delta is an estimate of the PD bond stretch, not a bound. Measured
+//! on `growth_shear_edge`, whose clamp end (10, 0) starts a second crack in full PD that
+//! cuts the plate: the watch fires one horizon above (10, 0) at load 0.20 with dx =
+//! 0.05 m, the load at which full PD cuts the plate, and at 0.24 with dx = 0.1 m, one load
+//! step after full PD's 0.22 (the strain there at 0.22 is 0.94 s0).
+
+use pdbem_bem::post::field::FieldEvaluator;
+use pdbem_bem::{Mesh, V2};
+use pdbem_pd::{Failure, Plane};
+
+use crate::window::{segment_distance, Window};
+
+/// The most strained sample of the BEM body.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Hotspot {
+    /// Sample position (m).
+    pub position: V2,
+    /// Maximum principal strain there (-).
+    pub strain: f64,
+    /// Onset stretch of the windows' failure law (-).
+    pub onset: f64,
+}
+
+impl Hotspot {
+    /// Whether a full-PD model would break bonds there.
+    pub fn breaks(&self) -> bool {
+        self.strain >= self.onset
+    }
+}
+
+/// Stretch at which the first bonds of `failure` break or start to soften, for horizon
+/// `delta`; None for bonds that never break.
+pub fn onset_stretch(
+    failure: &Failure,
+    plane: Plane,
+    youngs_modulus: f64,
+    delta: f64,
+) -> Option<f64> {
+    match *failure {
+        Failure::None => None,
+        Failure::CriticalStretch { s0 } => Some(s0),
+        Failure::FractureEnergy { g_c } => Some(pdbem_pd::material::critical_stretch(
+            plane,
+            youngs_modulus,
+            g_c,
+            delta,
+        )),
+        Failure::Degradation { s_m, .. } => Some(s_m),
+    }
+}
+
+/// Whether `p` lies in the body meshed by the closed loops of `mesh` (crossing parity:
+/// inside the outline, outside its holes and the window openings).
+fn in_body(mesh: &Mesh, p: V2) -> bool {
+    let mut inside = false;
+    for r in &mesh.loops {
+        for e in &mesh.elements[r.clone()] {
+            let (a, b) = (e.a, e.b);
+            if (a.y > p.y) != (b.y > p.y) {
+                let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
+                if x > p.x {
+                    inside = !inside;
+                }
+            }
+        }
+    }
+    inside
+}
+
+/// Distance from `p` to the nearest element of `mesh`.
+fn distance_to_mesh(mesh: &Mesh, p: V2) -> f64 {
+    mesh.elements
+        .iter()
+        .map(|e| segment_distance(p, e.a, e.b).0)
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Sample points one horizon `delta` inside the body, behind the elements of `mesh`
+/// outside the groups `skip` (the window interfaces), about `delta / 2` apart. Left out:
+/// points closer than `delta / 2` to any element (near a corner or another face, where the
+/// evaluation is nearly singular and the point is no longer one horizon deep), outside
+/// the body, inside a window grown by `delta`, or within `clear` of a tip.
+pub fn sample_points(
+    mesh: &Mesh,
+    skip: &[usize],
+    windows: &[&Window],
+    tips: &[V2],
+    delta: f64,
+    clear: f64,
+) -> Vec<V2> {
+    let mut kept: Vec<V2> = Vec::new();
+    for e in mesh.elements.iter().filter(|e| !skip.contains(&e.group)) {
+        let p = e.mid - delta * e.normal;
+        let free = windows.iter().all(|w| !w.contains(p, delta))
+            && tips.iter().all(|t| (p - t).norm() > clear)
+            && kept.iter().all(|q| (p - q).norm() >= 0.5 * delta);
+        if free && distance_to_mesh(mesh, p) >= 0.5 * delta && in_body(mesh, p) {
+            kept.push(p);
+        }
+    }
+    kept
+}
+
+/// Maximum principal strain of the plane strain tensor [exx, eyy, exy].
+fn principal_strain(e: [f64; 3]) -> f64 {
+    0.5 * (e[0] + e[1]) + (0.25 * (e[0] - e[1]).powi(2) + e[2] * e[2]).sqrt()
+}
+
+/// The most strained of `points` in the field of `eval` (its BEM solution and remote
+/// stress at the current load).
+pub fn hottest(eval: &FieldEvaluator, points: &[V2], onset: f64) -> Option<Hotspot> {
+    let material = *eval.material();
+    eval.stresses(points)
+        .into_iter()
+        .zip(points)
+        .map(|(s, p)| Hotspot {
+            position: *p,
+            strain: principal_strain(material.strain_from_stress(s)),
+            onset,
+        })
+        .max_by(|a, b| a.strain.total_cmp(&b.strain))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::window::{SideKind, WindowSpec};
+    use pdbem_bem::mesh::LoopSpec;
+    use pdbem_bem::{Material, MeshBuilder, Plane as BemPlane, Solution};
+
+    /// A 4 m x 2 m plate in 0.05 m elements.
+    fn plate() -> Mesh {
+        let mut b = MeshBuilder::new();
+        b.add_loop(LoopSpec {
+            points: vec![
+                V2::new(0.0, 0.0),
+                V2::new(4.0, 0.0),
+                V2::new(4.0, 2.0),
+                V2::new(0.0, 2.0),
+            ],
+            edge_groups: vec!["edge".into(); 4],
+            edge_sizes: vec![0.05; 4],
+            is_hole: false,
+        });
+        b.build().unwrap()
+    }
+
+    /// The exact boundary data of a uniform stress `s` [sxx, syy, sxy].
+    fn uniform(mesh: &Mesh, material: &Material, s: [f64; 3]) -> Solution {
+        let e = material.strain_from_stress(s);
+        let strain = |d: V2| [e[0] * d.x + e[2] * d.y, e[2] * d.x + e[1] * d.y];
+        Solution {
+            u: mesh.elements.iter().map(|el| strain(el.mid)).collect(),
+            t: mesh
+                .elements
+                .iter()
+                .map(|el| {
+                    let n = el.normal;
+                    [s[0] * n.x + s[2] * n.y, s[2] * n.x + s[1] * n.y]
+                })
+                .collect(),
+            lambda: Vec::new(),
+            du: mesh.elements.iter().map(|el| strain(el.tangent)).collect(),
+        }
+    }
+
+    #[test]
+    fn onset_stretch_of_each_failure_law() {
+        let p = Plane::Stress;
+        assert_eq!(onset_stretch(&Failure::None, p, 1e4, 0.3), None);
+        assert_eq!(
+            onset_stretch(&Failure::CriticalStretch { s0: 0.02 }, p, 1e4, 0.3),
+            Some(0.02)
+        );
+        let g = onset_stretch(&Failure::FractureEnergy { g_c: 0.8594 }, p, 1e4, 0.3).unwrap();
+        assert_eq!(g, pdbem_pd::material::critical_stretch(p, 1e4, 0.8594, 0.3));
+        assert!((g - 0.02).abs() < 1e-4, "{g}");
+        let tanh = Failure::Degradation {
+            s_m: 0.01,
+            s_c: 0.03,
+            beta: 3.0,
+        };
+        assert_eq!(onset_stretch(&tanh, p, 1e4, 0.3), Some(0.01));
+    }
+
+    #[test]
+    fn a_uniform_strain_is_read_back_one_horizon_inside() {
+        let mesh = plate();
+        let material = Material::new(1e4, 1.0 / 3.0, BemPlane::Stress).unwrap();
+        // eps_1 of [sxx, syy, sxy] = [30, -10, 20] Pa, plane stress, nu = 1/3.
+        let s = [30.0, -10.0, 20.0];
+        let sol = uniform(&mesh, &material, s);
+        let e = material.strain_from_stress(s);
+        let exact = principal_strain(e);
+        assert!((exact - 4.43790e-3).abs() < 1e-8, "{exact}");
+        let delta = 0.15;
+        let window = Window {
+            spec: WindowSpec {
+                center: V2::new(1.0, 1.0),
+                angle: 0.0,
+                dx: 0.05,
+                nx: 12,
+                ny: 12,
+                horizon_factor: 3.0,
+            },
+            sides: [SideKind::Interface; 4],
+        };
+        let tip = V2::new(3.0, 1.0);
+        let pts = sample_points(&mesh, &[], &[&window], &[tip], delta, 0.5);
+        assert!(pts.len() > 60, "{} points", pts.len());
+        for (i, p) in pts.iter().enumerate() {
+            assert!(in_body(&mesh, *p), "{p}");
+            assert!(distance_to_mesh(&mesh, *p) >= 0.5 * delta - 1e-12, "{p}");
+            assert!(!window.contains(*p, delta) && (p - tip).norm() > 0.5, "{p}");
+            assert!(
+                pts[..i].iter().all(|q| (p - q).norm() >= 0.5 * delta),
+                "{p}"
+            );
+        }
+        let eval = FieldEvaluator::new(&mesh, &material, &sol, Default::default());
+        let h = hottest(&eval, &pts, 0.004).unwrap();
+        assert!(
+            (h.strain / exact - 1.0).abs() < 1e-3,
+            "{} vs {exact}",
+            h.strain
+        );
+        assert!(h.breaks());
+        assert!(!hottest(&eval, &pts, 0.005).unwrap().breaks());
+    }
+}
