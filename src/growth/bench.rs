@@ -99,6 +99,11 @@ pub struct PathDeviation {
     pub max_dx: f64,
     /// Common reach compared: distance from the initial tip (m).
     pub common_reach_m: f64,
+    /// The deviation (m) and common reach (m) of the paths as far as they got at loads
+    /// below PD-BEM's `bem_overstrain` load: up to where the tip-only modes stop modelling
+    /// what full PD does (a crack starting away from the tips); `None` when PD-BEM did not
+    /// run or its BEM body never reached the PD critical stretch.
+    pub before_overstrain: Option<[f64; 2]>,
 }
 
 /// `bench.json` of `bench growth`.
@@ -126,6 +131,10 @@ pub struct GrowthBenchReport {
 
 /// Deviations of the same-named tip paths between every two runs that succeeded.
 pub fn deviations(runs: &[GrowthBenchRun], dx: f64) -> Vec<PathDeviation> {
+    let overstrain_load = runs
+        .iter()
+        .filter_map(|r| r.history.as_ref()?.overstrain.map(|o| o.load))
+        .next();
     let mut out = Vec::new();
     for (i, ra) in runs.iter().enumerate() {
         for rb in &runs[i + 1..] {
@@ -135,6 +144,13 @@ pub fn deviations(runs: &[GrowthBenchRun], dx: f64) -> Vec<PathDeviation> {
             for pa in &ha.paths {
                 if let Some(pb) = hb.paths.iter().find(|p| p.name == pa.name) {
                     let (d, common) = super::compare::path_deviation(pa, pb);
+                    let before = overstrain_load.map(|f| {
+                        let (d, common) = super::compare::path_deviation(
+                            &super::compare::reached_below(pa, f),
+                            &super::compare::reached_below(pb, f),
+                        );
+                        [d, common]
+                    });
                     out.push(PathDeviation {
                         a: ra.mode.clone(),
                         b: rb.mode.clone(),
@@ -142,6 +158,7 @@ pub fn deviations(runs: &[GrowthBenchRun], dx: f64) -> Vec<PathDeviation> {
                         max_m: d,
                         max_dx: d / dx,
                         common_reach_m: common,
+                        before_overstrain: before,
                     });
                 }
             }
@@ -313,8 +330,16 @@ pub fn table(r: &GrowthBenchReport) -> String {
     for d in &r.path_deviations {
         let _ = writeln!(
             t,
-            "path deviation {} vs {} ({}): {:.4} m = {:.2} dx over a reach of {:.3} m",
-            d.a, d.b, d.tip, d.max_m, d.max_dx, d.common_reach_m
+            "path deviation {} vs {} ({}): {:.4} m = {:.2} dx over a reach of {:.3} m{}",
+            d.a,
+            d.b,
+            d.tip,
+            d.max_m,
+            d.max_dx,
+            d.common_reach_m,
+            d.before_overstrain
+                .map(|[m, r]| format!("; below PD-BEM's overstrain load {:.4} m over {r:.3} m", m))
+                .unwrap_or_default()
         );
     }
     t

@@ -83,6 +83,25 @@ pub fn cut_at_reach(line: &[P2], r: f64) -> Vec<P2> {
     out
 }
 
+/// The part of a path its tip reached at loads below `load`, up to the first point reached
+/// at `load` or later (the initial tip always).
+pub fn reached_below(p: &TipPath, load: f64) -> TipPath {
+    let mut points: Vec<_> = p
+        .points
+        .iter()
+        .take_while(|q| q.load < load)
+        .copied()
+        .collect();
+    if points.is_empty() {
+        points.extend(p.points.first().copied());
+    }
+    TipPath {
+        name: p.name.clone(),
+        points,
+        ended: None,
+    }
+}
+
 /// Deviation of two tip paths over their common reach (m), and that reach (m).
 pub fn path_deviation(a: &TipPath, b: &TipPath) -> (f64, f64) {
     let (pa, pb) = (polyline(a), polyline(b));
@@ -140,5 +159,22 @@ mod tests {
         let (d, _) = path_deviation(&c, &k);
         assert!((d - 0.8).abs() < 1e-12, "{d}");
         assert!(path_deviation(&a, &a).0 < 1e-12);
+    }
+
+    #[test]
+    fn a_path_is_cut_where_its_tip_reached_the_load() {
+        let mut p = path(&[(0.0, 0.0), (0.0, -1.0), (0.0, -2.0), (1.0, -2.0)]);
+        for (q, f) in p.points.iter_mut().zip([0.08, 0.1, 0.18, 0.2]) {
+            q.load = f;
+        }
+        let cut = reached_below(&p, 0.2);
+        assert_eq!(cut.points.len(), 3);
+        assert_eq!((cut.points[2].x, cut.points[2].y), (0.0, -2.0));
+        // A straight path down 2 m deviates from p by 1 m over the whole path, not below
+        // load 0.2.
+        let s = path(&[(0.0, 0.0), (0.0, -2.5)]);
+        assert!((path_deviation(&p, &s).0 - 1.0).abs() < 1e-12);
+        assert!(path_deviation(&cut, &s).0 < 1e-12);
+        assert_eq!(reached_below(&p, 0.01).points.len(), 1);
     }
 }
