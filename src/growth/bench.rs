@@ -77,6 +77,9 @@ pub struct GrowthBenchRun {
     pub initiation_load: Option<f64>,
     /// Final tip positions (m).
     pub tips: Vec<[f64; 2]>,
+    /// PD-BEM: where and when the BEM body first reached the PD onset stretch
+    /// (`bem_overstrain` of the run's summary).
+    pub overstrain: Option<super::Overstrain>,
     /// Why the run failed (first line), `None` when it ran.
     pub error: Option<String>,
     /// The run's history (paths), not written to `bench.json`.
@@ -131,10 +134,7 @@ pub struct GrowthBenchReport {
 
 /// Deviations of the same-named tip paths between every two runs that succeeded.
 pub fn deviations(runs: &[GrowthBenchRun], dx: f64) -> Vec<PathDeviation> {
-    let overstrain_load = runs
-        .iter()
-        .filter_map(|r| r.history.as_ref()?.overstrain.map(|o| o.load))
-        .next();
+    let overstrain_load = runs.iter().find_map(|r| r.overstrain.map(|o| o.load));
     let mut out = Vec::new();
     for (i, ra) in runs.iter().enumerate() {
         for rb in &runs[i + 1..] {
@@ -244,6 +244,7 @@ fn run_mode(base: &Scene, mode: GrowthMode, out: &Path, quick: bool) -> GrowthBe
             failure_load: h.failure_load,
             initiation_load: h.initiation_load,
             tips: h.steps.last().map(|s| s.tips.clone()).unwrap_or_default(),
+            overstrain: h.overstrain,
             error: None,
             history: Some(h),
         },
@@ -327,6 +328,14 @@ pub fn table(r: &GrowthBenchReport) -> String {
             .map(|x| format!("{x:.2}"))
             .unwrap_or_else(|| "- (a run failed)".into())
     );
+    for (mode, o) in r.runs.iter().filter_map(|e| Some((&e.mode, e.overstrain?))) {
+        let _ = writeln!(
+            t,
+            "{mode}: the BEM body reaches the PD onset stretch {} at load {} (strain {:.4} one \
+             horizon inside the boundary at ({:.3}, {:.3})): a crack may start there in full PD",
+            o.onset, o.load, o.strain, o.position[0], o.position[1]
+        );
+    }
     for d in &r.path_deviations {
         let _ = writeln!(
             t,
@@ -436,5 +445,80 @@ mod tests {
         assert_eq!((t.count, t.total, t.mean, t.max), (0, 0.0, 0.0, 0.0));
         let t = Times::of([1.0, 3.0].into_iter());
         assert_eq!((t.count, t.mean, t.max), (2, 2.0, 3.0));
+    }
+
+    /// A run of one tip whose path points are `(x, y, load)`.
+    fn run_of(mode: &str, pts: &[(f64, f64, f64)], overstrain: Option<f64>) -> GrowthBenchRun {
+        let o = overstrain.map(|load| super::super::Overstrain {
+            step: 6,
+            load,
+            position: [10.05, 0.15],
+            strain: 0.0219,
+            onset: 0.02,
+        });
+        let path = super::super::TipPath {
+            name: "crack.end".into(),
+            points: pts
+                .iter()
+                .map(|&(x, y, load)| super::super::PathPoint {
+                    x,
+                    y,
+                    step: 0,
+                    load,
+                })
+                .collect(),
+            ended: None,
+        };
+        GrowthBenchRun {
+            mode: mode.into(),
+            overstrain: o,
+            history: Some(GrowthHistory {
+                paths: vec![path],
+                overstrain: o,
+                ..Default::default()
+            }),
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn deviations_below_the_overstrain_load_leave_out_what_came_after() {
+        // Both paths run straight down; full PD turns 1 m sideways at load 0.2, the load
+        // at which PD-BEM's body reached the onset stretch.
+        let pdbem = run_of(
+            "pd-bem",
+            &[(10.0, 5.0, 0.08), (10.0, 3.0, 0.1), (10.0, 1.0, 0.3)],
+            Some(0.2),
+        );
+        let full = run_of(
+            "full-pd",
+            &[(10.0, 5.0, 0.08), (10.0, 2.0, 0.18), (11.0, 1.5, 0.2)],
+            None,
+        );
+        let d = deviations(&[pdbem.clone(), full], 0.1);
+        assert_eq!(d.len(), 1);
+        assert!((d[0].max_m - 1.0).abs() < 0.1, "{d:?}");
+        let [m, reach] = d[0].before_overstrain.expect("cut below the load");
+        assert!(m < 1e-12 && (reach - 2.0).abs() < 1e-12, "{d:?}");
+        let report = GrowthBenchReport {
+            bench: "growth",
+            threads: 1,
+            case: "c".into(),
+            quick: false,
+            dx: 0.1,
+            full_pd_dx: 0.1,
+            runs: vec![pdbem],
+            ratio_full_pd_to_pd_bem: None,
+            path_deviations: d,
+        };
+        let t = table(&report);
+        assert!(
+            t.contains("pd-bem: the BEM body reaches the PD onset stretch 0.02 at load 0.2"),
+            "{t}"
+        );
+        assert!(
+            t.contains("below PD-BEM's overstrain load 0.0000 m over 2.000 m"),
+            "{t}"
+        );
     }
 }
