@@ -227,6 +227,14 @@ pub fn paths_plot(scene: &Scene, h: &GrowthHistory) -> PathsPlot {
             .map(|w| w.corners.iter().map(|c| (c[0], c[1])).collect())
             .collect(),
         groups,
+        marks: h
+            .overstrain
+            .iter()
+            .map(|o| {
+                let label = format!("BEM strain reaches s0 (load {})", o.load);
+                (label, (o.position[0], o.position[1]))
+            })
+            .collect(),
     }
 }
 
@@ -397,5 +405,40 @@ mod tests {
         assert_eq!(path_file("c.end"), "path_c.end.csv");
         assert_eq!(engineering_scale([2e-5, -1e-6].into_iter()), (-6, 1e6));
         assert_eq!(engineering_scale([0.0].into_iter()), (0, 1.0));
+    }
+
+    #[test]
+    fn the_overstrain_reaches_the_summary_and_the_path_plot() {
+        let scene = Scene::load(format!(
+            "{}/cases/growth_shear_edge.ron",
+            env!("CARGO_MANIFEST_DIR")
+        ))
+        .unwrap();
+        let o = crate::growth::Overstrain {
+            step: 6,
+            load: 0.2,
+            position: [10.05, 0.15],
+            strain: 0.0219,
+            onset: 0.02,
+        };
+        let mut h = GrowthHistory {
+            mode: "pd-bem".into(),
+            overstrain: Some(o),
+            ..Default::default()
+        };
+        let summary = growth_summary(&scene, &h);
+        assert_eq!(summary.extra["bem_overstrain"]["load"], 0.2);
+        assert_eq!(summary.extra["bem_overstrain"]["position"][0], 10.05);
+        let plot = paths_plot(&scene, &h);
+        assert_eq!(plot.marks.len(), 1);
+        assert_eq!(plot.marks[0].1, (10.05, 0.15));
+        assert!(plot.marks[0].0.contains("load 0.2"), "{}", plot.marks[0].0);
+        h.overstrain = None;
+        let none = growth_summary(&scene, &h);
+        assert_eq!(none.extra.get("bem_overstrain"), Some(&Value::Null));
+        h.mode = "full-pd".into();
+        assert!(!growth_summary(&scene, &h)
+            .extra
+            .contains_key("bem_overstrain"));
     }
 }

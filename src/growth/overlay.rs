@@ -122,6 +122,7 @@ pub fn overlay(runs: &[RunPaths]) -> (PathsPlot, Vec<String>) {
         cracks,
         windows: Vec::new(),
         groups,
+        marks: Vec::new(),
     };
     (plot, warnings)
 }

@@ -34,10 +34,14 @@ pub struct PathsPlot {
     pub windows: Vec<Vec<(f64, f64)>>,
     /// Path groups, in legend order.
     pub groups: Vec<PathGroup>,
+    /// Labelled points, drawn as crosses (e.g. where a PD-BEM body reached the PD
+    /// critical stretch).
+    pub marks: Vec<(String, (f64, f64))>,
 }
 
 const SIZE: (u32, u32) = (1000, 850);
 const WINDOW: RGBColor = RGBColor(120, 120, 120);
+const MARK: RGBColor = RGBColor(230, 120, 0);
 
 fn closed(l: &[(f64, f64)]) -> Vec<(f64, f64)> {
     let mut p = l.to_vec();
@@ -57,6 +61,7 @@ impl PathsPlot {
                 .iter()
                 .flat_map(|g| g.lines.iter().flatten().copied()),
         );
+        pts.extend(self.marks.iter().map(|m| m.1));
         map_ranges(pts.into_iter(), SIZE, labels)
     }
 
@@ -141,6 +146,23 @@ impl PathsPlot {
         }
         Ok(())
     }
+
+    fn draw_marks<DB: DrawingBackend>(
+        &self,
+        chart: &mut MapChart<'_, DB>,
+        labels: bool,
+    ) -> Result<(), String> {
+        for (label, p) in &self.marks {
+            let a = chart
+                .draw_series(std::iter::once(Cross::new(*p, 7, MARK.stroke_width(3))))
+                .map_err(msg)?;
+            if labels {
+                a.label(label)
+                    .legend(|(x, y)| Cross::new((x + 10, y), 6, MARK.stroke_width(3)));
+            }
+        }
+        Ok(())
+    }
 }
 
 impl Figure for PathsPlot {
@@ -161,7 +183,8 @@ impl Figure for PathsPlot {
             self.ranges(labels),
             |chart| {
                 self.draw_body(chart, labels)?;
-                self.draw_groups(chart, labels)
+                self.draw_groups(chart, labels)?;
+                self.draw_marks(chart, labels)
             },
         )
     }
@@ -191,6 +214,7 @@ mod tests {
                     lines: vec![],
                 },
             ],
+            marks: vec![("BEM body at s0".into(), (0.5, 0.05))],
         };
         let saved = crate::plot::save(
             &p,
