@@ -213,3 +213,28 @@ fn every_growth_case_loads_and_validates() {
     // Measured: the seed-001 cases, the hole case and helper A's edge cases.
     assert!(n >= 5, "only {n} growth cases");
 }
+
+#[test]
+fn snapshot_step_beyond_the_load_steps() {
+    // Three load steps: 0, 1 and 2.
+    let steps = "load: (initial: 1, step: 0.1, count: 3)";
+    let src = scene(
+        MAT_GC,
+        CRACKS,
+        &format!("{PD_BEM}, {steps}, growth: (snapshot_steps: [0, 3])"),
+    );
+    assert_invalid(
+        &src,
+        "growth.snapshot_steps = 3",
+        "load steps are 0-based: the last is 2 (load.count = 3)",
+    );
+    let ok = scene(
+        MAT_GC,
+        CRACKS,
+        &format!("{PD_BEM}, {steps}, growth: (snapshot_steps: [0, 2])"),
+    );
+    assert_eq!(
+        load(&ok).expect("valid").growth.unwrap().snapshot_steps,
+        [0, 2]
+    );
+}

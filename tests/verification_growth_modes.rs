@@ -367,6 +367,55 @@ fn growth_run_writes_the_documented_files_and_columns() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The (label, step) of every snapshot of a run.
+fn snapshot_keys(h: &GrowthHistory) -> Vec<(String, usize)> {
+    h.snapshots
+        .iter()
+        .map(|s| (s.label.clone(), s.step))
+        .collect()
+}
+
+#[test]
+fn snapshots_at_the_chosen_steps_in_every_mode() {
+    // `growth.snapshot_steps`: the displacement field (and damage in the PD modes) after
+    // the chosen steps, besides those at initiation and at the end.
+    let mut coarse = coarse_edge_scene();
+    coarse.load.count = 6;
+    coarse.growth.as_mut().unwrap().snapshot_steps = vec![1, 3];
+    let full = grow(&coarse, "snap_full");
+    let keys = snapshot_keys(&full);
+    for step in [1, 3] {
+        for label in ["damage", "displacement"] {
+            assert!(
+                keys.contains(&(label.into(), step)),
+                "full PD {label} {step}: {keys:?}"
+            );
+        }
+    }
+    coarse.growth.as_mut().unwrap().mode = pdbem::scene::GrowthMode::BemOnly;
+    let bem = grow(&coarse, "snap_bem");
+    let keys = snapshot_keys(&bem);
+    let grown = bem.steps.len();
+    for step in [1, 3].into_iter().filter(|&k| k < grown) {
+        assert!(
+            keys.contains(&("displacement".into(), step)),
+            "BEM-only {step}: {keys:?}"
+        );
+    }
+    assert!(grown > 1, "BEM-only ran {grown} steps");
+    // PD-BEM: the tension plate's first step (the run fails in its second).
+    let mut tension = case("growth_tension_edge", &[("load.count", "2")]);
+    tension.growth.as_mut().unwrap().snapshot_steps = vec![0];
+    let pdbem = grow(&tension, "snap_pdbem");
+    assert_eq!(pdbem.steps.len(), 2);
+    let keys = snapshot_keys(&pdbem);
+    assert!(keys.contains(&("displacement".into(), 0)), "{keys:?}");
+    assert!(
+        keys.contains(&("damage_window0_step0".into(), 0)),
+        "{keys:?}"
+    );
+}
+
 #[test]
 fn full_pd_logs_every_break_round() {
     // The `round` events of the coarse edge crack: broken bonds never decrease, the

@@ -355,6 +355,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
                "da": sizes.da, "crack_element_size": sizes.element}),
     )?;
     let first = factors.first().copied().unwrap_or(1.0);
+    let snapshot_steps = super::snapshot_steps(scene);
     let mut history = GrowthHistory {
         mode: "bem-only".into(),
         paths: front
@@ -432,6 +433,11 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
         log.event("step", json!(rec))?;
         history.steps.push(rec);
         current = solved_now;
+        if solved_now && snapshot_steps.contains(&k) {
+            history
+                .snapshots
+                .push(displacement_snapshot(scene, &solved, f, k));
+        }
         bar.set_message(format!("load {f:.4e}, {geometry} re-meshes"));
         bar.inc(1);
         let cut = front.separated();

@@ -33,3 +33,11 @@ pub use record::{
     FieldSnapshot, GrowthHistory, Overstrain, PathPoint, Relocation, StepRecord, TipPath,
     WindowOutline,
 };
+
+/// `growth.snapshot_steps` of `scene` (none without a growth section).
+pub fn snapshot_steps(scene: &crate::scene::Scene) -> &[usize] {
+    scene
+        .growth
+        .as_ref()
+        .map_or(&[][..], |g| &g.snapshot_steps[..])
+}

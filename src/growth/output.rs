@@ -357,13 +357,18 @@ fn write_plots(
         formats,
         summary,
     )?;
+    // A step can be asked for twice (initiation or the last step in
+    // `growth.snapshot_steps`): the first of a name is plotted.
+    let mut seen = std::collections::HashSet::new();
     for s in &h.snapshots {
         let stem = if s.label.contains("step") {
             format!("snapshot_{}", s.label)
         } else {
             format!("snapshot_{}_step{:03}", s.label, s.step)
         };
-        save_plot(w, &stem, &snapshot_plot(scene, h, s), formats, summary)?;
+        if seen.insert(stem.clone()) {
+            save_plot(w, &stem, &snapshot_plot(scene, h, s), formats, summary)?;
+        }
     }
     Ok(())
 }

@@ -25,6 +25,7 @@ use pdbem_coupling::growth::{
     Growth, GrowthParams, GrowthResult, GrowthSetup, IterationEvent, LoadSteps, Observer,
     RelocationRecord, Scenario, StepResult, TipSpec,
 };
+use pdbem_coupling::iteration::{CoupledProblem, CoupledSolution};
 use pdbem_coupling::pd_window::EdgeCondition;
 use pdbem_coupling::setup::{Layout, WindowModel};
 use pdbem_coupling::window::{segment_distance, Window};
@@ -170,6 +171,9 @@ pub fn input(scene: &Scene) -> Result<PdBemInput<'_>> {
 /// Progress bar, run log, growth log and damage snapshots of a run.
 struct Progress<'a> {
     ctx: &'a RunContext,
+    scene: &'a Scene,
+    /// `growth.snapshot_steps`.
+    snapshot_steps: &'a [usize],
     bar: indicatif::ProgressBar,
     log: Option<GrowthLog>,
     tip_names: Vec<String>,
@@ -265,6 +269,18 @@ impl Observer for Progress<'_> {
         let tag = format!("_reloc{}", self.relocations);
         self.snapshots.extend(damage_snapshots(step, windows, &tag));
     }
+
+    fn state(&mut self, s: &StepResult, pb: &CoupledProblem, sol: Option<&CoupledSolution>) {
+        if !self.snapshot_steps.contains(&s.step) {
+            return;
+        }
+        self.snapshots
+            .extend(damage_snapshots(s.step, &pb.windows, ""));
+        if let Some(sol) = sol {
+            self.snapshots
+                .push(displacement_snapshot(self.scene, pb, sol, s.step));
+        }
+    }
 }
 
 /// Damage at the real nodes of every window (labels `damage_window<i>_step<k><tag>`).
@@ -286,13 +302,12 @@ fn damage_snapshots(step: usize, windows: &[WindowModel], tag: &str) -> Vec<Fiel
 
 /// Displacement magnitude at the PD nodes and at BEM interior points on a grid over the
 /// body (outside windows and half an element from the boundary) at the last solution.
-fn displacement_snapshot<S: Scenario>(
+fn displacement_snapshot(
     scene: &Scene,
-    g: &Growth<'_, S>,
+    pb: &CoupledProblem,
+    sol: &CoupledSolution,
     step: usize,
-) -> Option<FieldSnapshot> {
-    let sol = g.last_solution()?;
-    let pb = g.problem();
+) -> FieldSnapshot {
     let ev = FieldEvaluator::new(&pb.mesh, &pb.material, &sol.solution, pb.background);
     let geo = SceneGeometry::of(scene);
     let (lo, hi) = geo.bounds();
@@ -331,7 +346,7 @@ fn displacement_snapshot<S: Scenario>(
             snap.values.push(u[i][0].hypot(u[i][1]));
         }
     }
-    Some(snap)
+    snap
 }
 
 /// The window outlines of the initial geometry.
@@ -498,6 +513,8 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
         .with_context(|| format!("{}: PD-BEM growth setup", file.display()))?;
     let mut progress = Progress {
         ctx,
+        scene,
+        snapshot_steps: super::snapshot_steps(scene),
         bar: step_bar(ctx, count),
         log,
         tip_names,
@@ -523,7 +540,10 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
     h.snapshots = std::mem::take(&mut progress.snapshots);
     h.snapshots
         .extend(damage_snapshots(last, &g.problem().windows, ""));
-    h.snapshots.extend(displacement_snapshot(scene, &g, last));
+    if let Some(sol) = g.last_solution() {
+        h.snapshots
+            .push(displacement_snapshot(scene, g.problem(), sol, last));
+    }
     for p in &h.paths {
         if let Some(why) = &p.ended {
             progress.log_event("tip_end", json!({"tip": p.name, "reason": why}));

@@ -131,6 +131,12 @@ pub struct Growth {
     /// Damage above which a node belongs to the macro crack (-). Default 0.38 (DESIGN.md).
     #[serde(default = "default_damage_threshold")]
     pub damage_threshold: f64,
+    /// Load steps (0-based, below `load.count`) after which field snapshots are plotted
+    /// as well: displacement magnitude over the body, and damage in the PD modes (the
+    /// windows of PD-BEM, the whole grid of full PD). Default: none (snapshots at
+    /// initiation and at the end only).
+    #[serde(default)]
+    pub snapshot_steps: Vec<usize>,
 }
 
 fn default_trigger() -> f64 {

@@ -694,6 +694,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
                 },
             };
             observer.step(&rec);
+            observer.state(&rec, &self.problem, self.last.as_ref());
             out.steps.push(rec);
             if let Some(t) = cut {
                 let name = self.tips[t].spec.name.clone();

@@ -8,6 +8,7 @@ use pdbem_bem::{Bc, Material, Mesh, SolveParams, V2};
 use crate::growth::overstrain::Hotspot;
 use crate::growth::tips::TipSpec;
 use crate::growth::transfer::TransferInfo;
+use crate::iteration::{CoupledProblem, CoupledSolution};
 use crate::pd_window::EdgeCondition;
 use crate::setup::{Layout, WindowModel};
 use crate::window::Window;
@@ -33,6 +34,16 @@ pub trait Observer {
     fn note(&mut self, _message: &str) {}
     /// Just before a relocation, with the windows whose state triggered it.
     fn before_relocation(&mut self, _step: usize, _windows: &[WindowModel]) {}
+    /// After every load step (just after [`Observer::step`]), with the coupled problem and
+    /// its last solution (None before the first solve of a rebuilt geometry), for field
+    /// snapshots.
+    fn state(
+        &mut self,
+        _step: &StepResult,
+        _problem: &CoupledProblem,
+        _solution: Option<&CoupledSolution>,
+    ) {
+    }
 }
 
 /// An observer that ignores everything.

@@ -365,6 +365,8 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
         if history.initiation_load.is_none() && grown {
             history.initiation_load = Some(f);
             history.snapshots.extend(snapshots(&model, k));
+        } else if super::snapshot_steps(scene).contains(&k) {
+            history.snapshots.extend(snapshots(&model, k));
         }
         if first_break.is_none() && model.broken_bonds() > 0 {
             first_break = Some(f);

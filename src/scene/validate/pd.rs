@@ -243,6 +243,17 @@ fn check_growth(c: &mut Checker, scene: &Scene, g: &crate::scene::Growth) {
     if let Some(da) = g.da {
         c.positive("growth.da", da, "crack increment da");
     }
+    if let Some(&k) = g.snapshot_steps.iter().find(|&&k| k >= scene.load.count) {
+        c.fail(
+            "growth.snapshot_steps",
+            k,
+            format!(
+                "load steps are 0-based: the last is {} (load.count = {})",
+                scene.load.count.saturating_sub(1),
+                scene.load.count
+            ),
+        );
+    }
     match g.mode {
         GrowthMode::PdBem if scene.coupling.is_none() => {
             c.fail_at("growth.mode", "PdBem growth needs a `coupling` section")
