@@ -40,19 +40,7 @@ pub fn sent_plate(target: usize) -> Result<LoadedMesh, BemError> {
     // Perimeter 60 m plus two faces of 8 m: 76 m of boundary.
     let h = 76.0 / target as f64;
     let mut b = MeshBuilder::new();
-    b.add_loop(LoopSpec {
-        points: vec![
-            V2::new(0.0, 0.0),
-            V2::new(20.0, 0.0),
-            V2::new(20.0, 10.0),
-            V2::new(0.0, 10.0),
-        ],
-        edge_groups: ["bottom", "right", "top", "left"]
-            .map(String::from)
-            .to_vec(),
-        edge_sizes: vec![h; 4],
-        is_hole: false,
-    });
+    b.add_loop(LoopSpec::rectangle(0.0, 0.0, 20.0, 10.0, h));
     b.add_crack(CrackSpec {
         name: "c".into(),
         points: vec![V2::new(10.0, 10.0), V2::new(10.0, 2.0)],

@@ -16,6 +16,26 @@ pub struct LoopSpec {
     pub is_hole: bool,
 }
 
+impl LoopSpec {
+    /// The outer boundary `[x0, x0 + w] x [y0, y0 + h]` in elements of about `size`, its
+    /// edges in the groups `bottom`, `right`, `top` and `left`.
+    pub fn rectangle(x0: f64, y0: f64, w: f64, h: f64, size: f64) -> Self {
+        Self {
+            points: vec![
+                V2::new(x0, y0),
+                V2::new(x0 + w, y0),
+                V2::new(x0 + w, y0 + h),
+                V2::new(x0, y0 + h),
+            ],
+            edge_groups: ["bottom", "right", "top", "left"]
+                .map(String::from)
+                .to_vec(),
+            edge_sizes: vec![size; 4],
+            is_hole: false,
+        }
+    }
+}
+
 /// How the two faces of a crack sit.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum FaceMode {
@@ -390,19 +410,7 @@ mod tests {
     use super::*;
 
     fn rect(w: f64, h: f64, size: f64) -> LoopSpec {
-        LoopSpec {
-            points: vec![
-                V2::new(0.0, 0.0),
-                V2::new(w, 0.0),
-                V2::new(w, h),
-                V2::new(0.0, h),
-            ],
-            edge_groups: ["bottom", "right", "top", "left"]
-                .map(String::from)
-                .to_vec(),
-            edge_sizes: vec![size; 4],
-            is_hole: false,
-        }
+        LoopSpec::rectangle(0.0, 0.0, w, h, size)
     }
 
     #[test]

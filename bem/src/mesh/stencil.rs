@@ -179,17 +179,7 @@ mod tests {
     #[test]
     fn stencil_differentiates_linear_fields_exactly_on_each_side() {
         let mut b = MeshBuilder::new();
-        b.add_loop(LoopSpec {
-            points: vec![
-                V2::new(0.0, 0.0),
-                V2::new(2.0, 0.0),
-                V2::new(2.0, 1.0),
-                V2::new(0.0, 1.0),
-            ],
-            edge_groups: vec!["e".into(); 4],
-            edge_sizes: vec![0.25; 4],
-            is_hole: false,
-        });
+        b.add_loop(LoopSpec::rectangle(0.0, 0.0, 2.0, 1.0, 0.25));
         let m = b.build().unwrap();
         let st = tangential_stencil(&m);
         // Rigid rotation u = (-y, x): du/ds = (-t_y, t_x) along the tangent t.

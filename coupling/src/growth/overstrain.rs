@@ -148,17 +148,7 @@ mod tests {
     /// A 4 m x 2 m plate in 0.05 m elements.
     fn plate() -> Mesh {
         let mut b = MeshBuilder::new();
-        b.add_loop(LoopSpec {
-            points: vec![
-                V2::new(0.0, 0.0),
-                V2::new(4.0, 0.0),
-                V2::new(4.0, 2.0),
-                V2::new(0.0, 2.0),
-            ],
-            edge_groups: vec!["edge".into(); 4],
-            edge_sizes: vec![0.05; 4],
-            is_hole: false,
-        });
+        b.add_loop(LoopSpec::rectangle(0.0, 0.0, 4.0, 2.0, 0.05));
         b.build().unwrap()
     }
 
