@@ -6,19 +6,7 @@ use pdbem_bem::{Bc, Material, Mesh, MeshBuilder, Plane, V2};
 
 /// Axis-aligned rectangle loop with edges bottom, right, top, left.
 pub fn rect_loop(x0: f64, y0: f64, w: f64, h: f64, size: f64) -> LoopSpec {
-    LoopSpec {
-        points: vec![
-            V2::new(x0, y0),
-            V2::new(x0 + w, y0),
-            V2::new(x0 + w, y0 + h),
-            V2::new(x0, y0 + h),
-        ],
-        edge_groups: ["bottom", "right", "top", "left"]
-            .map(String::from)
-            .to_vec(),
-        edge_sizes: vec![size; 4],
-        is_hole: false,
-    }
+    LoopSpec::rectangle(x0, y0, w, h, size)
 }
 
 /// Circle as n single-element sides (a hole when `hole`).

@@ -179,16 +179,11 @@ mod tests {
     use crate::mesh::{CrackSpec, FaceMode, LoopSpec, MeshBuilder};
 
     fn rect(x0: f64, y0: f64, w: f64, h: f64, size: f64, is_hole: bool) -> LoopSpec {
+        let group = if is_hole { "hole" } else { "outer" };
         LoopSpec {
-            points: vec![
-                V2::new(x0, y0),
-                V2::new(x0 + w, y0),
-                V2::new(x0 + w, y0 + h),
-                V2::new(x0, y0 + h),
-            ],
-            edge_groups: vec![if is_hole { "hole" } else { "outer" }.to_string(); 4],
-            edge_sizes: vec![size; 4],
+            edge_groups: vec![group.to_string(); 4],
             is_hole,
+            ..LoopSpec::rectangle(x0, y0, w, h, size)
         }
     }
 
