@@ -478,8 +478,8 @@ fn first_overstrain(steps: &[StepResult]) -> Option<Overstrain> {
     })
 }
 
-/// The note of [`first_overstrain`].
-pub fn overstrain_note(o: &Overstrain) -> String {
+/// The note of the first overstrained step ([`GrowthHistory::overstrain`]).
+fn overstrain_note(o: &Overstrain) -> String {
     format!(
         "from step {} (load {}) the BEM body is strained past the PD onset stretch away from \
          the windows: maximum principal strain {:.3e} >= {:.3e} one horizon inside the \
