@@ -172,8 +172,6 @@ pub fn input(scene: &Scene) -> Result<PdBemInput<'_>> {
 struct Progress<'a> {
     ctx: &'a RunContext,
     scene: &'a Scene,
-    /// `growth.snapshot_steps`.
-    snapshot_steps: &'a [usize],
     bar: indicatif::ProgressBar,
     log: Option<GrowthLog>,
     tip_names: Vec<String>,
@@ -271,7 +269,7 @@ impl Observer for Progress<'_> {
     }
 
     fn state(&mut self, s: &StepResult, pb: &CoupledProblem, sol: Option<&CoupledSolution>) {
-        if !self.snapshot_steps.contains(&s.step) {
+        if !super::snapshot_steps(self.scene).contains(&s.step) {
             return;
         }
         self.snapshots
@@ -514,7 +512,6 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
     let mut progress = Progress {
         ctx,
         scene,
-        snapshot_steps: super::snapshot_steps(scene),
         bar: step_bar(ctx, count),
         log,
         tip_names,

@@ -31,7 +31,7 @@
 use std::ops::ControlFlow;
 use std::time::Instant;
 
-use pdbem_bem::post::field::{Background, FieldEvaluator};
+use pdbem_bem::post::field::FieldEvaluator;
 use pdbem_bem::post::sif::cmod;
 use pdbem_bem::{PairCache, V2};
 use pdbem_pd::crack_path::CrackPath;
@@ -242,16 +242,15 @@ impl<'s, S: Scenario> Growth<'s, S> {
     }
 
     /// The most strained point of the BEM body away from the windows in the last solution
-    /// at load factor `load` ([`overstrain`]; the field is evaluated at the
-    /// [`OVERSTRAIN_SAMPLES`] samples behind the elements of largest boundary strain);
+    /// ([`overstrain`]; the field is evaluated at the [`OVERSTRAIN_SAMPLES`] samples behind
+    /// the elements of largest boundary strain, and around the most strained of them);
     /// None without a solution, windows or a failure law.
-    fn overstrain(&self, load: f64) -> Option<Hotspot> {
+    fn overstrain(&self) -> Option<Hotspot> {
         let sol = self.last.as_ref()?;
         let windows = &self.problem.windows;
         let first = windows.first()?;
-        let pd = &first.problem;
         let delta = first.window.delta();
-        let onset = overstrain::onset_stretch(&pd.failure, pd.plane, pd.youngs_modulus, delta)?;
+        let onset = Some(first.model.law().damage_onset()).filter(|s| s.is_finite())?;
         let mesh = &self.problem.mesh;
         let skip: Vec<usize> = windows
             .iter()
@@ -260,17 +259,16 @@ impl<'s, S: Scenario> Growth<'s, S> {
         let boxes: Vec<&Window> = windows.iter().map(|w| &w.window).collect();
         let tips: Vec<V2> = self.tips.iter().map(TipState::position).collect();
         let (w, h) = first.window.size();
-        let samples = overstrain::sample_points(mesh, &skip, &boxes, &tips, delta, 0.5 * w.max(h));
+        let clear = 0.5 * w.max(h);
+        let samples = overstrain::sample_points(mesh, &skip, &boxes, &tips, delta, clear);
         let ranks = overstrain::boundary_strains(mesh, &self.problem.material, &sol.solution);
         let size = overstrain::SearchSize {
             candidates: OVERSTRAIN_SAMPLES,
             spread: 4.0 * delta,
             refined: 4,
         };
-        let background = Background {
-            stress: self.problem.background.stress.map(|s| s * load),
-        };
-        let eval = FieldEvaluator::new(mesh, &self.problem.material, &sol.solution, background);
+        let pb = &self.problem;
+        let eval = FieldEvaluator::new(mesh, &pb.material, &sol.solution, pb.background);
         overstrain::search(&eval, &samples, &ranks, onset, size)
     }
 
@@ -700,11 +698,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
                 wall_s: t0.elapsed().as_secs_f64(),
                 pd_s,
                 // Only an equilibrium says how strained the body is.
-                overstrain: if converged {
-                    self.overstrain(load)
-                } else {
-                    None
-                },
+                overstrain: if converged { self.overstrain() } else { None },
             };
             observer.step(&rec);
             observer.state(&rec, &self.problem, self.last.as_ref());

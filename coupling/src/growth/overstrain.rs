@@ -6,8 +6,8 @@
 //! uniform strain has the stretch s = e . eps e (seed 002 Eq. 6 with a small
 //! deformation), so the most stretched bond at a point has s = eps_1, the maximum
 //! principal strain, and bonds start to break where eps_1 reaches the onset stretch of the
-//! failure law (s0 of the PMB law, seed 002 Eqs. 6-7; s_m of the tanh law, seed 000
-//! Eq. 12). After every converged step the BEM strain is therefore sampled one horizon
+//! windows' bond law (`pdbem_pd::material::BondLaw::damage_onset`: s0 of the PMB law, seed
+//! 002 Eqs. 6-7; s_m of the tanh law, seed 000 Eq. 12). After every converged step the BEM strain is therefore sampled one horizon
 //! inside the body's boundary (outline, holes, crack faces), where stress concentrations
 //! away from the tips sit (clamp ends, corners, holes), at points about half a horizon
 //! apart: one horizon from a sharp corner, where the elastic strain is singular, is about
@@ -31,7 +31,6 @@
 use pdbem_bem::mesh::stencil::{apply, tangential_stencil};
 use pdbem_bem::post::field::FieldEvaluator;
 use pdbem_bem::{Material, Mesh, Solution, V2};
-use pdbem_pd::{Failure, Plane};
 
 use crate::window::{segment_distance, Window};
 
@@ -50,27 +49,6 @@ impl Hotspot {
     /// Whether a full-PD model would break bonds there.
     pub fn breaks(&self) -> bool {
         self.strain >= self.onset
-    }
-}
-
-/// Stretch at which the first bonds of `failure` break or start to soften, for horizon
-/// `delta`; None for bonds that never break.
-pub fn onset_stretch(
-    failure: &Failure,
-    plane: Plane,
-    youngs_modulus: f64,
-    delta: f64,
-) -> Option<f64> {
-    match *failure {
-        Failure::None => None,
-        Failure::CriticalStretch { s0 } => Some(s0),
-        Failure::FractureEnergy { g_c } => Some(pdbem_pd::material::critical_stretch(
-            plane,
-            youngs_modulus,
-            g_c,
-            delta,
-        )),
-        Failure::Degradation { s_m, .. } => Some(s_m),
     }
 }
 
@@ -284,25 +262,6 @@ mod tests {
             lambda: Vec::new(),
             du: mesh.elements.iter().map(|el| strain(el.tangent)).collect(),
         }
-    }
-
-    #[test]
-    fn onset_stretch_of_each_failure_law() {
-        let p = Plane::Stress;
-        assert_eq!(onset_stretch(&Failure::None, p, 1e4, 0.3), None);
-        assert_eq!(
-            onset_stretch(&Failure::CriticalStretch { s0: 0.02 }, p, 1e4, 0.3),
-            Some(0.02)
-        );
-        let g = onset_stretch(&Failure::FractureEnergy { g_c: 0.8594 }, p, 1e4, 0.3).unwrap();
-        assert_eq!(g, pdbem_pd::material::critical_stretch(p, 1e4, 0.8594, 0.3));
-        assert!((g - 0.02).abs() < 1e-4, "{g}");
-        let tanh = Failure::Degradation {
-            s_m: 0.01,
-            s_c: 0.03,
-            beta: 3.0,
-        };
-        assert_eq!(onset_stretch(&tanh, p, 1e4, 0.3), Some(0.01));
     }
 
     #[test]
