@@ -347,7 +347,7 @@ pub fn table(r: &GrowthBenchReport) -> String {
             d.max_dx,
             d.common_reach_m,
             d.before_overstrain
-                .map(|[m, r]| format!("; below PD-BEM's overstrain load {:.4} m over {r:.3} m", m))
+                .map(|[m, r]| format!("; below PD-BEM's overstrain load {m:.4} m over {r:.3} m"))
                 .unwrap_or_default()
         );
     }

@@ -231,7 +231,7 @@ pub fn paths_plot(scene: &Scene, h: &GrowthHistory) -> PathsPlot {
             .overstrain
             .iter()
             .map(|o| {
-                let label = format!("BEM strain reaches s0 (load {})", o.load);
+                let label = format!("BEM strain at the PD onset (load {})", o.load);
                 (label, (o.position[0], o.position[1]))
             })
             .collect(),
