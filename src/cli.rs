@@ -156,7 +156,11 @@ fn load(path: &Path) -> anyhow::Result<Scene> {
 
 fn check(path: &Path, plot_dir: Option<&Path>) -> anyhow::Result<()> {
     let scene = load(path)?;
+    let footprint = crate::setup::footprint::of(&scene)?;
     println!("{}", describe(&scene));
+    for line in footprint.describe() {
+        println!("{line}");
+    }
     if let Some(dir) = plot_dir {
         let w = crate::output::OutputWriter::create(dir)?;
         let fig = crate::runner::report::geometry_plot(&scene, None);
@@ -216,11 +220,6 @@ pub fn describe(scene: &Scene) -> String {
     out.push(format!(
         "  boundary groups: {}",
         scene.edge_groups().join(", ")
-    ));
-    out.push(format!(
-        "  BEM: element size {} m, about {} elements",
-        scene.element_size(),
-        scene.estimated_elements()
     ));
     for (name, r) in crate::runner::reference::tip_references(scene) {
         out.push(format!(

@@ -4,6 +4,8 @@
 //! - [`scene`]: RON scene types, loading, the one `validate()`, dotted paths for sweeps;
 //! - [`geometry`]: plane geometry helpers (areas, orientation, intersections);
 //! - [`analytic`]: reference solutions of REFERENCES.md (Tada SENT, CMOD, Kirsch, ...);
+//! - [`setup`]: the one scene-to-model layer (sizing rule, BEM / PD / coupled models,
+//!   run footprint) that validation, `check` and `run` share;
 //! - [`runner`]: [`runner::RunContext`], [`runner::RunSummary`], dispatch to the solvers,
 //!   summary/CSV/plot writing, reference errors;
 //! - [`run_bem`], [`run_pd`], [`run_coupled`]: the solver entry points the runner calls;
@@ -14,7 +16,6 @@
 //! - [`cli`]: the `pdbem` command line.
 
 pub mod analytic;
-pub mod bem_setup;
 pub mod bench;
 pub mod cli;
 pub mod geometry;
@@ -26,4 +27,5 @@ pub mod run_coupled;
 pub mod run_pd;
 pub mod runner;
 pub mod scene;
+pub mod setup;
 pub mod sweep;

@@ -1,4 +1,4 @@
-//! BEM solve of a scene (issue 2): mesh the scene ([`crate::bem_setup`]), assemble and
+//! BEM solve of a scene (issue 2): mesh the scene ([`crate::setup::bem`]), assemble and
 //! factor the Burton-Miller system once, solve, and post-process SIFs (crack-opening fit
 //! and interaction integral), kink angles, CMOD, hoop stress on holes and interior points.
 //!
@@ -9,7 +9,8 @@
 //!
 //! The primary `k1`, `k2` are the crack-opening fit; `k1_j`, `k2_j` the interaction integral.
 
-use crate::bem_setup::{self, BemSetup};
+use crate::setup::bem::{self as bem_setup, BemSetup};
+use crate::setup::final_factor;
 use crate::output::csv::{num, CsvTable};
 use crate::runner::report::save_plot;
 use crate::runner::{CrackResult, RunContext, RunSummary, TipResult};
@@ -113,11 +114,6 @@ pub fn tip_result(mesh: &pdbem_bem::Mesh, t: &pdbem_bem::post::TipResult) -> Tip
         k2_j: Some(t.k2_m),
         ..Default::default()
     }
-}
-
-/// The last load factor of the scene (BEM is linear: one solve at the final load).
-pub fn final_factor(scene: &Scene) -> f64 {
-    scene.load.factors().last().copied().unwrap_or(1.0)
 }
 
 /// Richardson extrapolation 2 fine - coarse of every tip and crack value.

@@ -15,57 +15,25 @@
 
 use std::time::Instant;
 
-use anyhow::{bail, Context, Result};
-use pdbem_bem::mesh::{FaceMode, LoopSpec};
+use anyhow::{Context, Result};
 use pdbem_bem::post::sif::{analyze_tips, cmod, interaction_integral, SifOptions};
-use pdbem_bem::post::{Background, FieldEvaluator};
-use pdbem_bem::{Bc, Mesh, SolveParams, V2};
-use pdbem_coupling::pd_window::{EdgeCondition, PdSettings};
-use pdbem_coupling::setup::{Layout, MacroCrack};
-use pdbem_coupling::window::{polygon_distance, segment_distance, SideKind, Window, WindowSpec};
+use pdbem_bem::post::FieldEvaluator;
+use pdbem_bem::V2;
+use pdbem_coupling::window::{polygon_distance, segment_distance};
 use pdbem_coupling::{
-    Acceleration, CoupledProblem, CoupledSolution, CouplingInfo, CouplingParams, PdSolve,
+    CoupledSolution, CouplingInfo,
 };
-use pdbem_pd::solvers::{adr, implicit, Convergence};
 use serde_json::json;
 
-use crate::bem_setup::{material, outline_size, DEFAULT_ELEMENTS_PER_CIRCLE};
-use crate::geometry::{circle_polygon, P2};
+use crate::geometry::P2;
 use crate::output::csv::{num, CsvTable};
 use crate::plot::{ScatterField, Series, SeriesStyle, XyPlot};
-use crate::run_bem::final_factor;
 use crate::runner::report::save_plot;
 use crate::runner::{CrackResult, RunContext, RunSummary, TipResult};
-use crate::scene::shapes::{HoleShape, SceneGeometry};
-use crate::scene::{
-    Component, Coupling, DisplacementMap, Faces, Failure, PdSettings as ScenePd, PdSolver,
-    Placement, Relaxation, Scene,
-};
+use crate::setup::coupled::{prepare, CoupledSetup, WindowTip};
+use crate::scene::shapes::SceneGeometry;
+use crate::scene::Scene;
 
-/// A crack tip inside a window.
-#[derive(Debug, Clone, PartialEq)]
-pub struct WindowTip {
-    /// Tip name (`<crack>.end` / `<crack>.start`).
-    pub name: String,
-    /// Position (m).
-    pub position: V2,
-    /// Unit crack direction at the tip (pointing out of the crack).
-    pub direction: V2,
-    /// Window holding it.
-    pub window: usize,
-}
-
-/// Everything a coupled solve needs, built from a scene.
-pub struct CoupledSetup {
-    /// The coupled problem (BEM body + windows).
-    pub problem: CoupledProblem,
-    /// Algorithm 1 parameters from `coupling`.
-    pub params: CouplingParams,
-    /// Tips inside windows.
-    pub tips: Vec<WindowTip>,
-    /// Load factor the conditions were scaled by.
-    pub factor: f64,
-}
 
 /// The result of a coupled solve.
 pub struct CoupledOutcome {
@@ -75,54 +43,6 @@ pub struct CoupledOutcome {
     pub solution: CoupledSolution,
     /// Iteration record.
     pub info: CouplingInfo,
-}
-
-/// Builds the coupled problem of `scene` (validated, with `pd` and `coupling`).
-pub fn prepare(scene: &Scene) -> Result<CoupledSetup> {
-    let file = scene.file_label();
-    let (Some(co), Some(pd)) = (&scene.coupling, &scene.pd) else {
-        bail!("{}: coupled mode needs `pd` and `coupling`", file.display());
-    };
-    let geo = SceneGeometry::of(scene);
-    if geo.outline.is_none() {
-        bail!(
-            "{}: coupled mode needs a finite body (infinite plates are BEM or PD only)",
-            file.display()
-        );
-    }
-    let factor = final_factor(scene);
-    let (specs, tips) = window_specs(scene, &geo, co, pd)?;
-    let layout = Layout {
-        outline: outline_spec(scene, &geo),
-        holes: hole_specs(scene, &geo),
-        cracks: crack_specs(scene, &geo),
-        windows: specs,
-        pd: pd_settings(scene, pd),
-    };
-    let outer_loop = layout.outline.clone();
-    let built = pdbem_coupling::build(&layout, |_, w| {
-        outer_conditions(scene, &outer_loop, w, factor)
-    })
-    .with_context(|| format!("{}: coupling setup", file.display()))?;
-    let bcs = conditions(scene, &built.mesh, factor)?;
-    let problem = CoupledProblem {
-        mesh: built.mesh,
-        material: material(scene)?,
-        bcs,
-        bem_params: SolveParams {
-            estimate_condition: false,
-            ..Default::default()
-        },
-        background: Background::default(),
-        thickness: scene.material.thickness,
-        windows: built.windows,
-    };
-    Ok(CoupledSetup {
-        problem,
-        params: params_of(co, pd),
-        tips,
-        factor,
-    })
 }
 
 /// Solves a prepared setup.
@@ -165,353 +85,6 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     Ok(summary)
 }
 
-fn p(v: &P2) -> V2 {
-    V2::new(v.x, v.y)
-}
-
-/// Window specifications and the tips they hold.
-pub(crate) fn window_specs(
-    scene: &Scene,
-    geo: &SceneGeometry,
-    co: &Coupling,
-    pd: &ScenePd,
-) -> Result<(Vec<WindowSpec>, Vec<WindowTip>)> {
-    let dx = co.side / co.n as f64;
-    let m = pd.horizon_factor;
-    let square = |center: V2, angle: f64| WindowSpec {
-        center,
-        angle,
-        dx,
-        nx: co.n,
-        ny: co.n,
-        horizon_factor: m,
-    };
-    let all_tips: Vec<(String, V2, V2)> = geo
-        .cracks
-        .iter()
-        .flat_map(|c| {
-            let n = c.points.len();
-            let mut t = Vec::new();
-            if !c.mouth {
-                t.push((
-                    format!("{}.start", c.name),
-                    p(&c.points[0]),
-                    p(&(c.points[0] - c.points[1]).normalize()),
-                ));
-            }
-            t.push((
-                format!("{}.end", c.name),
-                p(&c.points[n - 1]),
-                p(&(c.points[n - 1] - c.points[n - 2]).normalize()),
-            ));
-            t
-        })
-        .collect();
-    let specs = match &co.placement {
-        Placement::AtTips => {
-            if all_tips.is_empty() {
-                bail!(
-                    "{}: coupling.placement = AtTips but the scene has no crack tip",
-                    scene.file_label().display()
-                );
-            }
-            all_tips
-                .iter()
-                .map(|(_, t, d)| square(*t, d.y.atan2(d.x)))
-                .collect()
-        }
-        Placement::Centered { center, angle_deg } => {
-            vec![square(V2::new(center.0, center.1), angle_deg.to_radians())]
-        }
-        Placement::Region {
-            x0,
-            y0,
-            width,
-            height,
-        } => {
-            let dx = width / co.n as f64;
-            vec![WindowSpec {
-                center: V2::new(x0 + 0.5 * width, y0 + 0.5 * height),
-                angle: 0.0,
-                dx,
-                nx: co.n,
-                ny: (height / dx).round().max(1.0) as usize,
-                horizon_factor: m,
-            }]
-        }
-    };
-    let tips = all_tips
-        .into_iter()
-        .filter_map(|(name, position, direction)| {
-            let window = specs.iter().position(|s| inside_spec(s, position))?;
-            Some(WindowTip {
-                name,
-                position,
-                direction,
-                window,
-            })
-        })
-        .collect();
-    Ok((specs, tips))
-}
-
-fn inside_spec(s: &WindowSpec, x: V2) -> bool {
-    let (sn, cs) = s.angle.sin_cos();
-    let d = x - s.center;
-    let (lx, ly) = (d.x * cs + d.y * sn, -d.x * sn + d.y * cs);
-    let (hw, hh) = (0.5 * s.nx as f64 * s.dx, 0.5 * s.ny as f64 * s.dx);
-    lx.abs() < hw && ly.abs() < hh
-}
-
-/// Element size of a group: `bem.group_sizes`, else the outline default.
-fn size_of(scene: &Scene, geo: &SceneGeometry, group: &str) -> f64 {
-    scene
-        .bem
-        .group_sizes
-        .get(group)
-        .copied()
-        .unwrap_or_else(|| outline_size(scene, geo))
-}
-
-/// Outline loop with patches split out (as `bem_setup` does).
-pub(crate) fn outline_spec(scene: &Scene, geo: &SceneGeometry) -> LoopSpec {
-    let o = geo.outline.as_ref().expect("finite body checked");
-    let n = o.points.len();
-    let (mut points, mut groups) = (Vec::new(), Vec::new());
-    for i in 0..n {
-        let (a, b) = (p(&o.points[i]), p(&o.points[(i + 1) % n]));
-        let mut cuts = vec![0.0, 1.0];
-        for pt in &scene.body.patches {
-            for q in [V2::new(pt.from.0, pt.from.1), V2::new(pt.to.0, pt.to.1)] {
-                let (d, t) = segment_distance(q, a, b);
-                if d <= 1e-9 * (b - a).norm() && t > 1e-12 && t < 1.0 - 1e-12 {
-                    cuts.push(t);
-                }
-            }
-        }
-        cuts.sort_by(f64::total_cmp);
-        cuts.dedup_by(|x, y| (*x - *y).abs() < 1e-12);
-        for w in cuts.windows(2) {
-            let mid = a + 0.5 * (w[0] + w[1]) * (b - a);
-            points.push(a + w[0] * (b - a));
-            let name = scene
-                .body
-                .patches
-                .iter()
-                .find(|pt| {
-                    let (f, t) = (V2::new(pt.from.0, pt.from.1), V2::new(pt.to.0, pt.to.1));
-                    segment_distance(mid, f, t).0 <= 1e-9 * (t - f).norm()
-                })
-                .map(|pt| pt.name.clone())
-                .unwrap_or_else(|| o.groups[i].clone());
-            groups.push(name);
-        }
-    }
-    let edge_sizes = groups.iter().map(|g| size_of(scene, geo, g)).collect();
-    LoopSpec {
-        points,
-        edge_groups: groups,
-        edge_sizes,
-        is_hole: false,
-    }
-}
-
-pub(crate) fn hole_specs(scene: &Scene, geo: &SceneGeometry) -> Vec<LoopSpec> {
-    let per_circle = scene
-        .bem
-        .elements_per_circle
-        .unwrap_or(DEFAULT_ELEMENTS_PER_CIRCLE);
-    geo.holes
-        .iter()
-        .map(|(name, h)| {
-            let (pts, size) = match h {
-                HoleShape::Circle { center, radius } => (
-                    circle_polygon(center, *radius, per_circle, true),
-                    f64::INFINITY,
-                ),
-                HoleShape::Polygon(q) => (q.clone(), size_of(scene, geo, name)),
-            };
-            let n = pts.len();
-            LoopSpec {
-                points: pts.iter().map(p).collect(),
-                edge_groups: vec![name.clone(); n],
-                edge_sizes: vec![size; n],
-                is_hole: true,
-            }
-        })
-        .collect()
-}
-
-pub(crate) fn crack_specs(scene: &Scene, geo: &SceneGeometry) -> Vec<MacroCrack> {
-    scene
-        .cracks
-        .iter()
-        .zip(&geo.cracks)
-        .map(|(c, line)| MacroCrack {
-            name: c.name.clone(),
-            points: line.points.iter().map(p).collect(),
-            faces: match c.faces {
-                Faces::Coincident => FaceMode::Coincident,
-                Faces::Gap(g) => FaceMode::Gap(g),
-            },
-            element_size: size_of(scene, geo, &c.name),
-            segment_elements: false,
-        })
-        .collect()
-}
-
-pub(crate) fn pd_settings(scene: &Scene, pd: &ScenePd) -> PdSettings {
-    let plane = match scene.material.plane {
-        crate::scene::Plane::Stress => pdbem_pd::Plane::Stress,
-        crate::scene::Plane::Strain => pdbem_pd::Plane::Strain,
-    };
-    let failure = match &pd.failure {
-        Failure::Elastic => pdbem_pd::Failure::None,
-        Failure::CriticalStretch(s0) => pdbem_pd::Failure::CriticalStretch { s0: *s0 },
-        Failure::FromGc => pdbem_pd::Failure::FractureEnergy {
-            g_c: scene
-                .material
-                .fracture
-                .as_ref()
-                .and_then(|f| f.g_c)
-                .unwrap_or(f64::NAN),
-        },
-        Failure::Degradation { s_m, s_c, beta } => pdbem_pd::Failure::Degradation {
-            s_m: *s_m,
-            s_c: *s_c,
-            beta: *beta,
-        },
-    };
-    PdSettings {
-        youngs_modulus: scene.material.e,
-        thickness: scene.material.thickness,
-        plane,
-        failure,
-        surface_correction: pd.surface_correction,
-        // The surface correction already includes the bulk factor.
-        bulk_correction: !pd.surface_correction,
-        crack_face_correction: pd.crack_face_correction.unwrap_or(true),
-    }
-}
-
-pub(crate) fn params_of(co: &Coupling, pd: &ScenePd) -> CouplingParams {
-    let acceleration = match co.relaxation {
-        Relaxation::Constant(w) => Acceleration::Constant(w),
-        Relaxation::Aitken(w) => Acceleration::Aitken(w),
-        Relaxation::IqnIls { w0, .. } => Acceleration::IqnIls(w0),
-    };
-    let displacement_map = match co.displacement_map {
-        DisplacementMap::Copy => pdbem_coupling::DisplacementMap::Copy,
-        DisplacementMap::Interior => pdbem_coupling::DisplacementMap::Interior,
-        DisplacementMap::Taylor => pdbem_coupling::DisplacementMap::Taylor,
-    };
-    let pd_solve = match &pd.solver {
-        PdSolver::Switching(s) => match PdSolve::default() {
-            PdSolve::Switching(mut p) => {
-                p.max_newton_iters = s.max_newton;
-                p.max_adr_iters = s.max_adr;
-                PdSolve::Switching(p)
-            }
-            other => other,
-        },
-        PdSolver::Implicit(s) => PdSolve::Implicit(implicit::ImplicitParams {
-            target_load: 1.0,
-            steps: 1,
-            convergence: Convergence::Residual { tol: 1e-9 },
-            max_iters: s.max_iter,
-            ..Default::default()
-        }),
-        PdSolver::Adr(s) => PdSolve::Adr(adr::AdrParams {
-            target_load: 1.0,
-            steps: 1,
-            convergence: Convergence::Displacement { e0: s.tolerance },
-            max_iters: s.max_iter,
-            safety: s.safety_factor,
-            ..Default::default()
-        }),
-    };
-    CouplingParams {
-        acceleration,
-        psi: co.psi,
-        max_iter: co.max_iter,
-        displacement_map,
-        pd_solve,
-        ..Default::default()
-    }
-}
-
-/// Scene conditions on the outline pieces that lie along window `w`'s outer sides.
-pub(crate) fn outer_conditions(
-    scene: &Scene,
-    outline: &LoopSpec,
-    w: &Window,
-    factor: f64,
-) -> Vec<EdgeCondition> {
-    let mut out = Vec::new();
-    let n = outline.points.len();
-    let tol = w.tol();
-    for k in (0..4).filter(|&k| w.sides[k] == SideKind::Outer) {
-        let (a, b) = w.side(k);
-        let t = (b - a).normalize();
-        for i in 0..n {
-            let (p0, p1) = (outline.points[i], outline.points[(i + 1) % n]);
-            if segment_distance(p0, a, b).0 > tol && segment_distance(a, p0, p1).0 > tol {
-                continue;
-            }
-            // Overlap of edge i with side k along t.
-            let (s0, s1) = ((p0 - a).dot(&t), (p1 - a).dot(&t));
-            let lo = s0.min(s1).max(0.0);
-            let hi = s0.max(s1).min((b - a).norm());
-            let collinear = [p0, p1]
-                .iter()
-                .all(|q| ((q - a) - (q - a).dot(&t) * t).norm() <= tol);
-            if !collinear || hi - lo <= tol {
-                continue;
-            }
-            let (from, to) = (a + lo * t, a + hi * t);
-            let e = (p1 - p0).normalize();
-            let normal = V2::new(e.y, -e.x);
-            for bc in scene
-                .boundary
-                .iter()
-                .filter(|bc| bc.on == outline.edge_groups[i])
-            {
-                let mut c = EdgeCondition {
-                    from,
-                    to,
-                    traction: [None; 2],
-                    displacement: [None; 2],
-                };
-                for (j, comp) in [bc.x, bc.y].iter().enumerate() {
-                    match comp {
-                        Component::Free => {}
-                        Component::Traction(v) => c.traction[j] = Some(v * factor),
-                        Component::Displacement(v) => c.displacement[j] = Some(v * factor),
-                    }
-                }
-                let (tn, ts) = (bc.normal.unwrap_or(0.0), bc.shear.unwrap_or(0.0));
-                if tn != 0.0 || ts != 0.0 {
-                    let tr = (normal * tn + e * ts) * factor;
-                    c.traction = [Some(tr.x), Some(tr.y)];
-                }
-                out.push(c);
-            }
-        }
-    }
-    out
-}
-
-/// Per-element BEM conditions at load `factor` (traction-free where nothing is said;
-/// groups wholly inside a window are skipped: PD carries them).
-fn conditions(scene: &Scene, mesh: &Mesh, factor: f64) -> Result<Vec<[Bc; 2]>> {
-    crate::bem_setup::conditions(
-        scene,
-        mesh,
-        factor,
-        None,
-        crate::bem_setup::MissingGroup::Skip,
-    )
-}
 
 /// Interaction-integral SIFs of a windowed tip on a circle around its window.
 pub fn window_tip_sif(
@@ -529,11 +102,11 @@ pub fn window_tip_sif(
     let geo = SceneGeometry::of(scene);
     let mut clearance = f64::INFINITY;
     if let Some(o) = &geo.outline {
-        let pts: Vec<V2> = o.points.iter().map(p).collect();
+        let pts: Vec<V2> = o.points.to_vec();
         clearance = clearance.min(polygon_distance(tip.position, &pts));
     }
     for (_, h) in &geo.holes {
-        let pts: Vec<V2> = h.polygon().iter().map(p).collect();
+        let pts: Vec<V2> = h.polygon().to_vec();
         clearance = clearance.min(polygon_distance(tip.position, &pts));
     }
     let r_min = 1.1 * half_diag;

@@ -12,7 +12,7 @@ use pdbem_pd::PdModel;
 /// The elastic equilibrium of the PD model of scene `src` at load factor 1.
 fn solved(src: &str, file: &str) -> PdModel {
     let scene = Scene::from_ron_str(src, file).unwrap_or_else(|e| panic!("{e}"));
-    let problem = pdbem::run_pd::problem_from_scene(&scene).unwrap();
+    let problem = pdbem::setup::pd::problem_from_scene(&scene).unwrap();
     let mut model = PdModel::new(&problem).unwrap();
     let mut newton = Newton::new(&model).unwrap();
     let mut info = SolveInfo::default();

@@ -22,7 +22,7 @@ fn scene(holes: &str, coupling: &str) -> String {
 fn error_of(text: &str) -> String {
     match Scene::from_ron_str(text, "bad.ron") {
         Err(e) => e.to_string(),
-        Ok(s) => match pdbem::run_coupled::prepare(&s) {
+        Ok(s) => match pdbem::setup::coupled::prepare(&s) {
             Err(e) => format!("{e:#}"),
             Ok(_) => panic!("scene accepted"),
         },

@@ -6,7 +6,8 @@
 //! iterations and IQN-ILS in fewer; the coupled solve agrees with the BEM-only solve of
 //! the same plate without the hole to 0.5 % at interior points.
 
-use pdbem::run_coupled::{bem_sample_points, prepare, solve, solve_setup, CoupledOutcome};
+use pdbem::run_coupled::{bem_sample_points, solve, solve_setup, CoupledOutcome};
+use pdbem::setup::coupled::prepare;
 use pdbem::scene::Scene;
 use pdbem_bem::post::FieldEvaluator;
 use pdbem_bem::V2;

@@ -58,7 +58,7 @@ fn seed002_table5_cmod_a8_beats_the_seed() {
 fn aitken_at_psi_1e_3(a: usize) -> (usize, f64) {
     let scene = Scene::load(format!("cases/coupled_sent_a{a}.ron")).unwrap();
     let (tight, _) = pdbem::run_coupled::solve(&scene).unwrap();
-    let mut setup = pdbem::run_coupled::prepare(&scene).unwrap();
+    let mut setup = pdbem::setup::coupled::prepare(&scene).unwrap();
     setup.params.psi = 1e-3;
     setup.params.acceleration = pdbem_coupling::Acceleration::Aitken(0.3);
     let out = pdbem::run_coupled::solve_setup(setup).unwrap();
@@ -96,7 +96,7 @@ fn aitken_at_a8_is_bounded_by_the_interface_spectrum() {
     // instead of kept, see pdbem_coupling::relaxation). Seed 002 itself reports 36 steps
     // (Table 3) and 44 / 59 (Table 5) with constant w = 0.1 / 0.06 for this plate.
     let scene = Scene::load("cases/coupled_sent_a8.ron").unwrap();
-    let mut setup = pdbem::run_coupled::prepare(&scene).unwrap();
+    let mut setup = pdbem::setup::coupled::prepare(&scene).unwrap();
     let bem = pdbem_coupling::PreparedBem::new(&mut setup.problem).unwrap();
     let ritz =
         pdbem_coupling::spectrum::ritz_values(&mut setup.problem, &bem, &setup.params, 40).unwrap();
@@ -123,7 +123,7 @@ fn plate_window_spectrum_allows_fast_relaxation() {
     // The contrast case: a window in an intact plate sees a bulk of Ritz values in
     // [-3.4, 0] (measured -3.357 first), so one weight serves every mode.
     let scene = Scene::load("cases/coupled_plate_window_center.ron").unwrap();
-    let mut setup = pdbem::run_coupled::prepare(&scene).unwrap();
+    let mut setup = pdbem::setup::coupled::prepare(&scene).unwrap();
     let bem = pdbem_coupling::PreparedBem::new(&mut setup.problem).unwrap();
     let ritz =
         pdbem_coupling::spectrum::ritz_values(&mut setup.problem, &bem, &setup.params, 30).unwrap();

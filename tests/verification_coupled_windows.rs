@@ -9,7 +9,7 @@ use pdbem::scene::Scene;
 #[test]
 fn two_tip_windows_match_bem_alone_at_both_tips() {
     let scene = Scene::load("cases/coupled_inclined_crack_two_windows.ron").unwrap();
-    let setup = pdbem::run_coupled::prepare(&scene).unwrap();
+    let setup = pdbem::setup::coupled::prepare(&scene).unwrap();
     assert_eq!(setup.problem.windows.len(), 2, "one window per tip");
     let (coupled, out) = pdbem::run_coupled::solve(&scene).unwrap();
     assert!(out.info.converged);

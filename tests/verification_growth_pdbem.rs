@@ -24,7 +24,7 @@
 //!
 //! Every tolerance carries the measured value (release build, 2 cores).
 
-use pdbem::growth::pd_bem::input;
+use pdbem::setup::growth::input;
 use pdbem::scene::Scene;
 use pdbem_bem::post::sif::{analyze_tips, SifOptions};
 use pdbem_bem::post::FieldEvaluator;
@@ -124,7 +124,7 @@ fn seed002_shear_edge_crack_kinks_as_bem_mcs_predicts() {
         s.growth = None;
         s
     };
-    let setup = pdbem::bem_setup::build(&bem_only, 1.0, 1.0).unwrap();
+    let setup = pdbem::setup::bem::build(&bem_only, 1.0, 1.0).unwrap();
     let sys = BemSystem::new(&setup.mesh, &setup.material, &setup.bcs, &setup.params).unwrap();
     let sol = sys.solve().unwrap();
     let ev = FieldEvaluator::new(&setup.mesh, &setup.material, &sol, setup.background);

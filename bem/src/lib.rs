@@ -27,4 +27,4 @@ pub mod system;
 pub use error::BemError;
 pub use material::{Material, Plane};
 pub use mesh::{Crack, Element, Mesh, MeshBuilder, V2};
-pub use system::{Bc, BemSystem, PairCache, Solution, SolveInfo, SolveParams};
+pub use system::{Bc, BemFootprint, BemSystem, PairCache, Solution, SolveInfo, SolveParams};

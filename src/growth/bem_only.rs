@@ -19,7 +19,7 @@
 //!    budget is spent.
 //!
 //! Crack elements keep the size the scene's meshing rule gave the initial cracks
-//! (`bem.group_sizes.<crack>` or the default rule of [`crate::bem_setup`]), so a long grown
+//! (`bem.group_sizes.<crack>` or the default rule of [`crate::setup::sizing`]), so a long grown
 //! crack does not get finer; `growth.da` defaults to that size. A grown crack is straight
 //! only over its last increment: the crack-opening fit of a kinked crack reaching across
 //! the kink mixes the two directions (measured on the 45-degree crack: K_II of the kinked
@@ -139,7 +139,7 @@ fn geometry_scene(scene: &Scene, front: &Front, sizes: &Sizes, grown: bool) -> S
 
 /// Element size of every crack in the initial mesh, and the increments.
 fn sizes_of(scene: &Scene) -> Result<Sizes> {
-    let setup = crate::bem_setup::build(scene, 1.0, 1.0)?;
+    let setup = crate::setup::bem::build(scene, 1.0, 1.0)?;
     let element: Vec<f64> = setup
         .mesh
         .cracks

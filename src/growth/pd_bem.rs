@@ -16,157 +16,28 @@
 //! hold several; at the last step `damage_window<i>_step<k>`) and the displacement
 //! magnitude over the PD nodes and BEM interior points at the last step.
 
-use anyhow::{bail, Context, Result};
-use pdbem_bem::mesh::LoopSpec;
-use pdbem_bem::post::{Background, FieldEvaluator};
-use pdbem_bem::{Bc, Mesh, SolveParams, V2};
+use anyhow::{Context, Result};
+use pdbem_bem::post::FieldEvaluator;
+use pdbem_bem::V2;
 use pdbem_coupling::growth::overstrain::Hotspot;
 use pdbem_coupling::growth::{
-    Growth, GrowthParams, GrowthResult, GrowthSetup, IterationEvent, LoadSteps, Observer,
-    RelocationRecord, Scenario, StepResult, TipSpec,
+    Growth, GrowthResult, IterationEvent, Observer,
+    RelocationRecord, Scenario, StepResult,
 };
 use pdbem_coupling::iteration::{CoupledProblem, CoupledSolution};
-use pdbem_coupling::pd_window::EdgeCondition;
-use pdbem_coupling::setup::{Layout, WindowModel};
-use pdbem_coupling::window::{segment_distance, Window};
-use pdbem_coupling::CouplingParams;
+use pdbem_coupling::setup::WindowModel;
+use pdbem_coupling::window::segment_distance;
 use serde_json::json;
 
 use super::log::{step_bar, GrowthLog};
 use super::{
     FieldSnapshot, GrowthHistory, Overstrain, PathPoint, Relocation, TipPath, WindowOutline,
 };
-use crate::bem_setup::{material, MissingGroup};
 use crate::geometry::P2;
-use crate::run_coupled::{
-    crack_specs, hole_specs, outer_conditions, outline_spec, params_of, pd_settings, window_specs,
-};
+use crate::setup::growth::input;
 use crate::runner::RunContext;
 use crate::scene::shapes::SceneGeometry;
-use crate::scene::{GrowthMode, Scene};
-
-/// The scene seen by the growth driver (all values at load factor 1).
-pub struct SceneScenario<'a> {
-    scene: &'a Scene,
-    outline: LoopSpec,
-}
-
-impl Scenario for SceneScenario<'_> {
-    fn bem_conditions(&self, mesh: &Mesh) -> std::result::Result<Vec<[Bc; 2]>, String> {
-        crate::bem_setup::conditions(self.scene, mesh, 1.0, None, MissingGroup::Skip)
-            .map_err(|e| format!("{e:#}"))
-    }
-
-    fn outer_conditions(&self, window: &Window) -> Vec<EdgeCondition> {
-        outer_conditions(self.scene, &self.outline, window, 1.0)
-    }
-}
-
-/// The growth driver's input from a scene: setup, parameters and the scenario.
-pub struct PdBemInput<'a> {
-    /// Initial macro model.
-    pub setup: GrowthSetup,
-    /// Algorithm 2 parameters.
-    pub params: GrowthParams,
-    /// The scene's conditions.
-    pub scenario: SceneScenario<'a>,
-}
-
-impl PdBemInput<'_> {
-    /// The growth run at its initial geometry (for studies and tests that drive
-    /// [`Growth::solve_at`] and [`Growth::relocate`] themselves).
-    pub fn growth(&self) -> Result<Growth<'_, SceneScenario<'_>>> {
-        Ok(Growth::new(
-            self.setup.clone(),
-            &self.scenario,
-            self.params.clone(),
-        )?)
-    }
-}
-
-/// Builds the growth input of `scene` (with `pd`, `coupling` and `growth`).
-pub fn input(scene: &Scene) -> Result<PdBemInput<'_>> {
-    let file = scene.file_label();
-    let (Some(co), Some(pd), Some(gr)) = (&scene.coupling, &scene.pd, &scene.growth) else {
-        bail!(
-            "{}: PD-BEM growth needs `pd`, `coupling` and `growth`",
-            file.display()
-        );
-    };
-    if gr.mode != GrowthMode::PdBem {
-        bail!(
-            "{}: growth.mode is {:?}, not PdBem",
-            file.display(),
-            gr.mode
-        );
-    }
-    let geo = SceneGeometry::of(scene);
-    if geo.outline.is_none() {
-        bail!("{}: PD-BEM growth needs a finite body", file.display());
-    }
-    let (windows, wtips) = window_specs(scene, &geo, co, pd)?;
-    let cracks = crack_specs(scene, &geo);
-    let tips = wtips
-        .iter()
-        .map(|t| {
-            let (crack, end) = t.name.rsplit_once('.').unwrap_or((t.name.as_str(), "end"));
-            let index = cracks
-                .iter()
-                .position(|c| c.name == crack)
-                .with_context(|| format!("{}: tip {} has no crack", file.display(), t.name))?;
-            Ok(TipSpec {
-                name: t.name.clone(),
-                crack: index,
-                at_end: end == "end",
-            })
-        })
-        .collect::<Result<Vec<_>>>()?;
-    if tips.is_empty() {
-        bail!(
-            "{}: PD-BEM growth: no crack tip lies in a window (coupling.placement = AtTips puts one on every tip)",
-            file.display()
-        );
-    }
-    let outline = outline_spec(scene, &geo);
-    let layout = Layout {
-        outline: outline.clone(),
-        holes: hole_specs(scene, &geo),
-        cracks,
-        windows,
-        pd: pd_settings(scene, pd),
-    };
-    let setup = GrowthSetup {
-        layout,
-        tips,
-        material: material(scene)?,
-        bem_params: SolveParams {
-            estimate_condition: false,
-            ..Default::default()
-        },
-        background: Background::default(),
-        thickness: scene.material.thickness,
-    };
-    let loads = LoadSteps {
-        initial: scene.load.initial,
-        step: scene.load.step,
-        count: scene.load.count,
-    };
-    let mut params = GrowthParams::new(loads, gr.move_distance.unwrap_or(0.25 * co.side));
-    params.trigger_ratio = gr.trigger_ratio;
-    params.elements_per_extension = gr.elements_per_extension;
-    params.path.threshold = gr.damage_threshold;
-    // Algorithm 1 settings from the scene; the PD solver stays the staggered one of
-    // `GrowthParams::new` (one break round per coupling iteration), whatever `pd.solver`.
-    params.coupling = CouplingParams {
-        pd_solve: params.coupling.pd_solve.clone(),
-        ..params_of(co, pd)
-    };
-    Ok(PdBemInput {
-        setup,
-        params,
-        scenario: SceneScenario { scene, outline },
-    })
-}
+use crate::scene::Scene;
 
 /// Progress bar, run log, growth log and damage snapshots of a run.
 struct Progress<'a> {

@@ -12,15 +12,16 @@ use super::body::Pt;
 #[serde(deny_unknown_fields, default)]
 pub struct BemSettings {
     /// Target element length (m), > 0. Default: automatic, the smaller side of
-    /// the outline's bounding box / 100, or for an infinite plate the shortest
-    /// crack / 40 (see [`crate::scene::Scene::element_size`]).
+    /// the outline's bounding box / 100, or for an infinite plate its largest feature
+    /// (longest crack, largest hole diameter) / 80; cracks default to the smaller of this
+    /// and a fraction of their tip length scale ([`crate::setup::sizing`]).
     pub element_size: Option<f64>,
     /// Element length per edge group (m), overriding `element_size`. Default: none.
     pub group_sizes: BTreeMap<String, f64>,
     /// Uniform refinement around every crack tip. Default: none (REFERENCES.md:
     /// keep elements near the tip uniform; geometric grading biases COD SIFs).
     pub tip_refinement: Option<TipRefinement>,
-    /// Elements on each circular hole. Default: from the element size, at least 16.
+    /// Elements on each circular hole. Default 128 ([`crate::setup::sizing`]).
     pub elements_per_circle: Option<usize>,
     /// Solve on h and h/2 and Richardson-extrapolate SIF and CMOD (O(h)
     /// convergence of constant elements). Default false.

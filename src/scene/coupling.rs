@@ -30,6 +30,14 @@ pub struct Coupling {
     pub displacement_map: DisplacementMap,
 }
 
+impl Coupling {
+    /// PD grid spacing of the windows (m): `side / n` (for a `Region`, whose width must
+    /// equal `side`, width / n).
+    pub fn dx(&self) -> f64 {
+        self.side / self.n as f64
+    }
+}
+
 fn default_psi() -> f64 {
     1e-4
 }
@@ -60,7 +68,7 @@ pub enum Placement {
         x0: f64,
         /// Lower-left y (m).
         y0: f64,
-        /// Width (m), > 0; `side` should equal it.
+        /// Width (m), > 0; must equal `side`.
         width: f64,
         /// Height (m), > 0.
         height: f64,

@@ -195,34 +195,6 @@ impl Scene {
         }
     }
 
-    /// Element size used where no group size applies (m): `bem.element_size`,
-    /// or the smaller bounding-box side / 100 (finite body), or the shortest
-    /// crack / 40 (infinite plate; 1 m with no crack).
-    pub fn element_size(&self) -> f64 {
-        if let Some(h) = self.bem.element_size {
-            return h;
-        }
-        let geo = shapes::SceneGeometry::of(self);
-        match &geo.outline {
-            Some(o) => {
-                let (lo, hi) = crate::geometry::bounding_box(&o.points);
-                (hi - lo).min() / 100.0
-            }
-            None => geo
-                .cracks
-                .iter()
-                .map(|c| crate::geometry::polyline_length(&c.points) / 40.0)
-                .fold(f64::INFINITY, f64::min)
-                .min(
-                    geo.holes
-                        .iter()
-                        .map(|(_, h)| h.size() / 10.0)
-                        .fold(f64::INFINITY, f64::min),
-                )
-                .min(1.0),
-        }
-    }
-
     /// Every edge-group name a boundary condition may use.
     pub fn edge_groups(&self) -> Vec<String> {
         let mut g = self.body.outline.edge_names();
@@ -253,48 +225,6 @@ pub fn elements_on(len: f64, h: f64) -> usize {
         n as usize
     } else {
         0
-    }
-}
-
-impl Scene {
-    /// Rough BEM element count (outline, holes, both faces of every crack) at
-    /// the scene's sizes, ignoring tip refinement; for summaries.
-    pub fn estimated_elements(&self) -> usize {
-        let h = self.element_size();
-        let size = |g: &str| self.bem.group_sizes.get(g).copied().unwrap_or(h);
-        let geo = shapes::SceneGeometry::of(self);
-        let mut n = 0;
-        if let Some(o) = &geo.outline {
-            let m = o.points.len();
-            for k in 0..m {
-                let len = (o.points[(k + 1) % m] - o.points[k]).norm();
-                n += elements_on(len, size(&o.groups[k]));
-            }
-        }
-        for (name, hole) in &geo.holes {
-            n += match hole {
-                shapes::HoleShape::Circle { radius, .. } => {
-                    self.circle_elements(*radius, size(name))
-                }
-                shapes::HoleShape::Polygon(p) => {
-                    let mut c = p.clone();
-                    c.push(p[0]);
-                    elements_on(crate::geometry::polyline_length(&c), size(name))
-                }
-            };
-        }
-        for c in &geo.cracks {
-            n += 2 * elements_on(crate::geometry::polyline_length(&c.points), size(&c.name));
-        }
-        n
-    }
-
-    /// Elements on a circular hole of radius `r` (m): `bem.elements_per_circle`,
-    /// or round(2 pi r / h) with at least 16.
-    pub fn circle_elements(&self, r: f64, h: f64) -> usize {
-        self.bem
-            .elements_per_circle
-            .unwrap_or_else(|| elements_on(2.0 * std::f64::consts::PI * r, h).max(16))
     }
 }
 

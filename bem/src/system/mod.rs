@@ -139,6 +139,41 @@ pub struct Solution {
     pub du: Vec<[f64; 2]>,
 }
 
+/// What a solve of a mesh allocates, known before the system is assembled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BemFootprint {
+    /// Elements.
+    pub elements: usize,
+    /// Unknowns: two per element plus one multiplier per free rigid mode.
+    pub unknowns: usize,
+    /// Bytes of the dense system (factorised in place) and its work vectors, as
+    /// [`SolveInfo::memory_bytes`] counts them without a precomputed response.
+    pub matrix_bytes: usize,
+}
+
+/// The footprint of solving `mesh` under `bcs` with `params` (the free rigid modes are
+/// found as the assembly finds them); saturates instead of overflowing.
+pub fn footprint(mesh: &Mesh, bcs: &[[Bc; 2]], params: &SolveParams) -> BemFootprint {
+    let modes = if params.infinite || bcs.len() != mesh.len() {
+        0
+    } else {
+        rigid::free_modes(mesh, bcs).modes.len()
+    };
+    let n = (2 * mesh.len()).saturating_add(modes);
+    BemFootprint {
+        elements: mesh.len(),
+        unknowns: n,
+        matrix_bytes: dense_bytes(n),
+    }
+}
+
+/// Bytes of an n x n f64 system and four work vectors.
+fn dense_bytes(n: usize) -> usize {
+    n.saturating_mul(n)
+        .saturating_mul(8)
+        .saturating_add(n.saturating_mul(32))
+}
+
 /// An assembled and factored boundary element system.
 pub struct BemSystem {
     n_el: usize,
@@ -247,7 +282,7 @@ impl BemSystem {
             sys.info.response_s = t2.elapsed().as_secs_f64();
         }
         let vmem = sys.variable_cols.len() * 8 * if sys.response.is_some() { 2 } else { 1 };
-        sys.info.memory_bytes = n * n * 8 + vmem + n * 8 * 4;
+        sys.info.memory_bytes = dense_bytes(n) + vmem;
         sys.info.condition = if params.estimate_condition {
             condition::estimate_cond1(&sys, asm.norm1)
         } else {

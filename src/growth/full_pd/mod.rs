@@ -4,7 +4,7 @@
 //!
 //! Algorithm:
 //! 1. The scene becomes a [`pdbem_pd::PdProblem`] through
-//!    [`crate::run_pd::problem_from_scene`] (same conditions, pre-cracks, failure law) with
+//!    [`crate::setup::pd::full_pd_problem`] (same conditions, pre-cracks, failure law) with
 //!    `pd.dx` set to the window spacing.
 //! 2. For every load factor of the scene, warm-started from the previous equilibrium:
 //!    equilibrium with the bond history frozen (tolerances 1e-6 as in
@@ -126,14 +126,8 @@ pub fn model_of(scene: &Scene) -> Result<(PdModel, f64, f64)> {
             file.display()
         )
     })?;
-    let dx = co.side / co.n as f64;
-    let mut s = scene.clone();
-    let pd =
-        s.pd.as_mut()
-            .with_context(|| format!("{}: full-PD growth needs a `pd` section", file.display()))?;
-    pd.dx = Some(dx);
-    pd.nx = None;
-    let problem = crate::run_pd::problem_from_scene(&s)?;
+    let dx = co.dx();
+    let problem = crate::setup::pd::full_pd_problem(scene)?;
     let delta = problem.horizon();
     let model = PdModel::new(&problem).with_context(|| format!("{}: pd", file.display()))?;
     Ok((model, dx, delta))

@@ -1,18 +1,11 @@
 //! From a scene to a BEM model: mesh (loops, holes, cracks, patches), per-element boundary
 //! conditions at a load factor, solver parameters and the remote field of infinite bodies.
-//!
-//! Default element sizes (each overridable in `bem`):
-//! - outline and polygon holes: `bem.element_size`, else 1/100 of the smaller body extent
-//!   (infinite bodies: 1/80 of the longest crack or the largest hole diameter);
-//! - circles: `bem.elements_per_circle`, else 128;
-//! - crack faces: the smaller of the outline size and L/80, with L the tip's length scale
-//!   (crack length, half of it for interior cracks, or the ligament ahead if shorter). The
-//!   interaction integral wants its contour (0.25-0.3 L) at least ~20 elements wide, and
-//!   the face reconstruction keeps 0.6 L around each tip constant (see `pdbem_bem::mesh::stencil`).
+//! Element sizes follow the one rule of [`super::sizing`].
 //!
 //! Infinite bodies are solved by superposition (DESIGN.md): holes and crack faces carry
 //! minus the remote traction, and the remote field is added back in post-processing.
 
+use super::sizing::{circle_elements, unrefined_base, Sizing};
 use crate::geometry::{circle_polygon, P2};
 use crate::scene::shapes::{HoleShape, SceneGeometry};
 use crate::scene::{Component, Faces, Plane, Scene};
@@ -20,13 +13,6 @@ use anyhow::{bail, Context, Result};
 use pdbem_bem::mesh::{CrackSpec, FaceMode, LoopSpec, TipRefinement};
 use pdbem_bem::post::Background;
 use pdbem_bem::{Bc, Material, Mesh, MeshBuilder, SolveParams};
-
-/// Default circle discretization.
-pub const DEFAULT_ELEMENTS_PER_CIRCLE: usize = 128;
-/// Default outline size as a fraction of the smaller body extent.
-pub const DEFAULT_OUTLINE_FRACTION: f64 = 0.01;
-/// Default crack element size as a fraction of the tip length scale L.
-pub const DEFAULT_CRACK_FRACTION: f64 = 1.0 / 80.0;
 
 /// Everything a BEM solve needs.
 pub struct BemSetup {
@@ -56,76 +42,14 @@ pub fn material(scene: &Scene) -> Result<Material> {
 pub fn build(scene: &Scene, factor: f64, refine: f64) -> Result<BemSetup> {
     let geo = SceneGeometry::of(scene);
     let mat = material(scene)?;
-    let base0 = outline_size(scene, &geo);
-    let base = base0 / refine;
-    let per_circle = ((scene
-        .bem
-        .elements_per_circle
-        .unwrap_or(DEFAULT_ELEMENTS_PER_CIRCLE) as f64)
-        * refine)
-        .round() as usize;
-    let size_of = |group: &str| {
-        scene
-            .bem
-            .group_sizes
-            .get(group)
-            .map(|s| s / refine)
-            .unwrap_or(base)
-    };
+    let loops = loops(scene, &geo, refine);
+    let sizing = Sizing::of(scene, &geo, &loops, refine)?;
     let mut b = MeshBuilder::new();
-    if let Some(outline) = &geo.outline {
-        let (points, groups) = split_at_patches(scene, &outline.points, &outline.groups);
-        let sizes = groups.iter().map(|g| size_of(g)).collect();
-        b.add_loop(LoopSpec {
-            points,
-            edge_groups: groups,
-            edge_sizes: sizes,
-            is_hole: false,
-        });
+    for l in loops {
+        b.add_loop(l);
     }
-    for (name, shape) in &geo.holes {
-        let points: Vec<P2> = match shape {
-            HoleShape::Circle { center, radius } => {
-                circle_polygon(center, *radius, per_circle, true)
-            }
-            HoleShape::Polygon(p) => p.clone(),
-        };
-        let n = points.len();
-        let size = match shape {
-            HoleShape::Circle { .. } => f64::INFINITY,
-            HoleShape::Polygon(_) => size_of(name),
-        };
-        b.add_loop(LoopSpec {
-            points,
-            edge_groups: vec![name.clone(); n],
-            edge_sizes: vec![size; n],
-            is_hole: true,
-        });
-    }
-    // A first mesh without cracks tells the ligaments for the default crack sizes.
-    let loops_only = b.build().context("meshing the outline and holes")?;
-    for (c, line) in scene.cracks.iter().zip(&geo.cracks) {
-        let l = crack_length_scale(&loops_only, &line.points, line.mouth);
-        let h = scene
-            .bem
-            .group_sizes
-            .get(&c.name)
-            .copied()
-            .unwrap_or_else(|| base0.min(l * DEFAULT_CRACK_FRACTION))
-            / refine;
-        b.add_crack(CrackSpec {
-            name: c.name.clone(),
-            points: line.points.clone(),
-            faces: match c.faces {
-                Faces::Coincident => FaceMode::Coincident,
-                Faces::Gap(g) => FaceMode::Gap(g),
-            },
-            element_size: h,
-            tip: scene.bem.tip_refinement.as_ref().map(|t| TipRefinement {
-                size: t.element_size / refine,
-                radius: t.radius,
-            }),
-        });
+    for spec in crack_specs(scene, &geo, &sizing, refine) {
+        b.add_crack(spec);
     }
     let mesh = b.build().context("meshing")?;
     let remote = geo.remote.map(|s| s.map(|v| v * factor));
@@ -146,53 +70,83 @@ pub fn build(scene: &Scene, factor: f64, refine: f64) -> Result<BemSetup> {
     })
 }
 
-/// The outline element size: the scene's, or the default rule.
-pub fn outline_size(scene: &Scene, geo: &SceneGeometry) -> f64 {
-    if let Some(h) = scene.bem.element_size {
-        return h;
+/// The outline (split at the patches) and hole loops of `scene` at refinement `refine`.
+pub fn loops(scene: &Scene, geo: &SceneGeometry, refine: f64) -> Vec<LoopSpec> {
+    let base = unrefined_base(scene, geo) / refine;
+    let size_of = |group: &str| {
+        scene
+            .bem
+            .group_sizes
+            .get(group)
+            .map(|s| s / refine)
+            .unwrap_or(base)
+    };
+    let mut out = Vec::new();
+    if let Some(outline) = &geo.outline {
+        let (points, groups) = split_at_patches(scene, &outline.points, &outline.groups);
+        let sizes = groups.iter().map(|g| size_of(g)).collect();
+        out.push(LoopSpec {
+            points,
+            edge_groups: groups,
+            edge_sizes: sizes,
+            is_hole: false,
+        });
     }
-    if let Some(o) = &geo.outline {
-        let (mut lo, mut hi) = (o.points[0], o.points[0]);
-        for p in &o.points {
-            lo = lo.inf(p);
-            hi = hi.sup(p);
-        }
-        let ext = (hi - lo).min();
-        return DEFAULT_OUTLINE_FRACTION * ext;
+    let per_circle = circle_elements(scene, refine);
+    for (name, shape) in &geo.holes {
+        let points: Vec<P2> = match shape {
+            HoleShape::Circle { center, radius } => {
+                circle_polygon(center, *radius, per_circle, true)
+            }
+            HoleShape::Polygon(p) => p.clone(),
+        };
+        let n = points.len();
+        let size = match shape {
+            HoleShape::Circle { .. } => f64::INFINITY,
+            HoleShape::Polygon(_) => size_of(name),
+        };
+        out.push(LoopSpec {
+            points,
+            edge_groups: vec![name.clone(); n],
+            edge_sizes: vec![size; n],
+            is_hole: true,
+        });
     }
-    // Infinite body: from the largest feature.
-    let mut feature: f64 = 0.0;
-    for c in &geo.cracks {
-        feature = feature.max(c.points.windows(2).map(|w| (w[1] - w[0]).norm()).sum());
-    }
-    for (_, h) in &geo.holes {
-        if let HoleShape::Circle { radius, .. } = h {
-            feature = feature.max(2.0 * radius);
-        }
-    }
-    feature.max(1e-300) * DEFAULT_CRACK_FRACTION
+    out
 }
 
-/// Tip length scale of a crack before meshing: its length (half for interior cracks), or
-/// the distance from a tip to the outline / holes if shorter.
-fn crack_length_scale(loops: &Mesh, pts: &[P2], mouth: bool) -> f64 {
-    let len: f64 = pts.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
-    let mut l = if mouth { len } else { 0.5 * len };
-    let mut tips = vec![*pts.last().unwrap_or(&P2::zeros())];
-    if !mouth {
-        tips.push(pts[0]);
+/// The crack specifications of `scene` at the sizes of `sizing`, with the scene's tip
+/// refinement.
+pub fn crack_specs(
+    scene: &Scene,
+    geo: &SceneGeometry,
+    sizing: &Sizing,
+    refine: f64,
+) -> Vec<CrackSpec> {
+    scene
+        .cracks
+        .iter()
+        .zip(&geo.cracks)
+        .enumerate()
+        .map(|(i, (c, line))| CrackSpec {
+                name: c.name.clone(),
+                points: line.points.clone(),
+                faces: face_mode(c.faces),
+                element_size: sizing.cracks[i],
+                tip: scene.bem.tip_refinement.as_ref().map(|t| TipRefinement {
+                    size: t.element_size / refine,
+                radius: t.radius,
+            }),
+        })
+        .collect()
+}
+
+/// The BEM face mode of a scene crack.
+pub fn face_mode(f: Faces) -> FaceMode {
+    match f {
+        Faces::Coincident => FaceMode::Coincident,
+        Faces::Gap(g) => FaceMode::Gap(g),
     }
-    for t in tips {
-        for e in &loops.elements {
-            let d = e.b - e.a;
-            let s = ((t - e.a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0);
-            let dist = (e.a + s * d - t).norm();
-            if dist > 1e-9 * len {
-                l = l.min(dist);
-            }
-        }
-    }
-    l
 }
 
 /// Splits the outline at the end points of `body.patches` and names the pieces inside a

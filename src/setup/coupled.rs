@@ -1,0 +1,364 @@
+//! From a scene to the static coupled model (issue 4, seed 002 section 2.3): the BEM body
+//! (outline with patches, holes, cracks at the one sizing rule of [`super::sizing`]) with
+//! the PD windows cut out ([`pdbem_coupling::setup::build`]), the PD windows
+//! (`coupling.placement`: one square per crack tip with axes along the crack, a centred and
+//! rotated square, or an axis-aligned region that may lie against the outline), their PD
+//! settings and the Algorithm 1 parameters. PD-BEM growth starts from the same pieces.
+
+use anyhow::{bail, Context, Result};
+use pdbem_bem::mesh::LoopSpec;
+use pdbem_bem::post::Background;
+use pdbem_bem::{Bc, Mesh, SolveParams, V2};
+use pdbem_coupling::pd_window::{EdgeCondition, PdSettings};
+use pdbem_coupling::setup::{Layout, MacroCrack};
+use pdbem_coupling::window::{segment_distance, SideKind, Window, WindowSpec};
+use pdbem_coupling::{Acceleration, CoupledProblem, CouplingParams, PdSolve};
+use pdbem_pd::solvers::{adr, implicit, Convergence};
+
+use super::bem::{face_mode, material};
+use super::sizing::Sizing;
+use super::{final_factor, pd_failure, pd_plane};
+use crate::scene::shapes::SceneGeometry;
+use crate::scene::{
+    Component, Coupling, DisplacementMap, PdSettings as ScenePd, PdSolver, Placement,
+    Relaxation, Scene,
+};
+
+/// A crack tip inside a window.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WindowTip {
+    /// Tip name (`<crack>.end` / `<crack>.start`).
+    pub name: String,
+    /// Position (m).
+    pub position: V2,
+    /// Unit crack direction at the tip (pointing out of the crack).
+    pub direction: V2,
+    /// Window holding it.
+    pub window: usize,
+}
+
+/// Everything a coupled solve needs, built from a scene.
+pub struct CoupledSetup {
+    /// The coupled problem (BEM body + windows).
+    pub problem: CoupledProblem,
+    /// Algorithm 1 parameters from `coupling`.
+    pub params: CouplingParams,
+    /// Tips inside windows.
+    pub tips: Vec<WindowTip>,
+    /// Load factor the conditions were scaled by.
+    pub factor: f64,
+}
+
+/// Builds the coupled problem of `scene` (validated, with `pd` and `coupling`).
+pub fn prepare(scene: &Scene) -> Result<CoupledSetup> {
+    let file = scene.file_label();
+    let (Some(co), Some(pd)) = (&scene.coupling, &scene.pd) else {
+        bail!("{}: coupled mode needs `pd` and `coupling`", file.display());
+    };
+    let geo = SceneGeometry::of(scene);
+    let body = macro_body(scene, &geo)?;
+    let factor = final_factor(scene);
+    let (specs, tips) = window_specs(scene, &geo, co, pd)?;
+    let layout = Layout {
+        outline: body.outline,
+        holes: body.holes,
+        cracks: body.cracks,
+        windows: specs,
+        pd: pd_settings(scene, pd)?,
+    };
+    let outer_loop = layout.outline.clone();
+    let built = pdbem_coupling::build(&layout, |_, w| {
+        outer_conditions(scene, &outer_loop, w, factor)
+    })
+    .with_context(|| format!("{}: coupling setup", file.display()))?;
+    let bcs = conditions(scene, &built.mesh, factor)?;
+    let problem = CoupledProblem {
+        mesh: built.mesh,
+        material: material(scene)?,
+        bcs,
+        bem_params: SolveParams {
+            estimate_condition: false,
+            ..Default::default()
+        },
+        background: Background::default(),
+        thickness: scene.material.thickness,
+        windows: built.windows,
+    };
+    Ok(CoupledSetup {
+        problem,
+        params: params_of(co, pd),
+        tips,
+        factor,
+    })
+}
+
+/// Window specifications and the tips they hold.
+pub fn window_specs(
+    scene: &Scene,
+    geo: &SceneGeometry,
+    co: &Coupling,
+    pd: &ScenePd,
+) -> Result<(Vec<WindowSpec>, Vec<WindowTip>)> {
+    let dx = co.dx();
+    let m = pd.horizon_factor;
+    let square = |center: V2, angle: f64| WindowSpec {
+        center,
+        angle,
+        dx,
+        nx: co.n,
+        ny: co.n,
+        horizon_factor: m,
+    };
+    let all_tips: Vec<(String, V2, V2)> = geo
+        .cracks
+        .iter()
+        .flat_map(|c| {
+            let n = c.points.len();
+            let mut t = Vec::new();
+            if !c.mouth {
+                t.push((
+                    format!("{}.start", c.name),
+                    c.points[0],
+                    (c.points[0] - c.points[1]).normalize(),
+                ));
+            }
+            t.push((
+                format!("{}.end", c.name),
+                c.points[n - 1],
+                (c.points[n - 1] - c.points[n - 2]).normalize(),
+            ));
+            t
+        })
+        .collect();
+    let specs = match &co.placement {
+        Placement::AtTips => {
+            if all_tips.is_empty() {
+                bail!(
+                    "{}: coupling.placement = AtTips but the scene has no crack tip",
+                    scene.file_label().display()
+                );
+            }
+            all_tips
+                .iter()
+                .map(|(_, t, d)| square(*t, d.y.atan2(d.x)))
+                .collect()
+        }
+        Placement::Centered { center, angle_deg } => {
+            vec![square(V2::new(center.0, center.1), angle_deg.to_radians())]
+        }
+        Placement::Region {
+            x0,
+            y0,
+            width,
+            height,
+        } => {
+            let dx = co.dx();
+            vec![WindowSpec {
+                center: V2::new(x0 + 0.5 * width, y0 + 0.5 * height),
+                angle: 0.0,
+                dx,
+                nx: co.n,
+                ny: (height / dx).round().max(1.0) as usize,
+                horizon_factor: m,
+            }]
+        }
+    };
+    let tips = all_tips
+        .into_iter()
+        .filter_map(|(name, position, direction)| {
+            let window = specs.iter().position(|s| inside_spec(s, position))?;
+            Some(WindowTip {
+                name,
+                position,
+                direction,
+                window,
+            })
+        })
+        .collect();
+    Ok((specs, tips))
+}
+
+fn inside_spec(s: &WindowSpec, x: V2) -> bool {
+    let (sn, cs) = s.angle.sin_cos();
+    let d = x - s.center;
+    let (lx, ly) = (d.x * cs + d.y * sn, -d.x * sn + d.y * cs);
+    let (hw, hh) = (0.5 * s.nx as f64 * s.dx, 0.5 * s.ny as f64 * s.dx);
+    lx.abs() < hw && ly.abs() < hh
+}
+
+/// The macro body of a coupled scene: outline (split at the patches), holes and cracks at
+/// the sizes of the one rule ([`super::sizing`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MacroBody {
+    /// Outer loop (counter-clockwise).
+    pub outline: LoopSpec,
+    /// Hole loops.
+    pub holes: Vec<LoopSpec>,
+    /// Cracks.
+    pub cracks: Vec<MacroCrack>,
+}
+
+/// The macro body of `scene` (finite body; checked by the caller).
+pub fn macro_body(scene: &Scene, geo: &SceneGeometry) -> Result<MacroBody> {
+    let loops = super::bem::loops(scene, geo, 1.0);
+    let sizing = Sizing::of(scene, geo, &loops, 1.0)?;
+    let mut loops = loops.into_iter();
+    let Some(outline) = loops.next().filter(|l| !l.is_hole) else {
+        bail!(
+            "{}: coupled mode needs a finite body (infinite plates are BEM or PD only)",
+            scene.file_label().display()
+        );
+    };
+    let cracks = scene
+        .cracks
+        .iter()
+        .zip(&geo.cracks)
+        .zip(&sizing.cracks)
+        .map(|((c, line), &h)| MacroCrack {
+            name: c.name.clone(),
+            points: line.points.clone(),
+            faces: face_mode(c.faces),
+            element_size: h,
+            segment_elements: false,
+        })
+        .collect();
+    Ok(MacroBody {
+        outline,
+        holes: loops.collect(),
+        cracks,
+    })
+}
+
+/// PD settings of the windows of a coupled scene.
+pub fn pd_settings(scene: &Scene, pd: &ScenePd) -> Result<PdSettings> {
+    Ok(PdSettings {
+        youngs_modulus: scene.material.e,
+        thickness: scene.material.thickness,
+        plane: pd_plane(scene),
+        failure: pd_failure(scene, pd)?,
+        surface_correction: pd.surface_correction,
+        // The surface correction already includes the bulk factor.
+        bulk_correction: !pd.surface_correction,
+        crack_face_correction: pd.crack_face_correction.unwrap_or(true),
+    })
+}
+
+/// Algorithm 1 parameters of a coupled scene.
+pub fn params_of(co: &Coupling, pd: &ScenePd) -> CouplingParams {
+    let acceleration = match co.relaxation {
+        Relaxation::Constant(w) => Acceleration::Constant(w),
+        Relaxation::Aitken(w) => Acceleration::Aitken(w),
+        Relaxation::IqnIls { w0, .. } => Acceleration::IqnIls(w0),
+    };
+    let displacement_map = match co.displacement_map {
+        DisplacementMap::Copy => pdbem_coupling::DisplacementMap::Copy,
+        DisplacementMap::Interior => pdbem_coupling::DisplacementMap::Interior,
+        DisplacementMap::Taylor => pdbem_coupling::DisplacementMap::Taylor,
+    };
+    let pd_solve = match &pd.solver {
+        PdSolver::Switching(s) => match PdSolve::default() {
+            PdSolve::Switching(mut p) => {
+                p.max_newton_iters = s.max_newton;
+                p.max_adr_iters = s.max_adr;
+                PdSolve::Switching(p)
+            }
+            other => other,
+        },
+        PdSolver::Implicit(s) => PdSolve::Implicit(implicit::ImplicitParams {
+            target_load: 1.0,
+            steps: 1,
+            convergence: Convergence::Residual { tol: 1e-9 },
+            max_iters: s.max_iter,
+            ..Default::default()
+        }),
+        PdSolver::Adr(s) => PdSolve::Adr(adr::AdrParams {
+            target_load: 1.0,
+            steps: 1,
+            convergence: Convergence::Displacement { e0: s.tolerance },
+            max_iters: s.max_iter,
+            safety: s.safety_factor,
+            ..Default::default()
+        }),
+    };
+    CouplingParams {
+        acceleration,
+        psi: co.psi,
+        max_iter: co.max_iter,
+        displacement_map,
+        pd_solve,
+        ..Default::default()
+    }
+}
+
+/// Scene conditions on the outline pieces that lie along window `w`'s outer sides.
+pub fn outer_conditions(
+    scene: &Scene,
+    outline: &LoopSpec,
+    w: &Window,
+    factor: f64,
+) -> Vec<EdgeCondition> {
+    let mut out = Vec::new();
+    let n = outline.points.len();
+    let tol = w.tol();
+    for k in (0..4).filter(|&k| w.sides[k] == SideKind::Outer) {
+        let (a, b) = w.side(k);
+        let t = (b - a).normalize();
+        for i in 0..n {
+            let (p0, p1) = (outline.points[i], outline.points[(i + 1) % n]);
+            if segment_distance(p0, a, b).0 > tol && segment_distance(a, p0, p1).0 > tol {
+                continue;
+            }
+            // Overlap of edge i with side k along t.
+            let (s0, s1) = ((p0 - a).dot(&t), (p1 - a).dot(&t));
+            let lo = s0.min(s1).max(0.0);
+            let hi = s0.max(s1).min((b - a).norm());
+            let collinear = [p0, p1]
+                .iter()
+                .all(|q| ((q - a) - (q - a).dot(&t) * t).norm() <= tol);
+            if !collinear || hi - lo <= tol {
+                continue;
+            }
+            let (from, to) = (a + lo * t, a + hi * t);
+            let e = (p1 - p0).normalize();
+            let normal = V2::new(e.y, -e.x);
+            for bc in scene
+                .boundary
+                .iter()
+                .filter(|bc| bc.on == outline.edge_groups[i])
+            {
+                let mut c = EdgeCondition {
+                    from,
+                    to,
+                    traction: [None; 2],
+                    displacement: [None; 2],
+                };
+                for (j, comp) in [bc.x, bc.y].iter().enumerate() {
+                    match comp {
+                        Component::Free => {}
+                        Component::Traction(v) => c.traction[j] = Some(v * factor),
+                        Component::Displacement(v) => c.displacement[j] = Some(v * factor),
+                    }
+                }
+                let (tn, ts) = (bc.normal.unwrap_or(0.0), bc.shear.unwrap_or(0.0));
+                if tn != 0.0 || ts != 0.0 {
+                    let tr = (normal * tn + e * ts) * factor;
+                    c.traction = [Some(tr.x), Some(tr.y)];
+                }
+                out.push(c);
+            }
+        }
+    }
+    out
+}
+
+/// Per-element BEM conditions at load `factor` (traction-free where nothing is said;
+/// groups wholly inside a window are skipped: PD carries them).
+fn conditions(scene: &Scene, mesh: &Mesh, factor: f64) -> Result<Vec<[Bc; 2]>> {
+    super::bem::conditions(
+        scene,
+        mesh,
+        factor,
+        None,
+        super::bem::MissingGroup::Skip,
+    )
+}

@@ -1,0 +1,149 @@
+//! What a run of a scene will build: BEM elements, unknowns and dense-matrix bytes, PD
+//! nodes and bonds. Computed from the very models `run` builds ([`super::bem::build`],
+//! [`super::pd`], [`super::coupled::prepare`], [`super::growth::input`]), before any
+//! system is assembled or solved, so `pdbem check` prints what `pdbem run` will use.
+//!
+//! Growth runs are counted at their initial geometry: BEM-only and PD-BEM growth add
+//! crack elements as the cracks grow.
+
+use anyhow::{Context, Result};
+use pdbem_bem::system::{footprint as bem_footprint, BemFootprint};
+use pdbem_coupling::growth::Scenario;
+use pdbem_pd::PdModel;
+
+use crate::runner::{mode_of, Mode};
+use crate::scene::{GrowthMode, Scene};
+
+/// The sizes of a run.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Footprint {
+    /// BEM system of the largest level solved (the fine level of a Richardson pair),
+    /// if the run has a BEM body.
+    pub bem: Option<BemFootprint>,
+    /// BEM elements of every level, coarse first (one entry without Richardson).
+    pub bem_levels: Vec<usize>,
+    /// PD nodes, real and virtual, over the whole body or all windows.
+    pub pd_nodes: usize,
+    /// PD bonds, directed (each pair twice), as `summary.json` counts them.
+    pub pd_bonds: usize,
+}
+
+impl Footprint {
+    /// One line per model, for `pdbem check`.
+    pub fn describe(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        if let Some(b) = &self.bem {
+            let levels = if self.bem_levels.len() > 1 {
+                format!(
+                    " (Richardson levels: {} elements)",
+                    self.bem_levels
+                        .iter()
+                        .map(|n| n.to_string())
+                        .collect::<Vec<_>>()
+                        .join(" and ")
+                )
+            } else {
+                String::new()
+            };
+            out.push(format!(
+                "  BEM: {} elements, {} unknowns, dense matrix {}{levels}",
+                b.elements,
+                b.unknowns,
+                bytes_text(b.matrix_bytes)
+            ));
+        }
+        if self.pd_nodes > 0 {
+            out.push(format!(
+                "  PD: {} nodes, {} bonds",
+                self.pd_nodes, self.pd_bonds
+            ));
+        }
+        out
+    }
+}
+
+/// Bytes as KiB / MiB / GiB with three significant digits.
+pub fn bytes_text(b: usize) -> String {
+    let b = b as f64;
+    let (v, unit) = if b >= 1024f64.powi(3) {
+        (b / 1024f64.powi(3), "GiB")
+    } else if b >= 1024f64.powi(2) {
+        (b / 1024f64.powi(2), "MiB")
+    } else {
+        (b / 1024.0, "KiB")
+    };
+    format!("{v:.3} {unit}")
+}
+
+/// The footprint of a validated scene, from the models its mode builds.
+pub fn of(scene: &Scene) -> Result<Footprint> {
+    let file = scene.file_label();
+    let mut f = Footprint::default();
+    match mode_of(scene) {
+        Mode::Bem => bem_levels(scene, &mut f)?,
+        Mode::Pd => {
+            let problem = super::pd::problem_from_scene(scene)?;
+            add_pd(&mut f, &PdModel::new(&problem).with_context(|| pd_ctx(scene))?);
+        }
+        Mode::Coupled => {
+            let setup = super::coupled::prepare(scene)?;
+            let p = &setup.problem;
+            f.bem = Some(bem_footprint(&p.mesh, &p.bcs, &p.bem_params));
+            f.bem_levels = vec![p.mesh.len()];
+            for w in &p.windows {
+                add_pd(&mut f, &w.model);
+            }
+        }
+        Mode::Growth => match scene.growth.as_ref().map(|g| g.mode).unwrap_or_default() {
+            GrowthMode::BemOnly => {
+                let s = super::bem::build(scene, 1.0, 1.0)?;
+                f.bem = Some(bem_footprint(&s.mesh, &s.bcs, &s.params));
+                f.bem_levels = vec![s.mesh.len()];
+            }
+            GrowthMode::FullPd => {
+                let problem = super::pd::full_pd_problem(scene)?;
+                add_pd(&mut f, &PdModel::new(&problem).with_context(|| pd_ctx(scene))?);
+            }
+            GrowthMode::PdBem => {
+                let input = super::growth::input(scene)?;
+                let growth = input.growth()?;
+                let p = growth.problem();
+                let bcs = input
+                    .scenario
+                    .bem_conditions(&p.mesh)
+                    .map_err(|e| anyhow::anyhow!("{}: BEM conditions: {e}", file.display()))?;
+                f.bem = Some(bem_footprint(&p.mesh, &bcs, &p.bem_params));
+                f.bem_levels = vec![p.mesh.len()];
+                for w in &p.windows {
+                    add_pd(&mut f, &w.model);
+                }
+            }
+        },
+    }
+    Ok(f)
+}
+
+fn pd_ctx(scene: &Scene) -> String {
+    format!("{}: pd", scene.file_label().display())
+}
+
+fn add_pd(f: &mut Footprint, m: &PdModel) {
+    f.pd_nodes += m.n_nodes();
+    f.pd_bonds += m.n_bonds();
+}
+
+/// The BEM levels of a static BEM run (two with `bem.richardson`).
+fn bem_levels(scene: &Scene, f: &mut Footprint) -> Result<()> {
+    let factor = super::final_factor(scene);
+    let refines: &[f64] = if scene.bem.richardson {
+        &[1.0, 2.0]
+    } else {
+        &[1.0]
+    };
+    for &r in refines {
+        let s = super::bem::build(scene, factor, r)?;
+        f.bem_levels.push(s.mesh.len());
+        f.bem = Some(bem_footprint(&s.mesh, &s.bcs, &s.params));
+    }
+    Ok(())
+}

@@ -1,0 +1,141 @@
+//! From a growth scene to the inputs of the PD-BEM growth driver (seed 002 Algorithm 2):
+//! the macro layout exactly as a static coupled solve has it ([`super::coupled`]), one
+//! window per crack tip, the load steps and growth settings, and the [`Scenario`] that
+//! gives the driver the scene's conditions on every rebuilt mesh (all at load factor 1).
+
+use anyhow::{bail, Context, Result};
+use pdbem_bem::mesh::LoopSpec;
+use pdbem_bem::post::Background;
+use pdbem_bem::{Bc, Mesh, SolveParams};
+use pdbem_coupling::growth::{Growth, GrowthParams, GrowthSetup, LoadSteps, Scenario, TipSpec};
+use pdbem_coupling::pd_window::EdgeCondition;
+use pdbem_coupling::setup::Layout;
+use pdbem_coupling::window::Window;
+use pdbem_coupling::CouplingParams;
+
+use super::bem::{conditions, material, MissingGroup};
+use super::coupled::{macro_body, outer_conditions, params_of, pd_settings, window_specs};
+use crate::scene::shapes::SceneGeometry;
+use crate::scene::{GrowthMode, Scene};
+
+/// The scene seen by the growth driver (all values at load factor 1).
+pub struct SceneScenario<'a> {
+    scene: &'a Scene,
+    outline: LoopSpec,
+}
+
+impl Scenario for SceneScenario<'_> {
+    fn bem_conditions(&self, mesh: &Mesh) -> std::result::Result<Vec<[Bc; 2]>, String> {
+        conditions(self.scene, mesh, 1.0, None, MissingGroup::Skip)
+            .map_err(|e| format!("{e:#}"))
+    }
+
+    fn outer_conditions(&self, window: &Window) -> Vec<EdgeCondition> {
+        outer_conditions(self.scene, &self.outline, window, 1.0)
+    }
+}
+
+/// The growth driver's input from a scene: setup, parameters and the scenario.
+pub struct PdBemInput<'a> {
+    /// Initial macro model.
+    pub setup: GrowthSetup,
+    /// Algorithm 2 parameters.
+    pub params: GrowthParams,
+    /// The scene's conditions.
+    pub scenario: SceneScenario<'a>,
+}
+
+impl PdBemInput<'_> {
+    /// The growth run at its initial geometry (for studies and tests that drive
+    /// [`Growth::solve_at`] and [`Growth::relocate`] themselves).
+    pub fn growth(&self) -> Result<Growth<'_, SceneScenario<'_>>> {
+        Ok(Growth::new(
+            self.setup.clone(),
+            &self.scenario,
+            self.params.clone(),
+        )?)
+    }
+}
+
+/// Builds the growth input of `scene` (with `pd`, `coupling` and `growth`).
+pub fn input(scene: &Scene) -> Result<PdBemInput<'_>> {
+    let file = scene.file_label();
+    let (Some(co), Some(pd), Some(gr)) = (&scene.coupling, &scene.pd, &scene.growth) else {
+        bail!(
+            "{}: PD-BEM growth needs `pd`, `coupling` and `growth`",
+            file.display()
+        );
+    };
+    if gr.mode != GrowthMode::PdBem {
+        bail!(
+            "{}: growth.mode is {:?}, not PdBem",
+            file.display(),
+            gr.mode
+        );
+    }
+    let geo = SceneGeometry::of(scene);
+    let body = macro_body(scene, &geo)?;
+    let (windows, wtips) = window_specs(scene, &geo, co, pd)?;
+    let cracks = body.cracks;
+    let tips = wtips
+        .iter()
+        .map(|t| {
+            let (crack, end) = t.name.rsplit_once('.').unwrap_or((t.name.as_str(), "end"));
+            let index = cracks
+                .iter()
+                .position(|c| c.name == crack)
+                .with_context(|| format!("{}: tip {} has no crack", file.display(), t.name))?;
+            Ok(TipSpec {
+                name: t.name.clone(),
+                crack: index,
+                at_end: end == "end",
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    if tips.is_empty() {
+        bail!(
+            "{}: PD-BEM growth: no crack tip lies in a window (coupling.placement = AtTips puts one on every tip)",
+            file.display()
+        );
+    }
+    let outline = body.outline;
+    let layout = Layout {
+        outline: outline.clone(),
+        holes: body.holes,
+        cracks,
+        windows,
+        pd: pd_settings(scene, pd)?,
+    };
+    let setup = GrowthSetup {
+        layout,
+        tips,
+        material: material(scene)?,
+        bem_params: SolveParams {
+            estimate_condition: false,
+            ..Default::default()
+        },
+        background: Background::default(),
+        thickness: scene.material.thickness,
+    };
+    let loads = LoadSteps {
+        initial: scene.load.initial,
+        step: scene.load.step,
+        count: scene.load.count,
+    };
+    let mut params = GrowthParams::new(loads, gr.move_distance.unwrap_or(0.25 * co.side));
+    params.trigger_ratio = gr.trigger_ratio;
+    params.elements_per_extension = gr.elements_per_extension;
+    params.path.threshold = gr.damage_threshold;
+    // Algorithm 1 settings from the scene; the PD solver stays the staggered one of
+    // `GrowthParams::new` (one break round per coupling iteration), whatever `pd.solver`.
+    params.coupling = CouplingParams {
+        pd_solve: params.coupling.pd_solve.clone(),
+        ..params_of(co, pd)
+    };
+    Ok(PdBemInput {
+        setup,
+        params,
+        scenario: SceneScenario { scene, outline },
+    })
+}
+

@@ -1,0 +1,68 @@
+//! The one scene-to-model layer: the only place where a validated [`Scene`] becomes a BEM
+//! mesh specification, a PD problem, PD windows and coupling parameters. Validation,
+//! `pdbem check` and every mode of `pdbem run` call it, so what `check` reports is what
+//! `run` builds.
+//!
+//! Map:
+//! - [`sizing`]: the one element-size rule (outline, holes, cracks and mouths, windows);
+//! - [`bem`](mod@bem): the BEM model of a scene ([`bem::build`]: mesh, conditions, material);
+//! - [`pd`](mod@pd): the stand-alone PD problem ([`pd::problem_from_scene`]);
+//! - [`coupled`]: the coupled model (windows, macro body, PD settings, Algorithm 1
+//!   parameters; [`coupled::prepare`]);
+//! - [`growth`]: the PD-BEM growth driver's input ([`growth::input`]);
+//! - [`footprint`]: what a run will allocate (elements, unknowns, matrix bytes, PD nodes
+//!   and bonds), computed from the same models before any solve ([`footprint::of`]).
+//!
+//! Shared conversions of scene enums to library ones live here: [`pd_failure`],
+//! [`pd_plane`].
+
+pub mod bem;
+pub mod coupled;
+pub mod footprint;
+pub mod growth;
+pub mod pd;
+pub mod sizing;
+
+use anyhow::{Context, Result};
+
+use crate::scene::{Failure, PdSettings, Plane, Scene};
+
+/// The PD failure law of a scene's `pd.failure` (`FromGc` takes `material.fracture.g_c`).
+pub fn pd_failure(scene: &Scene, pd: &PdSettings) -> Result<pdbem_pd::Failure> {
+    Ok(match &pd.failure {
+        Failure::Elastic => pdbem_pd::Failure::None,
+        Failure::CriticalStretch(s0) => pdbem_pd::Failure::CriticalStretch { s0: *s0 },
+        Failure::FromGc => {
+            let g_c = scene
+                .material
+                .fracture
+                .as_ref()
+                .and_then(|f| f.g_c)
+                .with_context(|| {
+                    format!(
+                        "{}: pd.failure = FromGc needs material.fracture.g_c",
+                        scene.file_label().display()
+                    )
+                })?;
+            pdbem_pd::Failure::FractureEnergy { g_c }
+        }
+        Failure::Degradation { s_m, s_c, beta } => pdbem_pd::Failure::Degradation {
+            s_m: *s_m,
+            s_c: *s_c,
+            beta: *beta,
+        },
+    })
+}
+
+/// The PD plane condition of a scene's material.
+pub fn pd_plane(scene: &Scene) -> pdbem_pd::Plane {
+    match scene.material.plane {
+        Plane::Stress => pdbem_pd::Plane::Stress,
+        Plane::Strain => pdbem_pd::Plane::Strain,
+    }
+}
+
+/// The last load factor of the scene (the static modes solve once, at the final load).
+pub fn final_factor(scene: &Scene) -> f64 {
+    scene.load.factors().last().copied().unwrap_or(1.0)
+}

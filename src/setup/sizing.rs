@@ -1,0 +1,155 @@
+//! The one BEM sizing rule of a scene, used by validation, `check` and every mode of
+//! `run` (static BEM, coupled, all three growth modes).
+//!
+//! Element sizes (each divided by the refinement factor `refine`, 2 for the fine level of
+//! a Richardson pair):
+//! - **outline edges and polygon holes**: `bem.group_sizes.<group>`, else
+//!   `bem.element_size`, else [`DEFAULT_OUTLINE_FRACTION`] of the smaller side of the
+//!   outline's bounding box (an infinite plate: [`DEFAULT_CRACK_FRACTION`] of its largest
+//!   feature, the longest crack or the largest hole diameter);
+//! - **circular holes**: `bem.elements_per_circle` elements (times `refine`), else
+//!   [`DEFAULT_ELEMENTS_PER_CIRCLE`];
+//! - **crack faces**: `bem.group_sizes.<crack>`, else the smaller of the outline size and
+//!   L/80, with L the tip length scale: the crack length for a crack with a mouth (its
+//!   first point on the outline or on a hole), half of it for an interior crack, or the
+//!   distance from a tip to the nearest outline or hole element when that is shorter. The
+//!   interaction integral wants its contour (0.25-0.3 L) at least ~20 elements wide, and
+//!   the face reconstruction keeps 0.6 L around each tip constant
+//!   (`pdbem_bem::mesh::stencil`);
+//! - **PD windows**: dx = `coupling.side / coupling.n` ([`crate::scene::Coupling::dx`]).
+
+use std::collections::BTreeMap;
+
+use anyhow::{Context, Result};
+use pdbem_bem::mesh::LoopSpec;
+use pdbem_bem::{Mesh, MeshBuilder};
+
+use crate::geometry::P2;
+use crate::scene::shapes::{HoleShape, SceneGeometry};
+use crate::scene::Scene;
+
+/// Default circle discretization (elements per circular hole).
+pub const DEFAULT_ELEMENTS_PER_CIRCLE: usize = 128;
+/// Default outline size as a fraction of the smaller body extent.
+pub const DEFAULT_OUTLINE_FRACTION: f64 = 0.01;
+/// Default crack element size as a fraction of the tip length scale L (and of the
+/// largest feature of an infinite plate).
+pub const DEFAULT_CRACK_FRACTION: f64 = 1.0 / 80.0;
+
+/// Element sizes of a scene at one refinement level.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sizing {
+    /// Size where no group size applies (m), refined.
+    pub base: f64,
+    /// Elements on each circular hole, refined.
+    pub per_circle: usize,
+    /// Element size of each crack in scene order (m), refined.
+    pub cracks: Vec<f64>,
+    /// `bem.group_sizes`, refined.
+    groups: BTreeMap<String, f64>,
+}
+
+impl Sizing {
+    /// The sizes of `scene` with every size divided by `refine`. The crack length scales
+    /// are measured on the outline and hole loops of that level (`loops`).
+    pub fn of(scene: &Scene, geo: &SceneGeometry, loops: &[LoopSpec], refine: f64) -> Result<Self> {
+        let base0 = unrefined_base(scene, geo);
+        let groups: BTreeMap<String, f64> = scene
+            .bem
+            .group_sizes
+            .iter()
+            .map(|(g, s)| (g.clone(), s / refine))
+            .collect();
+        let per_circle = circle_elements(scene, refine);
+        let mut b = MeshBuilder::new();
+        for l in loops {
+            b.add_loop(l.clone());
+        }
+        let loops_only = b.build().context("meshing the outline and holes")?;
+        let cracks = scene
+            .cracks
+            .iter()
+            .zip(&geo.cracks)
+            .map(|(c, line)| {
+                let l = crack_length_scale(&loops_only, &line.points, line.mouth);
+                scene
+                    .bem
+                    .group_sizes
+                    .get(&c.name)
+                    .copied()
+                    .unwrap_or_else(|| base0.min(l * DEFAULT_CRACK_FRACTION))
+                    / refine
+            })
+            .collect();
+        Ok(Sizing {
+            base: base0 / refine,
+            per_circle,
+            cracks,
+            groups,
+        })
+    }
+
+    /// Size of an outline edge group or polygon hole (m).
+    pub fn group(&self, name: &str) -> f64 {
+        self.groups.get(name).copied().unwrap_or(self.base)
+    }
+}
+
+/// Elements on each circular hole at refinement `refine`.
+pub fn circle_elements(scene: &Scene, refine: f64) -> usize {
+    ((scene
+        .bem
+        .elements_per_circle
+        .unwrap_or(DEFAULT_ELEMENTS_PER_CIRCLE) as f64)
+        * refine)
+        .round() as usize
+}
+
+/// The outline size before refinement: the scene's, or the default rule.
+pub fn unrefined_base(scene: &Scene, geo: &SceneGeometry) -> f64 {
+    if let Some(h) = scene.bem.element_size {
+        return h;
+    }
+    if let Some(o) = &geo.outline {
+        let (mut lo, mut hi) = (o.points[0], o.points[0]);
+        for p in &o.points {
+            lo = lo.inf(p);
+            hi = hi.sup(p);
+        }
+        let ext = (hi - lo).min();
+        return DEFAULT_OUTLINE_FRACTION * ext;
+    }
+    // Infinite body: from the largest feature.
+    let mut feature: f64 = 0.0;
+    for c in &geo.cracks {
+        feature = feature.max(c.points.windows(2).map(|w| (w[1] - w[0]).norm()).sum());
+    }
+    for (_, h) in &geo.holes {
+        if let HoleShape::Circle { radius, .. } = h {
+            feature = feature.max(2.0 * radius);
+        }
+    }
+    feature.max(1e-300) * DEFAULT_CRACK_FRACTION
+}
+
+/// Tip length scale of a crack before meshing: its length (half for interior cracks), or
+/// the distance from a tip to the outline / holes if shorter.
+fn crack_length_scale(loops: &Mesh, pts: &[P2], mouth: bool) -> f64 {
+    let len: f64 = pts.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    let mut l = if mouth { len } else { 0.5 * len };
+    let mut tips = vec![*pts.last().unwrap_or(&P2::zeros())];
+    if !mouth {
+        tips.push(pts[0]);
+    }
+    for t in tips {
+        for e in &loops.elements {
+            let d = e.b - e.a;
+            let s = ((t - e.a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0);
+            let dist = (e.a + s * d - t).norm();
+            if dist > 1e-9 * len {
+                l = l.min(dist);
+            }
+        }
+    }
+    l
+}
