@@ -7,7 +7,9 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 use crate::bench::BenchKind;
-use crate::runner::{mode_of, run_scene, RunSummary};
+use crate::runner::mode::mode_of;
+use crate::runner::run_scene;
+use crate::runner::summary::RunSummary;
 use crate::scene::shapes::SceneGeometry;
 use crate::scene::{GrowthMode, Scene};
 

@@ -9,13 +9,14 @@
 //!
 //! The primary `k1`, `k2` are the crack-opening fit; `k1_j`, `k2_j` the interaction integral.
 
-use crate::setup::bem::{self as bem_setup, BemSetup};
-use crate::setup::final_factor;
 use crate::output::csv::{num, CsvTable};
+use crate::runner::context::RunContext;
 use crate::runner::report::save_plot;
-use crate::runner::{CrackResult, RunContext, RunSummary, TipResult};
+use crate::runner::summary::{CrackResult, RunSummary, TipResult};
 use crate::scene::shapes::SceneGeometry;
 use crate::scene::Scene;
+use crate::setup::bem::{self as bem_setup, BemSetup};
+use crate::setup::final_factor;
 use anyhow::{Context, Result};
 use pdbem_bem::post::sif::{analyze_tips, cmod, SifOptions};
 use pdbem_bem::post::FieldEvaluator;

@@ -20,20 +20,18 @@ use pdbem_bem::post::sif::{analyze_tips, cmod, interaction_integral, SifOptions}
 use pdbem_bem::post::FieldEvaluator;
 use pdbem_bem::V2;
 use pdbem_coupling::window::{polygon_distance, segment_distance};
-use pdbem_coupling::{
-    CoupledSolution, CouplingInfo,
-};
+use pdbem_coupling::{CoupledSolution, CouplingInfo};
 use serde_json::json;
 
 use crate::geometry::P2;
 use crate::output::csv::{num, CsvTable};
 use crate::plot::{ScatterField, Series, SeriesStyle, XyPlot};
+use crate::runner::context::RunContext;
 use crate::runner::report::save_plot;
-use crate::runner::{CrackResult, RunContext, RunSummary, TipResult};
-use crate::setup::coupled::{prepare, CoupledSetup, WindowTip};
+use crate::runner::summary::{CrackResult, RunSummary, TipResult};
 use crate::scene::shapes::SceneGeometry;
 use crate::scene::Scene;
-
+use crate::setup::coupled::{prepare, CoupledSetup, WindowTip};
 
 /// The result of a coupled solve.
 pub struct CoupledOutcome {
@@ -84,7 +82,6 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     }
     Ok(summary)
 }
-
 
 /// Interaction-integral SIFs of a windowed tip on a circle around its window.
 pub fn window_tip_sif(

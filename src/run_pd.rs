@@ -19,8 +19,9 @@
 
 use crate::output::csv::{num, CsvTable};
 use crate::plot::ScatterField;
+use crate::runner::context::RunContext;
 use crate::runner::report::save_plot;
-use crate::runner::{RunContext, RunSummary};
+use crate::runner::summary::RunSummary;
 use crate::scene::shapes::SceneGeometry;
 use crate::scene::{Component, Failure, PdSolver, Scene};
 use crate::setup::pd::problem_from_scene;
@@ -30,7 +31,6 @@ use pdbem_pd::solvers::{adr, implicit, switching, Convergence};
 use pdbem_pd::PdModel;
 use serde_json::json;
 use std::time::Instant;
-
 
 /// Largest applied traction magnitude (Pa) at load factor 1.
 fn traction_scale(scene: &Scene) -> Option<f64> {

@@ -17,7 +17,8 @@ use crate::output::csv::{num, opt};
 use crate::output::{CsvTable, OutputWriter};
 use crate::plot::{Series, SeriesStyle, XyPlot};
 use crate::runner::reference::tip_references;
-use crate::runner::{report, run_scene, RunSummary};
+use crate::runner::summary::RunSummary;
+use crate::runner::{report, run_scene};
 use crate::scene::path::{parse_value, with_overrides};
 use crate::scene::{Scene, SceneError};
 
@@ -292,7 +293,7 @@ pub fn k_against_parameter(scene: &Scene, v: &Vary, rows: &[SweepRow]) -> XyPlot
         "K (Pa m^0.5)",
     );
     for name in &tips {
-        let pts = |f: &dyn Fn(&crate::runner::TipResult) -> f64| -> Vec<(f64, f64)> {
+        let pts = |f: &dyn Fn(&crate::runner::summary::TipResult) -> f64| -> Vec<(f64, f64)> {
             rows.iter()
                 .enumerate()
                 .filter_map(|(k, r)| {

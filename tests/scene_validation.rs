@@ -480,6 +480,26 @@ fn coupling_window_outside_the_body() {
 }
 
 #[test]
+fn coupling_region_width_must_be_the_side() {
+    // dx = side / n for every placement: a Region narrower than `side` would silently
+    // take another spacing.
+    let extra =
+        "pd: (), coupling: (side: 2, n: 20, placement: Region(x0: 1, y0: 1, width: 3, height: 2))";
+    assert_invalid(&base_with(extra), "coupling.side = 2", "region width 3");
+}
+
+#[test]
+fn iqn_ils_reuse_is_not_a_field() {
+    // Parsed and then dropped until now: secant pairs are not carried between load steps.
+    let extra = "pd: (), coupling: (side: 2, n: 20, relaxation: IqnIls(w0: 0.1, reuse: 2))";
+    let text = base_with(extra);
+    let err = pdbem::scene::Scene::from_ron_str(&text, "t.ron")
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("reuse"), "{err}");
+}
+
+#[test]
 fn coupling_relaxation_range() {
     let extra = "pd: (), coupling: (side: 2, n: 20, relaxation: Constant(1.5))";
     assert_invalid(&base_with(extra), "coupling.relaxation = 1.5", "(0, 1]");

@@ -7,8 +7,8 @@
 //! the same plate without the hole to 0.5 % at interior points.
 
 use pdbem::run_coupled::{bem_sample_points, solve, solve_setup, CoupledOutcome};
-use pdbem::setup::coupled::prepare;
 use pdbem::scene::Scene;
+use pdbem::setup::coupled::prepare;
 use pdbem_bem::post::FieldEvaluator;
 use pdbem_bem::V2;
 use pdbem_coupling::{Acceleration, DisplacementMap};

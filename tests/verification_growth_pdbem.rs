@@ -24,8 +24,8 @@
 //!
 //! Every tolerance carries the measured value (release build, 2 cores).
 
-use pdbem::setup::growth::input;
 use pdbem::scene::Scene;
+use pdbem::setup::growth::input;
 use pdbem_bem::post::sif::{analyze_tips, SifOptions};
 use pdbem_bem::post::FieldEvaluator;
 use pdbem_bem::{BemSystem, V2};

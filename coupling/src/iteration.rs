@@ -191,7 +191,7 @@ pub struct CouplingParams {
     pub psi: f64,
     /// Iteration cap. Default 50.
     pub max_iter: usize,
-    /// BEM -> PD map. Default Taylor.
+    /// BEM -> PD map. Default Copy (seed 002 Eq. 23, the scenes' default too).
     pub displacement_map: DisplacementMap,
     /// PD -> BEM map. Default bond crossing.
     pub traction_map: TractionMap,

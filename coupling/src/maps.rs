@@ -34,12 +34,12 @@ use crate::interface::Interface;
 /// How BEM displacements reach the PD virtual nodes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum DisplacementMap {
-    /// Element value copied to its row (seed 002 Eq. 23).
+    /// Element value copied to its row (seed 002 Eq. 23). The default, as in scenes.
+    #[default]
     Copy,
     /// BEM interior-point evaluation at each virtual node.
     Interior,
     /// First-order expansion from the element (value, tangential derivative, traction).
-    #[default]
     Taylor,
 }
 

@@ -41,7 +41,7 @@ use super::log::{step_bar, stop_after_step, GrowthLog};
 use super::{FieldSnapshot, GrowthHistory, PathPoint, StepRecord, TipPath};
 use crate::geometry::P2;
 use crate::run_bem::{solve_level_with, Level};
-use crate::runner::RunContext;
+use crate::runner::context::RunContext;
 use crate::scene::{Crack, Scene, TipRefinement};
 use pdbem_bem::PairCache;
 

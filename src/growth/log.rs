@@ -18,7 +18,7 @@ use anyhow::{Context, Result};
 use serde_json::{json, Value};
 
 use crate::growth::GrowthHistory;
-use crate::runner::RunContext;
+use crate::runner::context::RunContext;
 
 /// File name of the log.
 pub const LOG_FILE: &str = "growth_log.jsonl";

@@ -18,8 +18,9 @@ use super::{FieldSnapshot, GrowthHistory, TipPath};
 use crate::geometry::P2;
 use crate::output::csv::{num, opt, CsvTable};
 use crate::plot::{PathGroup, PathsPlot, ScatterField, Series, SeriesStyle, XyPlot};
+use crate::runner::context::RunContext;
 use crate::runner::report::save_plot;
-use crate::runner::{RunContext, RunSummary};
+use crate::runner::summary::RunSummary;
 use crate::scene::shapes::SceneGeometry;
 use crate::scene::Scene;
 

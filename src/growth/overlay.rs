@@ -17,7 +17,7 @@ use super::output::{GEOMETRY_FILE, HISTORY_FILE};
 use super::GrowthHistory;
 use crate::output::OutputWriter;
 use crate::plot::{PathGroup, PathsPlot};
-use crate::runner::RunSummary;
+use crate::runner::summary::RunSummary;
 use crate::scene::PlotFormat;
 
 /// One growth run read back from its folder.

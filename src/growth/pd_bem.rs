@@ -21,8 +21,7 @@ use pdbem_bem::post::FieldEvaluator;
 use pdbem_bem::V2;
 use pdbem_coupling::growth::overstrain::Hotspot;
 use pdbem_coupling::growth::{
-    Growth, GrowthResult, IterationEvent, Observer,
-    RelocationRecord, Scenario, StepResult,
+    Growth, GrowthResult, IterationEvent, Observer, RelocationRecord, Scenario, StepResult,
 };
 use pdbem_coupling::iteration::{CoupledProblem, CoupledSolution};
 use pdbem_coupling::setup::WindowModel;
@@ -34,10 +33,10 @@ use super::{
     FieldSnapshot, GrowthHistory, Overstrain, PathPoint, Relocation, TipPath, WindowOutline,
 };
 use crate::geometry::P2;
-use crate::setup::growth::input;
-use crate::runner::RunContext;
+use crate::runner::context::RunContext;
 use crate::scene::shapes::SceneGeometry;
 use crate::scene::Scene;
+use crate::setup::growth::input;
 
 /// Progress bar, run log, growth log and damage snapshots of a run.
 struct Progress<'a> {

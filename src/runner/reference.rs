@@ -8,7 +8,7 @@
 
 use serde_json::json;
 
-use super::{RunSummary, TipResult};
+use super::summary::{RunSummary, TipResult};
 use crate::analytic::{inclined_crack_k, kink_angle_deg, sent_cmod, sent_f_fem, sent_k1};
 use crate::geometry::{polyline_length, P2};
 use crate::scene::shapes::{CrackLine, SceneGeometry};

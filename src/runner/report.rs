@@ -4,8 +4,9 @@
 
 use anyhow::Context;
 
+use super::context::RunContext;
 use super::reference::tip_references;
-use super::{RunContext, RunSummary};
+use super::summary::RunSummary;
 use crate::analytic::{inclined_crack_k, sent_f_tada, SENT_FEM_TABLE};
 use crate::geometry::polyline_length;
 use crate::output::csv::{num, opt};
@@ -249,7 +250,8 @@ pub fn inclined_curves(sigma: f64, a: f64) -> XyPlot {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::runner::{reference, CrackResult, TipResult};
+    use crate::runner::reference;
+    use crate::runner::summary::{CrackResult, TipResult};
 
     const SENT: &str = r#"(
         name: "sent_report_test",

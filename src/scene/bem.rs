@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 
 use super::body::Pt;
+use super::shapes::{HoleShape, SceneGeometry};
 
 /// BEM settings.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -35,6 +36,43 @@ pub struct BemSettings {
     pub condition_estimate: bool,
     /// Extra interior points (m) where displacement and stress are reported. Default: none.
     pub interior_points: Vec<Pt>,
+}
+
+/// Default outline size as a fraction of the smaller body extent
+/// ([`crate::setup::sizing`]).
+pub const DEFAULT_OUTLINE_FRACTION: f64 = 0.01;
+/// Default crack element size as a fraction of the tip length scale L (and of the
+/// largest feature of an infinite plate) ([`crate::setup::sizing`]).
+pub const DEFAULT_CRACK_FRACTION: f64 = 1.0 / 80.0;
+
+impl BemSettings {
+    /// Element size where no group size applies, before refinement (m): `element_size`,
+    /// or the default rule of [`crate::setup::sizing`].
+    pub fn base_size(&self, geo: &SceneGeometry) -> f64 {
+        if let Some(h) = self.element_size {
+            return h;
+        }
+        if let Some(o) = &geo.outline {
+            let (mut lo, mut hi) = (o.points[0], o.points[0]);
+            for p in &o.points {
+                lo = lo.inf(p);
+                hi = hi.sup(p);
+            }
+            let ext = (hi - lo).min();
+            return DEFAULT_OUTLINE_FRACTION * ext;
+        }
+        // Infinite body: from the largest feature.
+        let mut feature: f64 = 0.0;
+        for c in &geo.cracks {
+            feature = feature.max(c.points.windows(2).map(|w| (w[1] - w[0]).norm()).sum());
+        }
+        for (_, h) in &geo.holes {
+            if let HoleShape::Circle { radius, .. } = h {
+                feature = feature.max(2.0 * radius);
+            }
+        }
+        feature.max(1e-300) * DEFAULT_CRACK_FRACTION
+    }
 }
 
 impl Default for BemSettings {

@@ -88,9 +88,6 @@ pub enum Relaxation {
         /// Relaxation of the first iteration, in (0, 1]. Default 0.1.
         #[serde(default = "default_w0")]
         w0: f64,
-        /// Earlier load steps whose secant pairs are reused. Default 0.
-        #[serde(default)]
-        reuse: usize,
     },
 }
 

@@ -5,7 +5,7 @@
 //! Infinite bodies are solved by superposition (DESIGN.md): holes and crack faces carry
 //! minus the remote traction, and the remote field is added back in post-processing.
 
-use super::sizing::{circle_elements, unrefined_base, Sizing};
+use super::sizing::{circle_elements, Sizing};
 use crate::geometry::{circle_polygon, P2};
 use crate::scene::shapes::{HoleShape, SceneGeometry};
 use crate::scene::{Component, Faces, Plane, Scene};
@@ -72,7 +72,7 @@ pub fn build(scene: &Scene, factor: f64, refine: f64) -> Result<BemSetup> {
 
 /// The outline (split at the patches) and hole loops of `scene` at refinement `refine`.
 pub fn loops(scene: &Scene, geo: &SceneGeometry, refine: f64) -> Vec<LoopSpec> {
-    let base = unrefined_base(scene, geo) / refine;
+    let base = scene.bem.base_size(geo) / refine;
     let size_of = |group: &str| {
         scene
             .bem
@@ -129,12 +129,12 @@ pub fn crack_specs(
         .zip(&geo.cracks)
         .enumerate()
         .map(|(i, (c, line))| CrackSpec {
-                name: c.name.clone(),
-                points: line.points.clone(),
-                faces: face_mode(c.faces),
-                element_size: sizing.cracks[i],
-                tip: scene.bem.tip_refinement.as_ref().map(|t| TipRefinement {
-                    size: t.element_size / refine,
+            name: c.name.clone(),
+            points: line.points.clone(),
+            faces: face_mode(c.faces),
+            element_size: sizing.cracks[i],
+            tip: scene.bem.tip_refinement.as_ref().map(|t| TipRefinement {
+                size: t.element_size / refine,
                 radius: t.radius,
             }),
         })

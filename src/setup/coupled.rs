@@ -20,8 +20,8 @@ use super::sizing::Sizing;
 use super::{final_factor, pd_failure, pd_plane};
 use crate::scene::shapes::SceneGeometry;
 use crate::scene::{
-    Component, Coupling, DisplacementMap, PdSettings as ScenePd, PdSolver, Placement,
-    Relaxation, Scene,
+    Component, Coupling, DisplacementMap, PdSettings as ScenePd, PdSolver, Placement, Relaxation,
+    Scene,
 };
 
 /// A crack tip inside a window.
@@ -248,7 +248,7 @@ pub fn params_of(co: &Coupling, pd: &ScenePd) -> CouplingParams {
     let acceleration = match co.relaxation {
         Relaxation::Constant(w) => Acceleration::Constant(w),
         Relaxation::Aitken(w) => Acceleration::Aitken(w),
-        Relaxation::IqnIls { w0, .. } => Acceleration::IqnIls(w0),
+        Relaxation::IqnIls { w0 } => Acceleration::IqnIls(w0),
     };
     let displacement_map = match co.displacement_map {
         DisplacementMap::Copy => pdbem_coupling::DisplacementMap::Copy,
@@ -354,11 +354,5 @@ pub fn outer_conditions(
 /// Per-element BEM conditions at load `factor` (traction-free where nothing is said;
 /// groups wholly inside a window are skipped: PD carries them).
 fn conditions(scene: &Scene, mesh: &Mesh, factor: f64) -> Result<Vec<[Bc; 2]>> {
-    super::bem::conditions(
-        scene,
-        mesh,
-        factor,
-        None,
-        super::bem::MissingGroup::Skip,
-    )
+    super::bem::conditions(scene, mesh, factor, None, super::bem::MissingGroup::Skip)
 }

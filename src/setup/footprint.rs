@@ -11,7 +11,7 @@ use pdbem_bem::system::{footprint as bem_footprint, BemFootprint};
 use pdbem_coupling::growth::Scenario;
 use pdbem_pd::PdModel;
 
-use crate::runner::{mode_of, Mode};
+use crate::runner::mode::{mode_of, Mode};
 use crate::scene::{GrowthMode, Scene};
 
 /// The sizes of a run.
@@ -24,6 +24,8 @@ pub struct Footprint {
     pub bem_levels: Vec<usize>,
     /// PD nodes, real and virtual, over the whole body or all windows.
     pub pd_nodes: usize,
+    /// Real PD nodes (what `summary.json` calls `nodes` / `pd_nodes`).
+    pub pd_real: usize,
     /// PD bonds, directed (each pair twice), as `summary.json` counts them.
     pub pd_bonds: usize,
 }
@@ -54,8 +56,8 @@ impl Footprint {
         }
         if self.pd_nodes > 0 {
             out.push(format!(
-                "  PD: {} nodes, {} bonds",
-                self.pd_nodes, self.pd_bonds
+                "  PD: {} nodes ({} real), {} directed bonds",
+                self.pd_nodes, self.pd_real, self.pd_bonds
             ));
         }
         out
@@ -83,7 +85,10 @@ pub fn of(scene: &Scene) -> Result<Footprint> {
         Mode::Bem => bem_levels(scene, &mut f)?,
         Mode::Pd => {
             let problem = super::pd::problem_from_scene(scene)?;
-            add_pd(&mut f, &PdModel::new(&problem).with_context(|| pd_ctx(scene))?);
+            add_pd(
+                &mut f,
+                &PdModel::new(&problem).with_context(|| pd_ctx(scene))?,
+            );
         }
         Mode::Coupled => {
             let setup = super::coupled::prepare(scene)?;
@@ -102,7 +107,10 @@ pub fn of(scene: &Scene) -> Result<Footprint> {
             }
             GrowthMode::FullPd => {
                 let problem = super::pd::full_pd_problem(scene)?;
-                add_pd(&mut f, &PdModel::new(&problem).with_context(|| pd_ctx(scene))?);
+                add_pd(
+                    &mut f,
+                    &PdModel::new(&problem).with_context(|| pd_ctx(scene))?,
+                );
             }
             GrowthMode::PdBem => {
                 let input = super::growth::input(scene)?;
@@ -129,6 +137,7 @@ fn pd_ctx(scene: &Scene) -> String {
 
 fn add_pd(f: &mut Footprint, m: &PdModel) {
     f.pd_nodes += m.n_nodes();
+    f.pd_real += m.n_real();
     f.pd_bonds += m.n_bonds();
 }
 

@@ -26,8 +26,7 @@ pub struct SceneScenario<'a> {
 
 impl Scenario for SceneScenario<'_> {
     fn bem_conditions(&self, mesh: &Mesh) -> std::result::Result<Vec<[Bc; 2]>, String> {
-        conditions(self.scene, mesh, 1.0, None, MissingGroup::Skip)
-            .map_err(|e| format!("{e:#}"))
+        conditions(self.scene, mesh, 1.0, None, MissingGroup::Skip).map_err(|e| format!("{e:#}"))
     }
 
     fn outer_conditions(&self, window: &Window) -> Vec<EdgeCondition> {
@@ -138,4 +137,3 @@ pub fn input(scene: &Scene) -> Result<PdBemInput<'_>> {
         scenario: SceneScenario { scene, outline },
     })
 }
-

@@ -210,7 +210,10 @@ fn pd_and_geometry(scene: &Scene) -> Result<(&ScenePd, SceneGeometry)> {
 pub fn problem_at(scene: &Scene, dx: f64) -> Result<PdProblem> {
     let (pd, geo) = pd_and_geometry(scene)?;
     let Some(outline) = &geo.outline else {
-        bail!("{}: body.outline: stand-alone PD needs a finite body", scene.file_label().display())
+        bail!(
+            "{}: body.outline: stand-alone PD needs a finite body",
+            scene.file_label().display()
+        )
     };
     let pts: Vec<P> = outline.points.iter().map(|p| [p.x, p.y]).collect();
     let (mut lo, mut hi) = (pts[0], pts[0]);

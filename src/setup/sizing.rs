@@ -25,16 +25,12 @@ use pdbem_bem::mesh::LoopSpec;
 use pdbem_bem::{Mesh, MeshBuilder};
 
 use crate::geometry::P2;
-use crate::scene::shapes::{HoleShape, SceneGeometry};
+use crate::scene::shapes::SceneGeometry;
 use crate::scene::Scene;
 
 /// Default circle discretization (elements per circular hole).
 pub const DEFAULT_ELEMENTS_PER_CIRCLE: usize = 128;
-/// Default outline size as a fraction of the smaller body extent.
-pub const DEFAULT_OUTLINE_FRACTION: f64 = 0.01;
-/// Default crack element size as a fraction of the tip length scale L (and of the
-/// largest feature of an infinite plate).
-pub const DEFAULT_CRACK_FRACTION: f64 = 1.0 / 80.0;
+pub use crate::scene::bem::{DEFAULT_CRACK_FRACTION, DEFAULT_OUTLINE_FRACTION};
 
 /// Element sizes of a scene at one refinement level.
 #[derive(Debug, Clone, PartialEq)]
@@ -53,7 +49,7 @@ impl Sizing {
     /// The sizes of `scene` with every size divided by `refine`. The crack length scales
     /// are measured on the outline and hole loops of that level (`loops`).
     pub fn of(scene: &Scene, geo: &SceneGeometry, loops: &[LoopSpec], refine: f64) -> Result<Self> {
-        let base0 = unrefined_base(scene, geo);
+        let base0 = scene.bem.base_size(geo);
         let groups: BTreeMap<String, f64> = scene
             .bem
             .group_sizes
@@ -103,33 +99,6 @@ pub fn circle_elements(scene: &Scene, refine: f64) -> usize {
         .unwrap_or(DEFAULT_ELEMENTS_PER_CIRCLE) as f64)
         * refine)
         .round() as usize
-}
-
-/// The outline size before refinement: the scene's, or the default rule.
-pub fn unrefined_base(scene: &Scene, geo: &SceneGeometry) -> f64 {
-    if let Some(h) = scene.bem.element_size {
-        return h;
-    }
-    if let Some(o) = &geo.outline {
-        let (mut lo, mut hi) = (o.points[0], o.points[0]);
-        for p in &o.points {
-            lo = lo.inf(p);
-            hi = hi.sup(p);
-        }
-        let ext = (hi - lo).min();
-        return DEFAULT_OUTLINE_FRACTION * ext;
-    }
-    // Infinite body: from the largest feature.
-    let mut feature: f64 = 0.0;
-    for c in &geo.cracks {
-        feature = feature.max(c.points.windows(2).map(|w| (w[1] - w[0]).norm()).sum());
-    }
-    for (_, h) in &geo.holes {
-        if let HoleShape::Circle { radius, .. } = h {
-            feature = feature.max(2.0 * radius);
-        }
-    }
-    feature.max(1e-300) * DEFAULT_CRACK_FRACTION
 }
 
 /// Tip length scale of a crack before meshing: its length (half for interior cracks), or

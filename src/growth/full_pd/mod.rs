@@ -51,7 +51,7 @@ use super::front::{Front, Obstacle};
 use super::log::{step_bar, stop_after_step, GrowthLog};
 use super::{FieldSnapshot, GrowthHistory, PathPoint, StepRecord, TipPath};
 use crate::geometry::P2;
-use crate::runner::RunContext;
+use crate::runner::context::RunContext;
 use crate::scene::Scene;
 use pdbem_pd::crack_path::{crack_clusters, trace_crack_beyond, PathParams};
 use pdbem_pd::PdModel;

@@ -151,7 +151,7 @@ fn check_coupling(c: &mut Checker, scene: &Scene, co: &crate::scene::Coupling) {
     };
     let (lo, hi) = bounding_box(&outline.points);
     let limit = (hi - lo).min();
-    // A `Region` window takes its size from the region; `side` is not used there.
+    // A `Region` window's width is `side` (checked below); it may span the body.
     let region = matches!(co.placement, crate::scene::Placement::Region { .. });
     if co.side >= limit && !region {
         c.fail("coupling.side", co.side, format!("coupling window larger than the body: side must be below the body's smaller extent {limit} m"));
@@ -170,6 +170,14 @@ fn check_coupling(c: &mut Checker, scene: &Scene, co: &crate::scene::Coupling) {
         } => {
             c.positive("coupling.placement.width", *width, "region width");
             c.positive("coupling.placement.height", *height, "region height");
+            // dx = side / n everywhere (`Coupling::dx`): the region's width must be `side`.
+            if (co.side - width).abs() > 1e-9 * width.abs() {
+                c.fail(
+                    "coupling.side",
+                    co.side,
+                    format!("a Region window is `side` wide: set side to the region width {width} m (dx = side / n)"),
+                );
+            }
             vec![
                 P2::new(*x0, *y0),
                 P2::new(x0 + width, *y0),
@@ -204,7 +212,7 @@ fn square_corners(center: P2, side: f64, angle_deg: f64) -> Vec<P2> {
 fn check_relaxation(c: &mut Checker, r: &Relaxation) {
     let w = match r {
         Relaxation::Constant(w) | Relaxation::Aitken(w) => *w,
-        Relaxation::IqnIls { w0, .. } => *w0,
+        Relaxation::IqnIls { w0 } => *w0,
     };
     if c.finite("coupling.relaxation", w) && !(w > 0.0 && w <= 1.0) {
         c.fail(

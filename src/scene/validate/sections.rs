@@ -93,7 +93,7 @@ fn check_bem(c: &mut Checker, scene: &Scene, body_ok: bool) {
 /// Every edge group and crack gets at least one element.
 fn check_element_counts(c: &mut Checker, scene: &Scene) {
     let geo = SceneGeometry::of(scene);
-    let h = crate::setup::sizing::unrefined_base(scene, &geo);
+    let h = scene.bem.base_size(&geo);
     let size_of = |g: &str| scene.bem.group_sizes.get(g).copied().unwrap_or(h);
     let path_of = |g: &str| {
         if scene.bem.group_sizes.contains_key(g) {

@@ -1,0 +1,97 @@
+//! What a run returns: [`RunSummary`] (serialised as `summary.json`, schema in
+//! docs/outputs.md) with its [`TipResult`]s and [`CrackResult`]s.
+
+use serde::{Deserialize, Serialize};
+
+/// Result of one run; serialised as `summary.json` (schema: docs/outputs.md).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct RunSummary {
+    /// Scene name.
+    pub scene: String,
+    /// `bem`, `pd`, `coupled` or `growth`.
+    pub mode: String,
+    /// BEM elements (null when no BEM mesh).
+    pub elements: Option<usize>,
+    /// Wall time of the solve (s), set by the runner when the solver leaves 0.
+    pub wall_time_s: f64,
+    /// Crack tips.
+    pub tips: Vec<TipResult>,
+    /// Cracks.
+    pub cracks: Vec<CrackResult>,
+    /// Messages for the user (warnings, degraded plots).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub notes: Vec<String>,
+    /// Mode-specific fields, written at the top level of `summary.json`
+    /// (e.g. `nodes`, `bonds`, `coupling`, `relocations`).
+    #[serde(flatten)]
+    pub extra: serde_json::Map<String, serde_json::Value>,
+    /// Mesh nodes / element end points for the geometry plot (not serialised).
+    #[serde(skip)]
+    pub plot_nodes: Vec<(f64, f64)>,
+}
+
+/// Results at one crack tip. SIFs in Pa sqrt(m), angles in degrees.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct TipResult {
+    /// Tip name, `<crack>.end` or `<crack>.start`.
+    pub name: String,
+    /// Tip position (m).
+    pub position: [f64; 2],
+    /// Reported K_I (the solver's preferred estimate).
+    pub k1: f64,
+    /// Reported K_II.
+    pub k2: f64,
+    /// Kink angle by maximum circumferential stress (from the crack line, CCW positive).
+    pub kink_deg: f64,
+    /// K_I from crack-opening displacement.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k1_cod: Option<f64>,
+    /// K_II from crack-opening displacement.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k2_cod: Option<f64>,
+    /// K_I from the J / interaction integral.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k1_j: Option<f64>,
+    /// K_II from the interaction integral.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k2_j: Option<f64>,
+    /// Reference K_I.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k1_ref: Option<f64>,
+    /// Reference K_II.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k2_ref: Option<f64>,
+    /// Reference kink angle.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kink_ref_deg: Option<f64>,
+    /// Reference K_I from the FEM table (SENT, 0.1 <= a/W <= 0.8).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k1_ref_fem: Option<f64>,
+    /// Relative error of `k1` (see [`reference::relative_error`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k1_err: Option<f64>,
+    /// Relative error of `k2`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k2_err: Option<f64>,
+    /// Kink angle error (degrees).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kink_err_deg: Option<f64>,
+    /// Relative error of `k1` against the FEM table.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k1_err_fem: Option<f64>,
+}
+
+/// Results of one crack.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct CrackResult {
+    /// Crack name.
+    pub name: String,
+    /// Crack-mouth opening displacement (m), for cracks with a mouth on the outline.
+    pub cmod: Option<f64>,
+    /// Reference CMOD (m).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cmod_ref: Option<f64>,
+    /// Relative CMOD error.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cmod_err: Option<f64>,
+}
