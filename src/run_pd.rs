@@ -46,18 +46,31 @@ fn traction_scale(scene: &Scene) -> Option<f64> {
         .fold(None, |m: Option<f64>, v| Some(m.map_or(v, |m| m.max(v))))
 }
 
-/// Solves `scene` with peridynamics over the whole body.
+/// Solves `scene` with peridynamics over the whole body and writes the node table and
+/// the damage and displacement plots through `ctx.writer`.
 pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
+    let t0 = Instant::now();
+    ctx.log(&format!("{}: PD solve", scene.name));
+    let (mut summary, model) = solve(scene)?;
+    ctx.log(&format!(
+        "{}: {} real nodes, {} bonds, {} broken",
+        scene.name,
+        model.n_real(),
+        model.n_bonds() / 2,
+        model.broken_bonds()
+    ));
+    write_fields(scene, ctx, &model, &mut summary)?;
+    summary.wall_time_s = t0.elapsed().as_secs_f64();
+    Ok(summary)
+}
+
+/// Solves `scene` with peridynamics over the whole body without writing anything: the
+/// summary and the final model.
+pub fn solve(scene: &Scene) -> Result<(RunSummary, PdModel)> {
     let t0 = Instant::now();
     let file = scene.file_label();
     let problem = problem_from_scene(scene)?;
     let mut model = PdModel::new(&problem).with_context(|| format!("{}: pd", file.display()))?;
-    ctx.log(&format!(
-        "{}: PD model with {} real nodes, {} bonds",
-        scene.name,
-        model.n_real(),
-        model.n_bonds()
-    ));
     let pd = scene.pd.as_ref().context("no pd section")?;
     let factors = scene.load.factors();
     let last = factors.last().copied().unwrap_or(1.0);
@@ -188,9 +201,8 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
         json!({"implicit": info.time_implicit_s, "explicit": info.time_explicit_s,
                "assembly": info.time_assembly_s, "factorization": info.time_factorization_s}),
     );
-    write_fields(scene, ctx, &model, &mut summary)?;
     summary.wall_time_s = t0.elapsed().as_secs_f64();
-    Ok(summary)
+    Ok((summary, model))
 }
 
 /// Node CSV and damage / displacement plots.

@@ -500,6 +500,17 @@ fn iqn_ils_reuse_is_not_a_field() {
 }
 
 #[test]
+fn adr_dt_is_not_a_field() {
+    // ADR's fictitious density comes from the Gershgorin bound at dt = 1 (seed 002
+    // Eqs. 9-15): a time step would only rescale it, so the field was parsed and dropped.
+    let text = base_with("pd: (solver: Adr(dt: 0.5))");
+    let err = pdbem::scene::Scene::from_ron_str(&text, "t.ron")
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("dt"), "{err}");
+}
+
+#[test]
 fn coupling_relaxation_range() {
     let extra = "pd: (), coupling: (side: 2, n: 20, relaxation: Constant(1.5))";
     assert_invalid(&base_with(extra), "coupling.relaxation = 1.5", "(0, 1]");

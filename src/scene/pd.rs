@@ -67,8 +67,6 @@ pub struct AdrParams {
     pub tolerance: f64,
     /// Iteration cap per load step, >= 1. Default 100000.
     pub max_iter: usize,
-    /// Fictitious time step (s), > 0. Default 1 (seed 002).
-    pub dt: f64,
     /// Safety factor on the fictitious density, >= 1. Default 1.
     pub safety_factor: f64,
 }
@@ -78,7 +76,6 @@ impl Default for AdrParams {
         AdrParams {
             tolerance: 1e-9,
             max_iter: 100_000,
-            dt: 1.0,
             safety_factor: 1.0,
         }
     }

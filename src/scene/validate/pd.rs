@@ -67,7 +67,6 @@ fn check_solver(c: &mut Checker, solver: &PdSolver) {
         PdSolver::Adr(p) => {
             c.positive("pd.solver.tolerance", p.tolerance, "tolerance");
             c.at_least("pd.solver.max_iter", p.max_iter, 1, "iteration cap");
-            c.positive("pd.solver.dt", p.dt, "time step");
             if c.finite("pd.solver.safety_factor", p.safety_factor) && p.safety_factor < 1.0 {
                 c.fail(
                     "pd.solver.safety_factor",
