@@ -35,7 +35,6 @@ use std::time::Instant;
 use anyhow::{bail, Context, Result};
 use serde_json::json;
 
-use super::criterion::{mcs, toughness};
 use super::front::{Front, Obstacle};
 use super::log::{step_bar, stop_after_step, GrowthLog};
 use super::{FieldSnapshot, GrowthHistory, PathPoint, StepRecord, TipPath};
@@ -44,6 +43,7 @@ use crate::run_bem::{solve_level_with, Level};
 use crate::runner::context::RunContext;
 use crate::scene::{Crack, Scene, TipRefinement};
 use pdbem_bem::PairCache;
+use pdbem_coupling::growth::criterion::mcs;
 
 /// SIFs of one tip at unit load.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -227,7 +227,7 @@ fn solve_geometry(
 
 /// K_c of the scene, or an error naming the missing field.
 fn scene_toughness(scene: &Scene) -> Result<f64> {
-    toughness(&scene.material).with_context(|| {
+    scene.material.k_c().with_context(|| {
         format!(
             "{}: material.fracture: BEM-only growth needs g_c (J/m^2) or k_c (Pa m^0.5)",
             scene.file_label().display()

@@ -65,3 +65,24 @@ impl Material {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn toughness_from_gc_uses_the_plane_modulus() {
+        let m = Material {
+            e: 30e9,
+            nu: 0.25,
+            plane: Plane::Strain,
+            thickness: 1.0,
+            fracture: Some(Fracture {
+                g_c: Some(110.0),
+                ..Default::default()
+            }),
+        };
+        let kc = m.k_c().expect("k_c");
+        assert!((kc - (30e9 / (1.0 - 0.0625) * 110.0f64).sqrt()).abs() < 1e-6 * kc);
+    }
+}

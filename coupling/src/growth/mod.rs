@@ -52,6 +52,10 @@
 //! - [`driver`]: [`Growth`] (the run: [`Growth::run`], [`Growth::solve_at`]).
 //! - [`geometry`]: the geometry iteration ([`Growth::plan`], [`Growth::apply`],
 //!   [`Growth::relocate`]).
+//! - [`criterion`]: maximum circumferential stress kink and equivalent K (BEM-only growth).
+//! - [`history`]: the mode-independent record of a growth run ([`history::GrowthHistory`]:
+//!   tip paths, steps, relocations, snapshots), what PD-BEM, BEM-only and full-PD growth
+//!   all produce.
 //! - [`records`]: the [`Scenario`] and [`Observer`] traits, the setup and the records.
 //! - [`params`]: [`GrowthParams`], [`LoadSteps`].
 //! - [`tips`]: tip specs and state, tracking, the margin and end tests.
@@ -61,8 +65,10 @@
 //! - [`topology`]: whether cracks and windows cut the BEM body apart (noted).
 //! - [`polyline`]: small polyline helpers.
 
+pub mod criterion;
 pub mod driver;
 pub mod geometry;
+pub mod history;
 pub mod merge;
 pub mod overstrain;
 pub mod params;

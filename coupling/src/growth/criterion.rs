@@ -1,6 +1,6 @@
-//! Growth criterion of the BEM-only mode: maximum circumferential stress (MCS, Erdogan &
-//! Sih 1963) for the direction and the equivalent stress intensity factor, Griffith for the
-//! toughness.
+//! Growth criterion of BEM-only growth: maximum circumferential stress (MCS, Erdogan &
+//! Sih 1963) for the direction and the equivalent stress intensity factor, compared with
+//! the Griffith toughness K_c.
 //!
 //! Near a tip, $\sqrt{2\pi r}\,\sigma_{\theta\theta} = \cos\frac{\theta}{2}
 //! \left[K_I \cos^2\frac{\theta}{2} - \frac32 K_{II}\sin\theta\right]$. Its maximum over
@@ -15,8 +15,6 @@
 //! ratio $K_{IIc}/K_{Ic} = \sqrt3/2$; $K_I = K_{II}$ gives $\theta_c = -53.13°$ and
 //! $K_{eq} = 4K_I/\sqrt5$ (cos(θ/2) = 2/√5, sin θ = -4/5). A closed crack ($K_I < 0$,
 //! $K_{II} = 0$) gives $K_{eq} < 0$ and never grows.
-
-use crate::scene::Material;
 
 /// Kink angle (radians, counter-clockwise from the crack line) by maximum circumferential
 /// stress; 0 when `k2` vanishes against `k1`.
@@ -35,12 +33,6 @@ pub fn equivalent_k(k1: f64, k2: f64, theta: f64) -> f64 {
 pub fn mcs(k1: f64, k2: f64) -> (f64, f64) {
     let theta = kink_angle(k1, k2);
     (theta, equivalent_k(k1, k2, theta))
-}
-
-/// Toughness K_c (Pa sqrt(m)) of the scene material: `fracture.k_c`, or sqrt(E' G_c) with
-/// E' = E (plane stress) or E / (1 - nu^2) (plane strain); `None` without fracture data.
-pub fn toughness(material: &Material) -> Option<f64> {
-    material.k_c()
 }
 
 #[cfg(test)]
@@ -84,21 +76,5 @@ mod tests {
     #[test]
     fn closed_crack_does_not_grow() {
         assert!(mcs(-1.0, 0.0).1 < 0.0);
-    }
-
-    #[test]
-    fn toughness_from_gc_uses_the_plane_modulus() {
-        let m = Material {
-            e: 30e9,
-            nu: 0.25,
-            plane: crate::scene::Plane::Strain,
-            thickness: 1.0,
-            fracture: Some(crate::scene::Fracture {
-                g_c: Some(110.0),
-                ..Default::default()
-            }),
-        };
-        let kc = toughness(&m).expect("k_c");
-        assert!((kc - (30e9 / (1.0 - 0.0625) * 110.0f64).sqrt()).abs() < 1e-6 * kc);
     }
 }
