@@ -53,6 +53,7 @@
 //! - [`geometry`]: the geometry iteration ([`Growth::plan`], [`Growth::apply`],
 //!   [`Growth::relocate`]).
 //! - [`criterion`]: maximum circumferential stress kink and equivalent K (BEM-only growth).
+//! - [`events`]: what the BEM-only and full-PD engines report ([`events::EngineObserver`]).
 //! - [`history`]: the mode-independent record of a growth run ([`history::GrowthHistory`]:
 //!   tip paths, steps, relocations, snapshots), what PD-BEM, BEM-only and full-PD growth
 //!   all produce.
@@ -67,6 +68,7 @@
 
 pub mod criterion;
 pub mod driver;
+pub mod events;
 pub mod geometry;
 pub mod history;
 pub mod merge;
