@@ -22,7 +22,7 @@ use pdbem_bem::post::{Background, FieldEvaluator};
 use pdbem_bem::{Bc, Mesh, SolveParams, V2};
 use pdbem_coupling::pd_window::{EdgeCondition, PdSettings};
 use pdbem_coupling::setup::{Layout, MacroCrack};
-use pdbem_coupling::window::{polygon_distance, segment_distance, SideKind, Window, WindowSpec};
+use pdbem_coupling::window::{SideKind, Window, WindowSpec};
 use pdbem_coupling::{
     Acceleration, CoupledProblem, CoupledSolution, CouplingInfo, CouplingParams, PdSolve,
 };
@@ -30,7 +30,7 @@ use pdbem_pd::solvers::{adr, implicit, Convergence};
 use serde_json::json;
 
 use crate::bem_setup::{material, outline_size, DEFAULT_ELEMENTS_PER_CIRCLE};
-use crate::geometry::{circle_polygon, P2};
+use crate::geometry::{circle_polygon, point_segment_projection, polygon_distance, P2};
 use crate::output::csv::{num, CsvTable};
 use crate::plot::{ScatterField, Series, SeriesStyle, XyPlot};
 use crate::run_bem::final_factor;
@@ -283,7 +283,7 @@ pub(crate) fn outline_spec(scene: &Scene, geo: &SceneGeometry) -> LoopSpec {
         let mut cuts = vec![0.0, 1.0];
         for pt in &scene.body.patches {
             for q in [V2::new(pt.from.0, pt.from.1), V2::new(pt.to.0, pt.to.1)] {
-                let (d, t) = segment_distance(q, a, b);
+                let (d, t) = point_segment_projection(&q, &a, &b);
                 if d <= 1e-9 * (b - a).norm() && t > 1e-12 && t < 1.0 - 1e-12 {
                     cuts.push(t);
                 }
@@ -300,7 +300,7 @@ pub(crate) fn outline_spec(scene: &Scene, geo: &SceneGeometry) -> LoopSpec {
                 .iter()
                 .find(|pt| {
                     let (f, t) = (V2::new(pt.from.0, pt.from.1), V2::new(pt.to.0, pt.to.1));
-                    segment_distance(mid, f, t).0 <= 1e-9 * (t - f).norm()
+                    point_segment_projection(&mid, &f, &t).0 <= 1e-9 * (t - f).norm()
                 })
                 .map(|pt| pt.name.clone())
                 .unwrap_or_else(|| o.groups[i].clone());
@@ -455,7 +455,9 @@ pub(crate) fn outer_conditions(
         let t = (b - a).normalize();
         for i in 0..n {
             let (p0, p1) = (outline.points[i], outline.points[(i + 1) % n]);
-            if segment_distance(p0, a, b).0 > tol && segment_distance(a, p0, p1).0 > tol {
+            if point_segment_projection(&p0, &a, &b).0 > tol
+                && point_segment_projection(&a, &p0, &p1).0 > tol
+            {
                 continue;
             }
             // Overlap of edge i with side k along t.
@@ -530,11 +532,11 @@ pub fn window_tip_sif(
     let mut clearance = f64::INFINITY;
     if let Some(o) = &geo.outline {
         let pts: Vec<V2> = o.points.iter().map(p).collect();
-        clearance = clearance.min(polygon_distance(tip.position, &pts));
+        clearance = clearance.min(polygon_distance(&tip.position, &pts));
     }
     for (_, h) in &geo.holes {
         let pts: Vec<V2> = h.polygon().iter().map(p).collect();
-        clearance = clearance.min(polygon_distance(tip.position, &pts));
+        clearance = clearance.min(polygon_distance(&tip.position, &pts));
     }
     let r_min = 1.1 * half_diag;
     let r_max = 0.9 * clearance;
@@ -704,7 +706,7 @@ pub fn bem_sample_points(scene: &Scene, out: &CoupledOutcome, per_side: usize) -
                 .mesh
                 .elements
                 .iter()
-                .any(|e| segment_distance(x, e.a, e.b).0 < 0.5 * h.max(e.h));
+                .any(|e| point_segment_projection(&x, &e.a, &e.b).0 < 0.5 * h.max(e.h));
             let in_window = pb.windows.iter().any(|w| w.window.contains(x, 0.0));
             if geo.contains(&P2::new(x.x, x.y)) && !near && !in_window {
                 pts.push(x);

@@ -28,7 +28,7 @@ use pdbem_coupling::growth::{
 use pdbem_coupling::iteration::{CoupledProblem, CoupledSolution};
 use pdbem_coupling::pd_window::EdgeCondition;
 use pdbem_coupling::setup::{Layout, WindowModel};
-use pdbem_coupling::window::{segment_distance, Window};
+use pdbem_coupling::window::Window;
 use pdbem_coupling::CouplingParams;
 use serde_json::json;
 
@@ -37,7 +37,7 @@ use super::{
     FieldSnapshot, GrowthHistory, Overstrain, PathPoint, Relocation, TipPath, WindowOutline,
 };
 use crate::bem_setup::{material, MissingGroup};
-use crate::geometry::P2;
+use crate::geometry::{point_segment_projection, P2};
 use crate::run_coupled::{
     crack_specs, hole_specs, outer_conditions, outline_spec, params_of, pd_settings, window_specs,
 };
@@ -325,7 +325,7 @@ fn displacement_snapshot(
                     .mesh
                     .elements
                     .iter()
-                    .all(|e| segment_distance(*x, e.a, e.b).0 > 0.5 * e.h)
+                    .all(|e| point_segment_projection(x, &e.a, &e.b).0 > 0.5 * e.h)
         })
         .collect();
     let mut snap = FieldSnapshot {

@@ -16,7 +16,7 @@ mod spacing;
 pub mod stencil;
 
 pub use builder::{CrackSpec, FaceMode, LoopSpec, MeshBuilder, TipRefinement};
-pub use pieces::{pieces, point_in_polygon};
+pub use pieces::pieces;
 pub use spacing::subdivide;
 
 use nalgebra::Vector2;
