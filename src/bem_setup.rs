@@ -13,7 +13,7 @@
 //! Infinite bodies are solved by superposition (DESIGN.md): holes and crack faces carry
 //! minus the remote traction, and the remote field is added back in post-processing.
 
-use crate::geometry::{circle_polygon, on_segment, P2};
+use crate::geometry::{bounding_box, circle_polygon, on_segment, polyline_length, P2};
 use crate::scene::shapes::{HoleShape, SceneGeometry};
 use crate::scene::{Component, Faces, Plane, Scene};
 use anyhow::{bail, Context, Result};
@@ -152,18 +152,14 @@ pub fn outline_size(scene: &Scene, geo: &SceneGeometry) -> f64 {
         return h;
     }
     if let Some(o) = &geo.outline {
-        let (mut lo, mut hi) = (o.points[0], o.points[0]);
-        for p in &o.points {
-            lo = lo.inf(p);
-            hi = hi.sup(p);
-        }
+        let (lo, hi) = bounding_box(&o.points);
         let ext = (hi - lo).min();
         return DEFAULT_OUTLINE_FRACTION * ext;
     }
     // Infinite body: from the largest feature.
     let mut feature: f64 = 0.0;
     for c in &geo.cracks {
-        feature = feature.max(c.points.windows(2).map(|w| (w[1] - w[0]).norm()).sum());
+        feature = feature.max(polyline_length(&c.points));
     }
     for (_, h) in &geo.holes {
         if let HoleShape::Circle { radius, .. } = h {
@@ -176,7 +172,7 @@ pub fn outline_size(scene: &Scene, geo: &SceneGeometry) -> f64 {
 /// Tip length scale of a crack before meshing: its length (half for interior cracks), or
 /// the distance from a tip to the outline / holes if shorter.
 fn crack_length_scale(loops: &Mesh, pts: &[P2], mouth: bool) -> f64 {
-    let len: f64 = pts.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    let len: f64 = polyline_length(pts);
     let mut l = if mouth { len } else { 0.5 * len };
     let mut tips = vec![*pts.last().unwrap_or(&P2::zeros())];
     if !mouth {
