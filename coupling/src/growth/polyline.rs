@@ -1,7 +1,8 @@
 //! Polyline helpers of the growth module: uniform resampling, the first entry of a
-//! polyline into a window, and the end of
-//! a path that reached the outline ([`end_on_outline`], shared by the PD-BEM and full-PD
-//! growth modes so that their paths end by one rule).
+//! polyline into a window, and the end of a path that reached the outline
+//! ([`end_on_outline`], shared by the PD-BEM and full-PD growth modes so that their paths
+//! end by one rule). Lengths, points at an arc length, projections and ray casts are in
+//! [`pdbem_geometry`].
 
 use pdbem_bem::V2;
 use pdbem_geometry::{point_at, polygon_distance, ray_polygon};
