@@ -2,7 +2,7 @@
 //!
 //! Map:
 //! - [`scene`]: RON scene types, loading, the one `validate()`, dotted paths for sweeps;
-//! - [`geometry`]: plane geometry helpers (areas, orientation, intersections);
+//! - [`geometry`]: plane geometry helpers (the `pdbem-geometry` crate, re-exported);
 //! - [`analytic`]: reference solutions of REFERENCES.md (Tada SENT, CMOD, Kirsch, ...);
 //! - [`setup`]: the one scene-to-model layer (sizing rule, BEM / PD / coupled models,
 //!   run footprint) that validation, `check` and `run` share;
@@ -18,7 +18,7 @@
 pub mod analytic;
 pub mod bench;
 pub mod cli;
-pub mod geometry;
+pub use pdbem_geometry as geometry;
 pub mod growth;
 pub mod output;
 pub mod plot;

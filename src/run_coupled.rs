@@ -15,11 +15,11 @@
 
 use std::time::Instant;
 
+use crate::geometry::{point_segment_projection, polygon_distance};
 use anyhow::{Context, Result};
 use pdbem_bem::post::sif::{analyze_tips, cmod, interaction_integral, SifOptions};
 use pdbem_bem::post::FieldEvaluator;
 use pdbem_bem::V2;
-use pdbem_coupling::window::{polygon_distance, segment_distance};
 use pdbem_coupling::{CoupledSolution, CouplingInfo};
 use serde_json::json;
 
@@ -100,11 +100,11 @@ pub fn window_tip_sif(
     let mut clearance = f64::INFINITY;
     if let Some(o) = &geo.outline {
         let pts: Vec<V2> = o.points.to_vec();
-        clearance = clearance.min(polygon_distance(tip.position, &pts));
+        clearance = clearance.min(polygon_distance(&tip.position, &pts));
     }
     for (_, h) in &geo.holes {
         let pts: Vec<V2> = h.polygon().to_vec();
-        clearance = clearance.min(polygon_distance(tip.position, &pts));
+        clearance = clearance.min(polygon_distance(&tip.position, &pts));
     }
     let r_min = 1.1 * half_diag;
     let r_max = 0.9 * clearance;
@@ -274,7 +274,7 @@ pub fn bem_sample_points(scene: &Scene, out: &CoupledOutcome, per_side: usize) -
                 .mesh
                 .elements
                 .iter()
-                .any(|e| segment_distance(x, e.a, e.b).0 < 0.5 * h.max(e.h));
+                .any(|e| point_segment_projection(&x, &e.a, &e.b).0 < 0.5 * h.max(e.h));
             let in_window = pb.windows.iter().any(|w| w.window.contains(x, 0.0));
             if geo.contains(&P2::new(x.x, x.y)) && !near && !in_window {
                 pts.push(x);

@@ -224,7 +224,7 @@ fn seed002_relocation_preserves_crack_and_cmod() {
         .iter()
         .map(|p| {
             line.windows(2)
-                .map(|s| pdbem_coupling::window::segment_distance(*p, s[0], s[1]).0)
+                .map(|s| pdbem_geometry::point_segment_projection(p, &s[0], &s[1]).0)
                 .fold(f64::INFINITY, f64::min)
         })
         .fold(0.0, f64::max);

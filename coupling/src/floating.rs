@@ -194,7 +194,7 @@ fn out_of_balance(piece: &Piece, mesh: &Mesh, sol: &Solution) -> (V2, f64) {
         let t = V2::new(sol.t[e][0], sol.t[e][1]) * el.h;
         let d = el.mid - piece.centroid;
         f += t;
-        m += d.x * t.y - d.y * t.x;
+        m += pdbem_geometry::cross(&d, &t);
     }
     (f, m)
 }

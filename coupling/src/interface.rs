@@ -18,7 +18,8 @@ use pdbem_bem::{Mesh, V2};
 use pdbem_pd::PdModel;
 
 use crate::error::CouplingError;
-use crate::window::{segment_distance, SideKind, Window};
+use crate::window::{SideKind, Window};
+use pdbem_geometry::point_segment_projection;
 
 /// One window's interface data.
 #[derive(Debug, Clone)]
@@ -137,7 +138,7 @@ impl Interface {
 fn on_interface(w: &Window, p: V2, tol: f64) -> bool {
     (0..4).any(|k| {
         let (a, b) = w.side(k);
-        w.sides[k] == SideKind::Interface && segment_distance(p, a, b).0 <= tol
+        w.sides[k] == SideKind::Interface && point_segment_projection(&p, &a, &b).0 <= tol
     })
 }
 
@@ -146,7 +147,7 @@ fn is_coupled(w: &Window, x: V2) -> bool {
     let mut best = (f64::INFINITY, SideKind::Outer);
     for k in 0..4 {
         let (a, b) = w.side(k);
-        let d = segment_distance(x, a, b).0;
+        let d = point_segment_projection(&x, &a, &b).0;
         // Ties (corner diagonals) go to the interface.
         if d < best.0 - 1e-9 * w.spec.dx
             || (d <= best.0 + 1e-9 * w.spec.dx && w.sides[k] == SideKind::Interface)
@@ -167,7 +168,7 @@ fn nearest_element(mesh: &Mesh, elements: &[usize], x: V2) -> usize {
 fn nearest_elements(mesh: &Mesh, elements: &[usize], x: V2) -> Vec<(usize, f64)> {
     let dist = |e: usize| {
         let el = &mesh.elements[e];
-        segment_distance(x, el.a, el.b).0
+        point_segment_projection(&x, &el.a, &el.b).0
     };
     let best = elements
         .iter()

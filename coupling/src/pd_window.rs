@@ -120,10 +120,7 @@ fn side_box(w: &Window, k: usize, grow_kind: SideKind) -> Selection {
         a - ga * t + d * out,
         b + gb * t + d * out,
     ];
-    let lo = pts.iter().fold(V2::repeat(f64::INFINITY), |m, p| m.inf(p));
-    let hi = pts
-        .iter()
-        .fold(V2::repeat(f64::NEG_INFINITY), |m, p| m.sup(p));
+    let (lo, hi) = pdbem_geometry::bounding_box(&pts);
     Selection::Box {
         min: p2(lo),
         max: p2(hi),

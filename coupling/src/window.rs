@@ -13,9 +13,9 @@
 //! (one element of length dx per boundary node); [`cut_outline`] removes a window touching
 //! the outline from the BEM outline instead.
 
-pub use pdbem_bem::mesh::point_in_polygon;
 use pdbem_bem::mesh::LoopSpec;
 use pdbem_bem::V2;
+use pdbem_geometry::{point_in_polygon, point_segment_projection, polygon_distance};
 
 use crate::error::CouplingError;
 
@@ -64,25 +64,6 @@ pub struct Window {
     pub spec: WindowSpec,
     /// Kind of each side (bottom, right, top, left in the window frame).
     pub sides: [SideKind; 4],
-}
-
-/// Distance from `p` to segment `ab`, and the parameter of the nearest point.
-pub fn segment_distance(p: V2, a: V2, b: V2) -> (f64, f64) {
-    let d = b - a;
-    let l2 = d.norm_squared();
-    let t = if l2 > 0.0 {
-        ((p - a).dot(&d) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    ((a + t * d - p).norm(), t)
-}
-
-/// Distance from `p` to the boundary of a closed polygon.
-pub fn polygon_distance(p: V2, poly: &[V2]) -> f64 {
-    (0..poly.len())
-        .map(|i| segment_distance(p, poly[i], poly[(i + 1) % poly.len()]).0)
-        .fold(f64::INFINITY, f64::min)
 }
 
 impl Window {
@@ -156,7 +137,7 @@ impl Window {
         w.check_node_count(index)?;
         let tol = w.tol();
         for c in w.corners() {
-            if !point_in_polygon(c, &body.outline) && polygon_distance(c, &body.outline) > tol {
+            if !point_in_polygon(&c, &body.outline) && polygon_distance(&c, &body.outline) > tol {
                 return Err(CouplingError::OutsideBody {
                     window: index,
                     corner: c,
@@ -183,7 +164,7 @@ impl Window {
         for (h, hole) in body.holes.iter().enumerate() {
             let m = hole.len();
             let inside = hole.iter().any(|p| w.contains(*p, layer + tol))
-                || point_in_polygon(w.spec.center, hole)
+                || point_in_polygon(&w.spec.center, hole)
                 || (0..m).any(|i| w.segment_enters_by(hole[i], hole[(i + 1) % m], layer));
             if inside {
                 return Err(CouplingError::OverHole {
@@ -196,7 +177,7 @@ impl Window {
             let (a, b) = w.side(k);
             let on = [a, 0.5 * (a + b), b]
                 .iter()
-                .all(|p| polygon_distance(*p, &body.outline) <= tol);
+                .all(|p| polygon_distance(p, &body.outline) <= tol);
             if on {
                 w.sides[k] = SideKind::Outer;
             }
@@ -449,7 +430,7 @@ pub fn cut_outline(
         let mut inner: Vec<(f64, V2)> = corners
             .iter()
             .filter_map(|c| {
-                let (d, t) = segment_distance(*c, a, b);
+                let (d, t) = point_segment_projection(c, &a, &b);
                 (d <= tol && t > 1e-12 && t < 1.0 - 1e-12).then_some((t, *c))
             })
             .collect();

@@ -33,6 +33,7 @@ use serde::Serialize;
 
 use crate::cases::{plate_hole, three_point_bend, PdCase};
 use crate::forces::History;
+use crate::geometry::to_g_all;
 use crate::model::PdModel;
 use crate::problem::{PdProblem, Region};
 use crate::solvers::{adr, switching, PhaseKind, SolveInfo};
@@ -337,7 +338,7 @@ pub fn compare(case: &PdCase, n_e: usize, profile_y: f64, repeats: usize) -> Swi
     sw_run.time_s = median(&sw_run.times_s);
     let (ma, ms) = first.expect("at least one repeat");
     let dx = ma.grid().dx;
-    let (lo, hi) = bounding_box(&case.problem.region.outline);
+    let (lo, hi) = pdbem_geometry::bounding_box(&to_g_all(&case.problem.region.outline));
     SwitchBench {
         case: case.name.clone(),
         grid: [
@@ -357,18 +358,6 @@ pub fn compare(case: &PdCase, n_e: usize, profile_y: f64, repeats: usize) -> Swi
         switching: sw_run,
         error,
     }
-}
-
-fn bounding_box(points: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
-    points.iter().fold(
-        ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]),
-        |(lo, hi), p| {
-            (
-                [lo[0].min(p[0]), lo[1].min(p[1])],
-                [hi[0].max(p[0]), hi[1].max(p[1])],
-            )
-        },
-    )
 }
 
 /// Median (NaN for an empty slice).

@@ -49,11 +49,12 @@
 use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashMap};
 
+use pdbem_geometry as g;
 use serde::Serialize;
 
 use crate::damage::MACRO_CRACK_DAMAGE;
 use crate::error::PdError;
-use crate::geometry::P2;
+use crate::geometry::{from_g, to_g_all, P2};
 use crate::model::PdModel;
 
 /// Parameters of the tip tracker. Lengths are multiples of the grid spacing.
@@ -149,7 +150,10 @@ impl CrackPath {
     /// for a path shorter than a point.
     pub fn tip_direction(&self, back: f64) -> Option<P2> {
         let tip = self.tip();
-        let from = point_at_length(&self.points, (self.length - back).max(0.0));
+        let from = from_g(g::point_at(
+            &to_g_all(&self.points),
+            (self.length - back).max(0.0),
+        ));
         let d = [tip[0] - from[0], tip[1] - from[1]];
         let l = d[0].hypot(d[1]);
         (l > 0.0).then(|| [d[0] / l, d[1] / l])
@@ -265,7 +269,7 @@ fn trace(
     let raw = resample(&chain, params.spacing * dx);
     let connected: Vec<P2> = search.reached.iter().map(|&k| pts[k]).collect();
     let points = centre_across(&raw, &connected, params.smoothing * dx);
-    let length = polyline_length(&points);
+    let length = g::polyline_length(&to_g_all(&points));
     let mut nodes: Vec<usize> = search.reached.iter().map(|&k| cand[k]).collect();
     nodes.sort_unstable();
     Ok(CrackPath {
@@ -446,13 +450,14 @@ fn chain_to_tip(pts: &[P2], s: &Search, entry: P2) -> Vec<P2> {
 
 /// Points every `h` along the polyline, keeping both end points.
 fn resample(line: &[P2], h: f64) -> Vec<P2> {
-    let total = polyline_length(line);
+    let g_line = to_g_all(line);
+    let total = g::polyline_length(&g_line);
     if line.len() < 2 || total == 0.0 {
         return line[..1].to_vec();
     }
     let n = ((total / h).round() as usize).max(1);
     (0..=n)
-        .map(|k| point_at_length(line, total * k as f64 / n as f64))
+        .map(|k| from_g(g::point_at(&g_line, total * k as f64 / n as f64)))
         .collect()
 }
 
@@ -467,11 +472,12 @@ fn centre_across(line: &[P2], crack: &[P2], radius: f64) -> Vec<P2> {
     }
     let hash = CellHash::new(crack, radius);
     let mut out = line.to_vec();
+    let g_line = to_g_all(line);
     let mut s = 0.0;
     for k in 1..line.len() {
         s += dist2(line[k - 1], line[k]).sqrt();
-        let a = point_at_length(line, (s - radius).max(0.0));
-        let b = point_at_length(line, s + radius);
+        let a = from_g(g::point_at(&g_line, (s - radius).max(0.0)));
+        let b = from_g(g::point_at(&g_line, s + radius));
         let t = [b[0] - a[0], b[1] - a[1]];
         let lt = t[0].hypot(t[1]);
         if lt == 0.0 {
@@ -510,27 +516,6 @@ fn mean_shift_across(p: P2, nrm: P2, crack: &[P2], hash: &CellHash, r: f64) -> P
         }
     }
     q
-}
-
-/// The point at arc length `s` along the polyline (clamped to its ends).
-fn point_at_length(line: &[P2], s: f64) -> P2 {
-    let mut acc = 0.0;
-    for w in line.windows(2) {
-        let l = dist2(w[0], w[1]).sqrt();
-        if acc + l >= s && l > 0.0 {
-            let f = ((s - acc) / l).clamp(0.0, 1.0);
-            return [
-                w[0][0] + f * (w[1][0] - w[0][0]),
-                w[0][1] + f * (w[1][1] - w[0][1]),
-            ];
-        }
-        acc += l;
-    }
-    *line.last().expect("non-empty polyline")
-}
-
-fn polyline_length(line: &[P2]) -> f64 {
-    line.windows(2).map(|w| dist2(w[0], w[1]).sqrt()).sum()
 }
 
 #[inline]

@@ -1,121 +1,69 @@
-//! Small planar geometry helpers on `[f64; 2]` points: point in polygon,
-//! point-segment distance, segment intersection, signed area.
+//! PD's planar geometry on `[f64; 2]` points: the adapters to [`pdbem_geometry`] (point
+//! in polygon, distances, lengths, signed area, segment crossings, rotation) and the
+//! pre-crack cutting rule of bonds ([`segment_crosses_crack`]).
 //!
-//! These serve grid generation ([`crate::grid`]) and pre-crack cutting
-//! ([`crate::bonds`]); points are plain arrays so that problem files stay
-//! free of library types.
+//! These serve grid generation ([`crate::grid`]), pre-crack cutting ([`crate::bonds`]) and
+//! the problem set-up ([`crate::problem`], [`crate::boundary`]); points stay plain arrays
+//! so that problem files and the solvers' data stay free of library types, and are
+//! converted to [`pdbem_geometry::P2`] at the call. Distances and lengths use the
+//! `*_hypot` variants, the arithmetic pd always used.
+
+use pdbem_geometry as g;
 
 /// A 2-D point or vector.
 pub type P2 = [f64; 2];
 
-/// Difference `a - b`.
+/// The [`pdbem_geometry::P2`] of an array point.
 #[inline]
-pub fn sub(a: P2, b: P2) -> P2 {
-    [a[0] - b[0], a[1] - b[1]]
+pub fn to_g(p: P2) -> g::P2 {
+    g::P2::new(p[0], p[1])
 }
 
-/// Euclidean norm.
+/// The array point of a [`pdbem_geometry::P2`].
 #[inline]
-pub fn norm(a: P2) -> f64 {
-    a[0].hypot(a[1])
+pub fn from_g(p: g::P2) -> P2 {
+    [p.x, p.y]
 }
 
-/// 2-D cross product `a x b`.
-#[inline]
-pub fn cross(a: P2, b: P2) -> f64 {
-    a[0] * b[1] - a[1] * b[0]
-}
-
-/// Dot product.
-#[inline]
-pub fn dot(a: P2, b: P2) -> f64 {
-    a[0] * b[0] + a[1] * b[1]
+/// Array points as [`pdbem_geometry::P2`].
+pub fn to_g_all(pts: &[P2]) -> Vec<g::P2> {
+    pts.iter().map(|&p| to_g(p)).collect()
 }
 
 /// Signed area of a closed polygon (positive when counter-clockwise).
 pub fn signed_area(poly: &[P2]) -> f64 {
-    let n = poly.len();
-    (0..n)
-        .map(|i| cross(poly[i], poly[(i + 1) % n]))
-        .sum::<f64>()
-        * 0.5
+    g::signed_area(&to_g_all(poly))
 }
 
 /// Point-in-polygon by the even-odd ray rule (closed polygon, any orientation).
 pub fn point_in_polygon(p: P2, poly: &[P2]) -> bool {
-    let n = poly.len();
-    let mut inside = false;
-    let mut j = n - 1;
-    for i in 0..n {
-        let (a, b) = (poly[i], poly[j]);
-        if (a[1] > p[1]) != (b[1] > p[1]) {
-            let x = a[0] + (p[1] - a[1]) * (b[0] - a[0]) / (b[1] - a[1]);
-            if p[0] < x {
-                inside = !inside;
-            }
-        }
-        j = i;
-    }
-    inside
+    g::point_in_polygon(&to_g(p), &to_g_all(poly))
 }
 
 /// Distance from `p` to the segment `[a, b]`.
 pub fn dist_point_segment(p: P2, a: P2, b: P2) -> f64 {
-    let ab = sub(b, a);
-    let ap = sub(p, a);
-    let l2 = ab[0] * ab[0] + ab[1] * ab[1];
-    let t = if l2 > 0.0 {
-        ((ap[0] * ab[0] + ap[1] * ab[1]) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    norm([ap[0] - t * ab[0], ap[1] - t * ab[1]])
+    g::point_segment_distance_hypot(&to_g(p), &to_g(a), &to_g(b))
 }
 
 /// Distance from `p` to an open polyline (a single point counts as a polyline).
 pub fn dist_point_polyline(p: P2, line: &[P2]) -> f64 {
-    match line.len() {
-        0 => f64::INFINITY,
-        1 => norm(sub(p, line[0])),
-        _ => line
-            .windows(2)
-            .map(|w| dist_point_segment(p, w[0], w[1]))
-            .fold(f64::INFINITY, f64::min),
-    }
+    g::polyline_distance_hypot(&to_g(p), &to_g_all(line))
 }
 
 /// Distance from `p` to the boundary of a closed polygon.
 pub fn dist_point_polygon_boundary(p: P2, poly: &[P2]) -> f64 {
-    let n = poly.len();
-    (0..n)
-        .map(|i| dist_point_segment(p, poly[i], poly[(i + 1) % n]))
-        .fold(f64::INFINITY, f64::min)
+    g::polygon_distance_hypot(&to_g(p), &to_g_all(poly))
 }
 
 /// Length of an open polyline.
 pub fn polyline_length(line: &[P2]) -> f64 {
-    line.windows(2).map(|w| norm(sub(w[1], w[0]))).sum()
+    g::polyline_length_hypot(&to_g_all(line))
 }
 
-/// Whether the segments `[p1, p2]` and `[q1, q2]` intersect (touching counts).
+/// Whether the segments `[p1, p2]` and `[q1, q2]` intersect (touching counts; exact
+/// orientation signs, [`pdbem_geometry::segments_intersect_exact`]).
 pub fn segments_intersect(p1: P2, p2: P2, q1: P2, q2: P2) -> bool {
-    let d1 = cross(sub(q2, q1), sub(p1, q1));
-    let d2 = cross(sub(q2, q1), sub(p2, q1));
-    let d3 = cross(sub(p2, p1), sub(q1, p1));
-    let d4 = cross(sub(p2, p1), sub(q2, p1));
-    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0))
-        && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))
-    {
-        return true;
-    }
-    let on = |a: P2, b: P2, c: P2, d: f64| {
-        d == 0.0
-            && c[0] >= a[0].min(b[0])
-            && c[0] <= a[0].max(b[0])
-            && c[1] >= a[1].min(b[1])
-            && c[1] <= a[1].max(b[1])
-    };
-    on(q1, q2, p1, d1) || on(q1, q2, p2, d2) || on(p1, p2, q1, d3) || on(p1, p2, q2, d4)
+    g::segments_intersect_exact(&to_g(p1), &to_g(p2), &to_g(q1), &to_g(q2))
 }
 
 /// Whether the segment `[a, b]` crosses an open polyline.
@@ -141,26 +89,27 @@ pub fn segment_crosses_crack(a: P2, b: P2, line: &[P2], tol: f64) -> bool {
     } else {
         (b, a)
     };
+    let (a, b) = (to_g(a), to_g(b));
     let last = line.len().saturating_sub(2);
     line.windows(2).enumerate().any(|(k, w)| {
-        let (q1, q2) = (w[0], w[1]);
-        if !segments_intersect(a, b, q1, q2) {
+        let (q1, q2) = (to_g(w[0]), to_g(w[1]));
+        if !g::segments_intersect_exact(&a, &b, &q1, &q2) {
             return false;
         }
         let (first, end) = (k == 0, k == last);
         if !first && !end {
             return true;
         }
-        let s = sub(q2, q1);
-        let len = norm(s);
+        let s = q2 - q1;
+        let len = s.x.hypot(s.y);
         let u_min = if first { tol / len } else { 0.0 };
         let u_max = if end { 1.0 - tol / len } else { 1.0 };
-        let r = sub(b, a);
-        let denom = cross(r, s);
-        if denom.abs() <= 1e-14 * norm(r) * len {
-            return collinear_overlap(a, b, q1, s, u_min, u_max);
+        let r = b - a;
+        let denom = g::cross(&r, &s);
+        if denom.abs() <= 1e-14 * r.x.hypot(r.y) * len {
+            return collinear_overlap(&a, &b, &q1, &s, u_min, u_max);
         }
-        let u = cross(sub(q1, a), r) / denom;
+        let u = g::cross(&(q1 - a), &r) / denom;
         (!first || u > u_min) && (!end || u < u_max)
     })
 }
@@ -169,21 +118,20 @@ pub fn segment_crosses_crack(a: P2, b: P2, line: &[P2], tol: f64) -> bool {
 /// line and overlaps it for some u in (u_min, u_max): a bond along the crack line is cut
 /// (a node on the crack is then isolated rather than left hanging on bonds along the
 /// crack, which would make the stiffness singular).
-fn collinear_overlap(a: P2, b: P2, q1: P2, s: P2, u_min: f64, u_max: f64) -> bool {
-    let ss = dot(s, s);
-    if cross(sub(a, q1), s).abs() > 1e-12 * ss {
+fn collinear_overlap(a: &g::P2, b: &g::P2, q1: &g::P2, s: &g::P2, u_min: f64, u_max: f64) -> bool {
+    let ss = s.dot(s);
+    if g::cross(&(a - q1), s).abs() > 1e-12 * ss {
         return false;
     }
-    let ua = dot(sub(a, q1), s) / ss;
-    let ub = dot(sub(b, q1), s) / ss;
+    let ua = (a - q1).dot(s) / ss;
+    let ub = (b - q1).dot(s) / ss;
     ua.min(ub) < u_max && ua.max(ub) > u_min
 }
 
 /// Rotate `p` by `angle` (radians, counter-clockwise) about the origin.
 #[inline]
 pub fn rotate(p: P2, angle: f64) -> P2 {
-    let (s, c) = angle.sin_cos();
-    [c * p[0] - s * p[1], s * p[0] + c * p[1]]
+    from_g(g::rotate(&to_g(p), angle))
 }
 
 #[cfg(test)]

@@ -38,7 +38,7 @@ use serde_json::json;
 use super::front::{Front, Obstacle};
 use super::log::{step_bar, stop_after_step, GrowthLog};
 use super::{FieldSnapshot, GrowthHistory, PathPoint, StepRecord, TipPath};
-use crate::geometry::P2;
+use crate::geometry::{rotate, P2};
 use crate::run_bem::{solve_level_with, Level};
 use crate::runner::context::RunContext;
 use crate::scene::{Crack, Scene, TipRefinement};
@@ -287,12 +287,6 @@ fn critical_tips(front: &Front, s: &Solved, f: f64, k_c: f64) -> Vec<TipSif> {
         .collect()
 }
 
-/// Rotates `d` by `theta` (radians, counter-clockwise).
-fn rotate(d: P2, theta: f64) -> P2 {
-    let (s, c) = theta.sin_cos();
-    P2::new(c * d.x - s * d.y, s * d.x + c * d.y)
-}
-
 /// Displacement magnitude at load `f` on a grid over the body (for the snapshot plots).
 fn displacement_snapshot(scene: &Scene, s: &Solved, f: f64, step: usize) -> FieldSnapshot {
     use pdbem_bem::post::FieldEvaluator;
@@ -501,7 +495,7 @@ fn grow_tip(
 ) -> Result<()> {
     let tip = t.tip;
     let from = front.tip_position(tip);
-    let dir = rotate(front.tip_direction(tip), t.theta);
+    let dir = rotate(&front.tip_direction(tip), t.theta);
     let crack = front.tips[tip].crack;
     let da = sizes.da[crack];
     let hit = front.step_ahead(tip, dir, da, LIGAMENT_MARGIN * da);

@@ -15,9 +15,9 @@
 //!   boundary of the whole structure"). A tip of an interior crack that reaches the outline
 //!   stops, and the run goes on until the crack has also run out at its other end.
 
-use pdbem_coupling::growth::polyline;
-
-use crate::geometry::{point_segment_distance, polyline_length, P2};
+use crate::geometry::{
+    point_segment_distance, polyline_length, ray_circle, ray_polygon, ray_segment, P2,
+};
 use crate::scene::shapes::{HoleShape, SceneGeometry};
 use crate::scene::Scene;
 
@@ -395,31 +395,10 @@ impl Front {
     }
 }
 
-/// Distance along the ray `o + s d` (s > 0, `d` unit) to segment `a`-`b`, if it crosses.
-pub fn ray_segment(o: &P2, d: &P2, a: &P2, b: &P2) -> Option<f64> {
-    polyline::ray_segment(*o, *d, *a, *b)
-}
-
-/// Nearest crossing of the ray with a closed polygon.
-pub fn ray_polygon(o: &P2, d: &P2, poly: &[P2]) -> Option<f64> {
-    polyline::ray_polygon(*o, *d, poly)
-}
-
 /// Nearest crossing of the ray with a hole (circles exact).
 pub fn ray_hole(o: &P2, d: &P2, h: &HoleShape) -> Option<f64> {
     match h {
-        HoleShape::Circle { center, radius } => {
-            // |o + s d - c|^2 = r^2: s^2 + 2 b s + c0 = 0.
-            let w = o - center;
-            let b = w.dot(d);
-            let c0 = w.norm_squared() - radius * radius;
-            let disc = b * b - c0;
-            if disc < 0.0 {
-                return None;
-            }
-            let s = -b - disc.sqrt();
-            (s > 0.0).then_some(s)
-        }
+        HoleShape::Circle { center, radius } => ray_circle(o, d, center, *radius),
         HoleShape::Polygon(p) => ray_polygon(o, d, p),
     }
 }

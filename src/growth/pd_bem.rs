@@ -25,14 +25,13 @@ use pdbem_coupling::growth::{
 };
 use pdbem_coupling::iteration::{CoupledProblem, CoupledSolution};
 use pdbem_coupling::setup::WindowModel;
-use pdbem_coupling::window::segment_distance;
 use serde_json::json;
 
 use super::log::{step_bar, GrowthLog};
 use super::{
     FieldSnapshot, GrowthHistory, Overstrain, PathPoint, Relocation, TipPath, WindowOutline,
 };
-use crate::geometry::P2;
+use crate::geometry::{point_segment_projection, P2};
 use crate::runner::context::RunContext;
 use crate::scene::shapes::SceneGeometry;
 use crate::scene::Scene;
@@ -195,7 +194,7 @@ fn displacement_snapshot(
                     .mesh
                     .elements
                     .iter()
-                    .all(|e| segment_distance(*x, e.a, e.b).0 > 0.5 * e.h)
+                    .all(|e| point_segment_projection(x, &e.a, &e.b).0 > 0.5 * e.h)
         })
         .collect();
     let mut snap = FieldSnapshot {

@@ -53,18 +53,14 @@ impl BemSettings {
             return h;
         }
         if let Some(o) = &geo.outline {
-            let (mut lo, mut hi) = (o.points[0], o.points[0]);
-            for p in &o.points {
-                lo = lo.inf(p);
-                hi = hi.sup(p);
-            }
+            let (lo, hi) = crate::geometry::bounding_box(&o.points);
             let ext = (hi - lo).min();
             return DEFAULT_OUTLINE_FRACTION * ext;
         }
         // Infinite body: from the largest feature.
         let mut feature: f64 = 0.0;
         for c in &geo.cracks {
-            feature = feature.max(c.points.windows(2).map(|w| (w[1] - w[0]).norm()).sum());
+            feature = feature.max(crate::geometry::polyline_length(&c.points));
         }
         for (_, h) in &geo.holes {
             if let HoleShape::Circle { radius, .. } = h {

@@ -6,7 +6,7 @@
 //! minus the remote traction, and the remote field is added back in post-processing.
 
 use super::sizing::{circle_elements, Sizing};
-use crate::geometry::{circle_polygon, P2};
+use crate::geometry::{circle_polygon, on_segment, P2};
 use crate::scene::shapes::{HoleShape, SceneGeometry};
 use crate::scene::{Component, Faces, Plane, Scene};
 use anyhow::{bail, Context, Result};
@@ -180,19 +180,13 @@ fn split_at_patches(scene: &Scene, pts: &[P2], groups: &[String]) -> (Vec<P2>, V
                 .body
                 .patches
                 .iter()
-                .find(|p| on_segment(mid, P2::new(p.from.0, p.from.1), P2::new(p.to.0, p.to.1)))
+                .find(|p| on_segment(&mid, &P2::new(p.from.0, p.from.1), &P2::new(p.to.0, p.to.1)))
                 .map(|p| p.name.clone())
                 .unwrap_or_else(|| groups[i].clone());
             out_g.push(name);
         }
     }
     (out_p, out_g)
-}
-
-fn on_segment(q: P2, a: P2, b: P2) -> bool {
-    let d = b - a;
-    let t = (q - a).dot(&d) / d.norm_squared();
-    (0.0..=1.0).contains(&t) && (a + t * d - q).norm() <= 1e-9 * d.norm()
 }
 
 /// What to do with a boundary condition whose group has no element in the mesh.

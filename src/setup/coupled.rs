@@ -11,7 +11,9 @@ use pdbem_bem::post::Background;
 use pdbem_bem::{Bc, Mesh, SolveParams, V2};
 use pdbem_coupling::pd_window::{EdgeCondition, PdSettings};
 use pdbem_coupling::setup::{Layout, MacroCrack};
-use pdbem_coupling::window::{segment_distance, SideKind, Window, WindowSpec};
+use pdbem_coupling::window::{SideKind, Window, WindowSpec};
+
+use crate::geometry::point_segment_projection;
 use pdbem_coupling::{Acceleration, CoupledProblem, CouplingParams, PdSolve};
 use pdbem_pd::solvers::{adr, implicit, Convergence};
 
@@ -305,7 +307,9 @@ pub fn outer_conditions(
         let t = (b - a).normalize();
         for i in 0..n {
             let (p0, p1) = (outline.points[i], outline.points[(i + 1) % n]);
-            if segment_distance(p0, a, b).0 > tol && segment_distance(a, p0, p1).0 > tol {
+            if point_segment_projection(&p0, &a, &b).0 > tol
+                && point_segment_projection(&a, &p0, &p1).0 > tol
+            {
                 continue;
             }
             // Overlap of edge i with side k along t.

@@ -24,7 +24,7 @@ use anyhow::{Context, Result};
 use pdbem_bem::mesh::LoopSpec;
 use pdbem_bem::{Mesh, MeshBuilder};
 
-use crate::geometry::P2;
+use crate::geometry::{polyline_length, P2};
 use crate::scene::shapes::SceneGeometry;
 use crate::scene::Scene;
 
@@ -104,7 +104,7 @@ pub fn circle_elements(scene: &Scene, refine: f64) -> usize {
 /// Tip length scale of a crack before meshing: its length (half for interior cracks), or
 /// the distance from a tip to the outline / holes if shorter.
 fn crack_length_scale(loops: &Mesh, pts: &[P2], mouth: bool) -> f64 {
-    let len: f64 = pts.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    let len: f64 = polyline_length(pts);
     let mut l = if mouth { len } else { 0.5 * len };
     let mut tips = vec![*pts.last().unwrap_or(&P2::zeros())];
     if !mouth {

@@ -1,5 +1,7 @@
 //! Mesh generation from loops and cracks.
 
+use pdbem_geometry::{point_segment_projection, signed_area};
+
 use super::{subdivide, Crack, Element, Mesh, V2};
 use crate::BemError;
 
@@ -74,25 +76,6 @@ pub struct CrackSpec {
 pub struct MeshBuilder {
     loops: Vec<LoopSpec>,
     cracks: Vec<CrackSpec>,
-}
-
-/// Signed area of a polygon (positive when counter-clockwise).
-pub(crate) fn signed_area(p: &[V2]) -> f64 {
-    let n = p.len();
-    (0..n)
-        .map(|i| {
-            let (a, b) = (p[i], p[(i + 1) % n]);
-            a.x * b.y - b.x * a.y
-        })
-        .sum::<f64>()
-        * 0.5
-}
-
-/// Parameter t in [0,1] of the projection of q on segment ab, and the distance to it.
-fn project(q: V2, a: V2, b: V2) -> (f64, f64) {
-    let d = b - a;
-    let t = ((q - a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0);
-    (t, (a + t * d - q).norm())
 }
 
 impl MeshBuilder {
@@ -263,7 +246,11 @@ fn find_on_loop(loops: &[LoopSpec], p: V2, tol: f64) -> Option<(usize, usize, f6
     for (li, l) in loops.iter().enumerate() {
         for ei in 0..l.points.len() {
             let (a, b) = edge(l, ei);
-            let (t, d) = project(p, a, b);
+            // A zero-length edge matches nothing (its projection parameter is 0/0).
+            if a == b {
+                continue;
+            }
+            let (d, t) = point_segment_projection(&p, &a, &b);
             if d <= tol {
                 return Some((li, ei, t));
             }

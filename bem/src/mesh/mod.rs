@@ -16,7 +16,7 @@ mod spacing;
 pub mod stencil;
 
 pub use builder::{CrackSpec, FaceMode, LoopSpec, MeshBuilder, TipRefinement};
-pub use pieces::{pieces, point_in_polygon};
+pub use pieces::pieces;
 pub use spacing::subdivide;
 
 use nalgebra::Vector2;
@@ -85,7 +85,7 @@ pub struct Crack {
 impl Crack {
     /// Total length of the polyline.
     pub fn length(&self) -> f64 {
-        self.points.windows(2).map(|w| (w[1] - w[0]).norm()).sum()
+        pdbem_geometry::polyline_length(&self.points)
     }
 
     /// The mouth point, if the crack starts on the boundary.

@@ -14,7 +14,8 @@
 //! the others (holes, cracks inside a piece) belong to the smallest outer circuit around
 //! them.
 
-use super::builder::signed_area;
+use pdbem_geometry::{point_in_polygon, signed_area};
+
 use super::{Mesh, V2};
 
 /// End points closer than this fraction of the smallest element are one vertex.
@@ -49,7 +50,7 @@ pub fn pieces(mesh: &Mesh) -> Option<Vec<usize>> {
         owner[i] = outer
             .iter()
             .copied()
-            .filter(|&o| point_in_polygon(probe, &polys[o]))
+            .filter(|&o| point_in_polygon(&probe, &polys[o]))
             .min_by(|&a, &b| areas[a].total_cmp(&areas[b]))?;
     }
     // Circuits in order of their first element: pieces get their numbers in the order
@@ -156,21 +157,6 @@ fn successor(mesh: &Mesh, starts: &Starts, e: usize) -> Option<usize> {
         })
         .min_by(|a, b| a.1.total_cmp(&b.1))
         .map(|(i, _)| i)
-}
-
-/// Even-odd point-in-polygon test.
-pub fn point_in_polygon(p: V2, poly: &[V2]) -> bool {
-    let mut inside = false;
-    let n = poly.len();
-    let mut j = n - 1;
-    for i in 0..n {
-        let (a, b) = (poly[i], poly[j]);
-        if (a.y > p.y) != (b.y > p.y) && p.x < (b.x - a.x) * (p.y - a.y) / (b.y - a.y) + a.x {
-            inside = !inside;
-        }
-        j = i;
-    }
-    inside
 }
 
 #[cfg(test)]

@@ -156,7 +156,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
             let line = towards_tip(&setup.layout.cracks[spec.crack].points, spec.at_end);
             let w = &problem.windows[owner[t]].window;
             let (entry, macro_tip) = entry_point(w, &line, &spec.name)?;
-            initial_s.push(polyline::length(&line));
+            initial_s.push(pdbem_geometry::polyline_length(&line));
             tips.push(TipState {
                 spec: spec.clone(),
                 window: owner[t],
@@ -289,17 +289,18 @@ impl<'s, S: Scenario> Growth<'s, S> {
             tip.spec.at_end,
         );
         let w = &self.problem.windows[tip.window].window;
-        let s_entry = polyline::entry_length(&line, w).unwrap_or(polyline::length(&line));
+        let s_entry =
+            polyline::entry_length(&line, w).unwrap_or(pdbem_geometry::polyline_length(&line));
         let mut full = polyline::head(&line, s_entry);
         full.extend(tip.path_points());
         if tip.ended == Some(TipEnd::Outline) {
             let chord = polyline::OUTLINE_CHORD_DX * w.spec.dx;
             full = polyline::end_on_outline(&full, &self.body.outline, w.delta(), chord);
         }
-        let s0 = polyline::project(&full, self.initial_tip[t]);
-        let total = polyline::length(&full);
+        let s0 = pdbem_geometry::polyline_project(&full, &self.initial_tip[t]);
+        let total = pdbem_geometry::polyline_length(&full);
         let first = self.progress[t].first().map_or((0, 0.0), |p| (p.1, p.2));
-        let mut out = vec![(polyline::point_at(&full, s0), first.0, first.1)];
+        let mut out = vec![(pdbem_geometry::point_at(&full, s0), first.0, first.1)];
         let mut s = s0;
         let dx = w.spec.dx;
         while s + dx < total {
@@ -309,11 +310,11 @@ impl<'s, S: Scenario> Growth<'s, S> {
                 .find(|p| p.0 >= s - 1e-9)
                 .or(self.progress[t].last())
                 .map_or(first, |p| (p.1, p.2));
-            out.push((polyline::point_at(&full, s), k, f));
+            out.push((pdbem_geometry::point_at(&full, s), k, f));
         }
         if total > s0 {
             let (k, f) = self.progress[t].last().map_or(first, |p| (p.1, p.2));
-            out.push((polyline::point_at(&full, total), k, f));
+            out.push((pdbem_geometry::point_at(&full, total), k, f));
         }
         out
     }
@@ -328,7 +329,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
         let w = &self.problem.windows[tip.window].window;
         let s_entry = polyline::entry_length(&line, w).unwrap_or(0.0);
         if tip.path.is_empty() {
-            polyline::length(&line)
+            pdbem_geometry::polyline_length(&line)
         } else {
             s_entry + tip.path.length
         }
@@ -495,7 +496,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
                 tip.spec.at_end,
             );
             let tol = self.problem.windows[tip.window].window.tol().max(1e-12);
-            crate::window::polygon_distance(line[0], &self.body.outline) <= tol
+            pdbem_geometry::polygon_distance(&line[0], &self.body.outline) <= tol
         };
         let Some(o) = self.tips.iter().find(|o| o.spec.name == other) else {
             return false;
@@ -536,7 +537,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
     fn runs_to_outline_in_pd(&self, t: usize) -> bool {
         let tip = &self.tips[t];
         let w = &self.problem.windows[tip.window].window;
-        let to_outline = |p: V2| crate::window::polygon_distance(p, &self.body.outline);
+        let to_outline = |p: V2| pdbem_geometry::polygon_distance(&p, &self.body.outline);
         tip.active()
             && w.sides.contains(&SideKind::Outer)
             && to_outline(tip.position()) < to_outline(tip.entry)

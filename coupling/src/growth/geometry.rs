@@ -365,7 +365,7 @@ fn max_distance(a: &[V2], b: &[V2]) -> f64 {
     a.iter()
         .map(|p| {
             b.windows(2)
-                .map(|s| crate::window::segment_distance(*p, s[0], s[1]).0)
+                .map(|s| pdbem_geometry::point_segment_projection(p, &s[0], &s[1]).0)
                 .fold(f64::INFINITY, f64::min)
         })
         .fold(0.0, f64::max)
@@ -382,12 +382,12 @@ mod tests {
 
     /// A traced path through `pts`, every 0.05 m.
     fn path(pts: &[V2]) -> CrackPath {
-        let fine = polyline::resample_spacing(pts, 0.0, polyline::length(pts), 0.05);
+        let fine = polyline::resample_spacing(pts, 0.0, pdbem_geometry::polyline_length(pts), 0.05);
         CrackPath {
             points: fine.iter().map(|p| [p.x, p.y]).collect(),
             nodes: Vec::new(),
             tip_node: Some(0),
-            length: polyline::length(pts),
+            length: pdbem_geometry::polyline_length(pts),
         }
     }
 

@@ -32,7 +32,8 @@ use pdbem_bem::mesh::stencil::{apply, tangential_stencil};
 use pdbem_bem::post::field::FieldEvaluator;
 use pdbem_bem::{Material, Mesh, Solution, V2};
 
-use crate::window::{segment_distance, Window};
+use crate::window::Window;
+use pdbem_geometry::point_segment_projection;
 
 /// The most strained sample of the BEM body.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -74,7 +75,7 @@ fn in_body(mesh: &Mesh, p: V2) -> bool {
 fn distance_to_mesh(mesh: &Mesh, p: V2) -> f64 {
     mesh.elements
         .iter()
-        .map(|e| segment_distance(p, e.a, e.b).0)
+        .map(|e| point_segment_projection(&p, &e.a, &e.b).0)
         .fold(f64::INFINITY, f64::min)
 }
 

@@ -1,30 +1,13 @@
-//! Polyline helpers of the growth module: length, point at an arc length, uniform
-//! resampling, the first entry of a polyline into a window, ray crossings, and the end of
-//! a path that reached the outline ([`end_on_outline`], shared by the PD-BEM and full-PD
-//! growth modes so that their paths end by one rule).
+//! Polyline helpers of the growth module: uniform resampling, the first entry of a
+//! polyline into a window, and the end of a path that reached the outline
+//! ([`end_on_outline`], shared by the PD-BEM and full-PD growth modes so that their paths
+//! end by one rule). Lengths, points at an arc length, projections and ray casts are in
+//! [`pdbem_geometry`].
 
 use pdbem_bem::V2;
+use pdbem_geometry::{point_at, polygon_distance, ray_polygon};
 
 use crate::window::Window;
-
-/// Length of a polyline (m).
-pub fn length(line: &[V2]) -> f64 {
-    line.windows(2).map(|w| (w[1] - w[0]).norm()).sum()
-}
-
-/// The point at arc length `s` (clamped to the ends).
-pub fn point_at(line: &[V2], s: f64) -> V2 {
-    let mut acc = 0.0;
-    for w in line.windows(2) {
-        let l = (w[1] - w[0]).norm();
-        if acc + l >= s && l > 0.0 {
-            let f = ((s - acc) / l).clamp(0.0, 1.0);
-            return w[0] + f * (w[1] - w[0]);
-        }
-        acc += l;
-    }
-    *line.last().expect("non-empty polyline")
-}
 
 /// The vertices of the polyline before arc length `s` (the first one always).
 pub fn head(line: &[V2], s: f64) -> Vec<V2> {
@@ -83,21 +66,6 @@ pub fn entry_length(line: &[V2], w: &Window) -> Option<f64> {
     None
 }
 
-/// Arc length of the point of the polyline nearest to `p`.
-pub fn project(line: &[V2], p: V2) -> f64 {
-    let mut acc = 0.0;
-    let mut best = (f64::INFINITY, 0.0);
-    for seg in line.windows(2) {
-        let (d, t) = crate::window::segment_distance(p, seg[0], seg[1]);
-        let l = (seg[1] - seg[0]).norm();
-        if d < best.0 {
-            best = (d, acc + t * l);
-        }
-        acc += l;
-    }
-    best.1
-}
-
 /// Chord (in dx) along which [`end_on_outline`] continues a path to the outline.
 pub const OUTLINE_CHORD_DX: f64 = 3.0;
 
@@ -110,7 +78,7 @@ pub const OUTLINE_CHORD_DX: f64 = 3.0;
 /// outline rather than ahead of the crack. Returns the path unchanged when the chord does
 /// not meet the outline within 2 delta of the last point kept.
 pub fn end_on_outline(path: &[V2], outline: &[V2], delta: f64, chord: f64) -> Vec<V2> {
-    let near = |p: &V2| crate::window::polygon_distance(*p, outline) <= delta;
+    let near = |p: &V2| polygon_distance(p, outline) <= delta;
     let kept = path.len() - path.iter().rev().take_while(|p| near(p)).count();
     if kept == 0 {
         return path.to_vec();
@@ -125,7 +93,7 @@ pub fn end_on_outline(path: &[V2], outline: &[V2], delta: f64, chord: f64) -> Ve
     let Some(d) = unit(back, tip) else {
         return path.to_vec();
     };
-    match ray_polygon(tip, d, outline) {
+    match ray_polygon(&tip, &d, outline) {
         Some(s) if s <= 2.0 * delta => {
             let mut out = path[..kept].to_vec();
             out.push(tip + d * s);
@@ -133,29 +101,6 @@ pub fn end_on_outline(path: &[V2], outline: &[V2], delta: f64, chord: f64) -> Ve
         }
         _ => path.to_vec(),
     }
-}
-
-/// Nearest crossing $s > 0$ of the ray $o + s d$ with a closed polygon.
-pub fn ray_polygon(o: V2, d: V2, poly: &[V2]) -> Option<f64> {
-    let n = poly.len();
-    (0..n)
-        .filter_map(|i| ray_segment(o, d, poly[i], poly[(i + 1) % n]))
-        .min_by(f64::total_cmp)
-}
-
-/// Crossing $s > 0$ of the ray $o + s d$ with the segment from `a` to `b` (parallel: None).
-pub fn ray_segment(o: V2, d: V2, a: V2, b: V2) -> Option<f64> {
-    let cross = |p: V2, q: V2| p.x * q.y - p.y * q.x;
-    let e = b - a;
-    let den = cross(d, e);
-    if den.abs() <= 1e-14 * e.norm() {
-        return None;
-    }
-    let w = a - o;
-    let s = cross(w, e) / den;
-    let u = cross(w, d) / den;
-    let tol = 1e-12;
-    (s > tol * e.norm() && (-tol..=1.0 + tol).contains(&u)).then_some(s)
 }
 
 /// Unit vector from `a` to `b` (None when they coincide).
@@ -173,14 +118,12 @@ mod tests {
     #[test]
     fn resampling_keeps_the_ends_and_spacing() {
         let line = [V2::new(0.0, 0.0), V2::new(1.0, 0.0), V2::new(1.0, 1.0)];
-        assert!((length(&line) - 2.0).abs() < 1e-15);
         let r = resample_between(&line, 0.5, 1.5, 4);
         assert_eq!(r.len(), 5);
         assert!((r[0] - V2::new(0.5, 0.0)).norm() < 1e-15);
         assert!((r[2] - V2::new(1.0, 0.0)).norm() < 1e-15);
         assert!((r[4] - V2::new(1.0, 0.5)).norm() < 1e-15);
         assert_eq!(resample_spacing(&line, 0.0, 2.0, 0.3).len(), 8);
-        assert!((project(&line, V2::new(1.2, 0.4)) - 1.4).abs() < 1e-15);
         assert_eq!(head(&line, 1.5), line[..2].to_vec());
         assert_eq!(head(&line, 1.0), line[..1].to_vec());
     }
@@ -208,17 +151,6 @@ mod tests {
             end_on_outline(&path[..5], &square, 0.3, 0.3),
             path[..5].to_vec()
         );
-        assert_eq!(
-            ray_polygon(V2::new(5.0, 5.0), V2::new(1.0, 0.0), &square),
-            Some(5.0)
-        );
-        assert!(ray_segment(
-            V2::zeros(),
-            V2::new(1.0, 0.0),
-            V2::new(0.0, 1.0),
-            V2::new(2.0, 1.0)
-        )
-        .is_none());
     }
 
     #[test]

@@ -201,7 +201,7 @@ pub fn extend_crack(
         acc += l;
         out.push(seg[1]);
     }
-    let entry = polyline::point_at(line_to_tip, old_entry_s);
+    let entry = pdbem_geometry::point_at(line_to_tip, old_entry_s);
     if (entry - *out.last().expect("non-empty")).norm() > 1e-9 * dx {
         out.push(entry);
     }
@@ -209,7 +209,7 @@ pub fn extend_crack(
         out = polyline::subdivide(&out, h);
     }
     snap_entry_into(&mut out, new);
-    let total = polyline::length(path);
+    let total = pdbem_geometry::polyline_length(path);
     let s_new = polyline::entry_length(path, new).ok_or_else(|| CouplingError::Relocation {
         tip: tip_name.to_string(),
         reason: format!(

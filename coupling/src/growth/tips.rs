@@ -19,7 +19,8 @@ use pdbem_pd::crack_path::{trace_crack, CrackPath, PathParams};
 use crate::error::CouplingError;
 use crate::growth::polyline;
 use crate::setup::WindowModel;
-use crate::window::{polygon_distance, Body, SideKind, Window};
+use crate::window::{Body, SideKind, Window};
+use pdbem_geometry::polygon_distance;
 
 /// A crack end followed by a window.
 #[derive(Debug, Clone, PartialEq)]
@@ -117,7 +118,7 @@ pub fn entry_point(w: &Window, line_to_tip: &[V2], tip: &str) -> Result<(V2, V2)
             w.spec.center.x, w.spec.center.y
         ),
     })?;
-    Ok((polyline::point_at(line_to_tip, s), macro_tip))
+    Ok((pdbem_geometry::point_at(line_to_tip, s), macro_tip))
 }
 
 /// Traces the macro crack of window model `wm` (index `window`) from `entry`.
@@ -177,12 +178,12 @@ pub fn protect_band(wm: &mut WindowModel, ratio: f64) -> usize {
 /// What the tip reached, if anything: the outline or a hole within `reach` (m).
 /// `hole_names[i]` names hole `i` of the body.
 pub fn reached_boundary(body: &Body, hole_names: &[String], tip: V2, reach: f64) -> Option<TipEnd> {
-    if polygon_distance(tip, &body.outline) <= reach {
+    if polygon_distance(&tip, &body.outline) <= reach {
         return Some(TipEnd::Outline);
     }
     body.holes
         .iter()
-        .position(|h| polygon_distance(tip, h) <= reach)
+        .position(|h| polygon_distance(&tip, h) <= reach)
         .map(|i| TipEnd::Hole(hole_name(hole_names, i)))
 }
 
@@ -223,14 +224,16 @@ pub fn joined(tip: &TipState, other: &TipState) -> bool {
 /// were before (`before`, `other_before`), projected on the path. The nodes stay.
 pub fn cut_at_meeting(tip: &mut TipState, before: V2, other_before: V2) {
     let line = tip.path_points();
-    let s = 0.5 * (polyline::project(&line, before) + polyline::project(&line, other_before));
+    let s = 0.5
+        * (pdbem_geometry::polyline_project(&line, &before)
+            + pdbem_geometry::polyline_project(&line, &other_before));
     if s >= tip.path.length {
         return;
     }
     let mut points = polyline::head(&line, s);
-    points.push(polyline::point_at(&line, s));
+    points.push(pdbem_geometry::point_at(&line, s));
     tip.path.points = points.iter().map(|p| [p.x, p.y]).collect();
-    tip.path.length = polyline::length(&points);
+    tip.path.length = pdbem_geometry::polyline_length(&points);
 }
 
 /// Whether two sorted node lists have a node in common.

@@ -14,7 +14,8 @@
 use pdbem_bem::V2;
 
 use crate::setup::Layout;
-use crate::window::{polygon_distance, Body, SideKind, Window};
+use crate::window::{Body, SideKind, Window};
+use pdbem_geometry::polygon_distance;
 
 /// Union-find root with path halving.
 fn root(parent: &mut [usize], mut i: usize) -> usize {
@@ -27,7 +28,7 @@ fn root(parent: &mut [usize], mut i: usize) -> usize {
 
 /// Node of a crack end: 0 for the outline, `1 + i` for window `i`, None when free.
 fn attachment(p: V2, windows: &[Window], body: &Body, tol: f64) -> Option<usize> {
-    if polygon_distance(p, &body.outline) <= tol {
+    if polygon_distance(&p, &body.outline) <= tol {
         return Some(0);
     }
     windows

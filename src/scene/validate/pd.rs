@@ -338,8 +338,8 @@ fn check_toughness(c: &mut Checker, scene: &Scene) {
 /// PD-BEM windows sit on the tips: each window side must be below the ligament ahead of
 /// its tip (the distance from the tip to the outline or a hole along the crack direction).
 fn check_ligaments(c: &mut Checker, scene: &Scene, co: &crate::scene::Coupling) {
-    use crate::growth::front::{ray_hole, ray_polygon};
-    use crate::scene::shapes::SceneGeometry;
+    use crate::geometry::{ray_circle, ray_polygon};
+    use crate::scene::shapes::{HoleShape, SceneGeometry};
     if co.placement != Placement::AtTips || co.side.is_nan() || co.side <= 0.0 {
         return;
     }
@@ -367,7 +367,10 @@ fn check_ligaments(c: &mut Checker, scene: &Scene, co: &crate::scene::Coupling) 
             let ahead = geo
                 .holes
                 .iter()
-                .filter_map(|(_, h)| ray_hole(&tip, &d, h))
+                .filter_map(|(_, h)| match h {
+                    HoleShape::Circle { center, radius } => ray_circle(&tip, &d, center, *radius),
+                    HoleShape::Polygon(p) => ray_polygon(&tip, &d, p),
+                })
                 .chain(ray_polygon(&tip, &d, &outline.points))
                 .fold(f64::INFINITY, f64::min);
             if co.side >= ahead {
