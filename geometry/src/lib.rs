@@ -15,7 +15,8 @@
 //! - [`polyline`]: length, point at an arc length, arc length of the nearest point,
 //!   distance, first crossing with a polygon;
 //! - [`ray`]: ray casts against a segment, a polygon and a circle;
-//! - [`circle`]: circles as polygons.
+//! - [`circle`]: circles as polygons;
+//! - [`shape`]: exact hole shapes (circle or polygon) and their queries.
 //!
 //! Tolerances are relative to the size of the inputs ([`EPS_REL`] times the largest
 //! coordinate magnitude involved) unless a function says otherwise. Where two callers
@@ -27,6 +28,7 @@ pub mod polygon;
 pub mod polyline;
 pub mod ray;
 pub mod segment;
+pub mod shape;
 
 pub use circle::circle_polygon;
 pub use polygon::{
@@ -42,6 +44,7 @@ pub use segment::{
     on_segment, point_segment_distance, point_segment_distance_hypot, point_segment_projection,
     segment_intersection, segments_intersect, segments_intersect_exact, SegmentHit,
 };
+pub use shape::{segment_segment_distance, HoleShape, CIRCLE_POINTS};
 
 use nalgebra::Vector2;
 

@@ -35,7 +35,6 @@ use std::time::Instant;
 use anyhow::{bail, Context, Result};
 use serde_json::json;
 
-use super::front::{Front, Obstacle};
 use super::log::{step_bar, stop_after_step, GrowthLog};
 use super::{FieldSnapshot, GrowthHistory, PathPoint, StepRecord, TipPath};
 use crate::geometry::{rotate, P2};
@@ -44,6 +43,7 @@ use crate::runner::context::RunContext;
 use crate::scene::{Crack, Scene, TipRefinement};
 use pdbem_bem::PairCache;
 use pdbem_coupling::growth::criterion::mcs;
+use pdbem_coupling::growth::front::{Front, Obstacle};
 
 /// SIFs of one tip at unit load.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -238,7 +238,7 @@ fn scene_toughness(scene: &Scene) -> Result<f64> {
 /// Critical load factor of every tip of the initial geometry: K_c / K_eq at unit load.
 pub fn critical_loads(scene: &Scene) -> Result<Vec<TipCritical>> {
     let k_c = scene_toughness(scene)?;
-    let front = Front::of(scene);
+    let front = crate::setup::growth::front(scene);
     let sizes = sizes_of(scene)?;
     let solved = solve_geometry(scene, &front, &sizes, false, &mut PairCache::default())?;
     Ok(solved
@@ -340,7 +340,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
     let file = scene.file_label();
     let k_c = scene_toughness(scene)?;
     let factors = scene.load.factors();
-    let mut front = Front::of(scene);
+    let mut front = crate::setup::growth::front(scene);
     let sizes = sizes_of(scene)?;
     let log = GrowthLog::open(ctx)?;
     log.event(

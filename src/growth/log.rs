@@ -106,7 +106,7 @@ pub fn step_bar(ctx: &RunContext, steps: usize) -> indicatif::ProgressBar {
 pub fn stop_after_step(
     history: &mut GrowthHistory,
     log: &GrowthLog,
-    front: &super::front::Front,
+    front: &pdbem_coupling::growth::front::Front,
     failed: bool,
     step: usize,
     load: f64,

@@ -8,7 +8,7 @@
 //!   `da`, critical load from K_c = sqrt(E' G_c) (Liu, Li & Xie 2017, seed 002 ref. \[34\]);
 //! - full PD: the whole body in PD at the window resolution.
 //!
-//! Shared pieces: [`front`] (crack polylines, tips, failure), [`log`] (`growth_log.jsonl`, progress bar), [`output`] (files and
+//! Shared pieces: [`log`] (`growth_log.jsonl`, progress bar), [`output`] (files and
 //! plots of a run, [`output::finish`]), [`overlay`] (`pdbem plot-paths`), [`bench`](mod@bench)
 //! (`pdbem bench growth`).
 //!
@@ -19,7 +19,6 @@
 pub mod bem_only;
 pub mod bench;
 pub mod compare;
-pub mod front;
 pub mod full_pd;
 pub mod log;
 pub mod output;

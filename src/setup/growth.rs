@@ -7,6 +7,7 @@ use anyhow::{bail, Context, Result};
 use pdbem_bem::mesh::LoopSpec;
 use pdbem_bem::post::Background;
 use pdbem_bem::{Bc, Mesh, SolveParams};
+use pdbem_coupling::growth::front::{Front, FrontCrack};
 use pdbem_coupling::growth::{Growth, GrowthParams, GrowthSetup, LoadSteps, Scenario, TipSpec};
 use pdbem_coupling::pd_window::EdgeCondition;
 use pdbem_coupling::setup::Layout;
@@ -136,4 +137,20 @@ pub fn input(scene: &Scene) -> Result<PdBemInput<'_>> {
         params,
         scenario: SceneScenario { scene, outline },
     })
+}
+
+/// The crack front of a scene for the BEM-only and full-PD engines: outline, holes and
+/// cracks as the scene geometry has them.
+pub fn front(scene: &Scene) -> Front {
+    let geo = SceneGeometry::of(scene);
+    let cracks = geo
+        .cracks
+        .iter()
+        .map(|c| FrontCrack {
+            name: c.name.clone(),
+            points: c.points.clone(),
+            mouth: c.mouth,
+        })
+        .collect();
+    Front::new(geo.outline.map(|o| o.points), geo.holes, cracks)
 }

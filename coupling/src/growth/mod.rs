@@ -54,6 +54,8 @@
 //!   [`Growth::relocate`]).
 //! - [`criterion`]: maximum circumferential stress kink and equivalent K (BEM-only growth).
 //! - [`events`]: what the BEM-only and full-PD engines report ([`events::EngineObserver`]).
+//! - [`front`]: the crack front of the BEM-only and full-PD engines ([`front::Front`]:
+//!   crack polylines, tips, obstacles, separation).
 //! - [`history`]: the mode-independent record of a growth run ([`history::GrowthHistory`]:
 //!   tip paths, steps, relocations, snapshots), what PD-BEM, BEM-only and full-PD growth
 //!   all produce.
@@ -69,6 +71,7 @@
 pub mod criterion;
 pub mod driver;
 pub mod events;
+pub mod front;
 pub mod geometry;
 pub mod history;
 pub mod merge;

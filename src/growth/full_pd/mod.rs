@@ -47,12 +47,12 @@ use serde_json::json;
 
 use pdbem_coupling::growth::polyline;
 
-use super::front::{Front, Obstacle};
 use super::log::{step_bar, stop_after_step, GrowthLog};
 use super::{FieldSnapshot, GrowthHistory, PathPoint, StepRecord, TipPath};
 use crate::geometry::P2;
 use crate::runner::context::RunContext;
 use crate::scene::Scene;
+use pdbem_coupling::growth::front::{Front, Obstacle};
 use pdbem_pd::crack_path::{crack_clusters, trace_crack_beyond, PathParams};
 use pdbem_pd::PdModel;
 use rounds::{load_step, Equilibrium, Tracked, LOOSE_MEASURE};
@@ -302,7 +302,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
         scene.name,
         model.n_real()
     ));
-    let mut front = Front::of(scene);
+    let mut front = crate::setup::growth::front(scene);
     let mut tr = Tracker {
         dir0: (0..front.tips.len())
             .map(|t| front.tip_direction(t))
@@ -532,7 +532,8 @@ mod tests {
         let src = "(name: \"cut\", material: (E: 1, nu: 0.3, plane: Stress),
               body: (outline: Rectangle(x0: 0, y0: 0, width: 10, height: 10)),
               boundary: [(on: \"top\", y: Traction(1)), (on: \"bottom\", y: Traction(-1))])";
-        let front = Front::of(&Scene::from_ron_str(src, "cut.ron").expect("scene"));
+        let front =
+            crate::setup::growth::front(&Scene::from_ron_str(src, "cut.ron").expect("scene"));
         let p = PdProblem {
             region: Region::rectangle([0.0, 0.0], [10.0, 10.0]),
             dx: 0.5,

@@ -5,7 +5,7 @@ use crate::geometry::{
     bounding_box, p2, point_in_polygon, polygon_distance, polygon_self_intersection, signed_area,
     P2,
 };
-use crate::scene::shapes::{outline_loop, segment_segment_distance, HoleShape};
+use crate::scene::shapes::{hole_shape, outline_loop, segment_segment_distance, HoleShape};
 use crate::scene::{Hole, Outline, Scene};
 
 /// Checks the outline, holes and patches; returns true when the outline and
@@ -161,7 +161,7 @@ fn check_holes(c: &mut Checker, scene: &Scene, outline: Option<&[P2]>) -> bool {
         if !check_hole_shape(c, &path, hole) {
             continue;
         }
-        let shape = HoleShape::of(hole);
+        let shape = hole_shape(hole);
         if let Some(o) = outline {
             check_hole_in_outline(c, &path, &shape, o);
         }

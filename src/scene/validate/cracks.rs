@@ -7,13 +7,13 @@ use crate::geometry::{
     bounding_box, point_in_polygon, polygon_distance, polyline_length, segment_intersection,
     SegmentHit, P2,
 };
-use crate::scene::shapes::{outline_loop, HoleShape};
+use crate::scene::shapes::{hole_shape, outline_loop, HoleShape};
 use crate::scene::{Crack, Faces, Scene};
 
 /// Checks every crack (the body is known to be sound).
 pub fn check(c: &mut Checker, scene: &Scene) {
     let outline = outline_loop(&scene.body.outline).map(|l| l.points);
-    let holes: Vec<HoleShape> = scene.body.holes.iter().map(HoleShape::of).collect();
+    let holes: Vec<HoleShape> = scene.body.holes.iter().map(hole_shape).collect();
     let scale = body_scale(outline.as_deref(), &holes, scene);
     let tol = 1e-9 * scale;
     let mut lines: Vec<(usize, Vec<P2>)> = Vec::new();

@@ -2,8 +2,8 @@
 //! stopped each tip, and whether the body has come apart. Shared by the BEM-only and the
 //! full-PD modes.
 //!
-//! - [`Front::of`]: the scene's cracks; tips are named `<crack>.start` (first point, when
-//!   it is not a mouth on the outline) and `<crack>.end`.
+//! - [`Front::new`]: the body's outline and holes and its cracks; tips are named
+//!   `<crack>.start` (first point, when it is not a mouth on the outline) and `<crack>.end`.
 //! - [`Front::step_ahead`] (BEM-only): extend a tip by a straight increment and stop it at
 //!   the outline (the increment is clipped there), at a hole (arrested before it) or at
 //!   another crack (coalescence, stopped before it), see [`Obstacle`].
@@ -15,11 +15,9 @@
 //!   boundary of the whole structure"). A tip of an interior crack that reaches the outline
 //!   stops, and the run goes on until the crack has also run out at its other end.
 
-use crate::geometry::{
-    point_segment_distance, polyline_length, ray_circle, ray_polygon, ray_segment, P2,
+use pdbem_geometry::{
+    point_segment_distance, polyline_length, ray_circle, ray_polygon, ray_segment, HoleShape, P2,
 };
-use crate::scene::shapes::{HoleShape, SceneGeometry};
-use crate::scene::Scene;
 
 /// One crack of the front.
 #[derive(Debug, Clone, PartialEq)]
@@ -74,18 +72,14 @@ pub struct Front {
 }
 
 impl Front {
-    /// The front of a (validated) scene.
-    pub fn of(scene: &Scene) -> Front {
-        let geo = SceneGeometry::of(scene);
-        let cracks: Vec<FrontCrack> = geo
-            .cracks
-            .iter()
-            .map(|c| FrontCrack {
-                name: c.name.clone(),
-                points: c.points.clone(),
-                mouth: c.mouth,
-            })
-            .collect();
+    /// The front of a body: its outline (counter-clockwise; `None` for an infinite
+    /// plate), its holes with their group names, and its cracks (each with at least two
+    /// points).
+    pub fn new(
+        outline: Option<Vec<P2>>,
+        holes: Vec<(String, HoleShape)>,
+        cracks: Vec<FrontCrack>,
+    ) -> Front {
         let mut tips = Vec::new();
         for (i, c) in cracks.iter().enumerate() {
             if !c.mouth {
@@ -109,8 +103,8 @@ impl Front {
             parent: (0..cracks.len()).collect(),
             cracks,
             tips,
-            outline: geo.outline.map(|o| o.points),
-            holes: geo.holes,
+            outline,
+            holes,
         }
     }
 
@@ -269,7 +263,7 @@ impl Front {
     pub fn outline_distance(&self, p: &P2) -> f64 {
         self.outline
             .as_ref()
-            .map_or(f64::INFINITY, |o| crate::geometry::polygon_distance(p, o))
+            .map_or(f64::INFINITY, |o| pdbem_geometry::polygon_distance(p, o))
     }
 
     /// The nearest hole to `p` within `d` (m), by group name.
@@ -391,7 +385,7 @@ impl Front {
     fn scale(&self) -> f64 {
         let mut pts: Vec<P2> = self.outline.clone().unwrap_or_default();
         pts.extend(self.cracks.iter().flat_map(|c| c.points.iter().copied()));
-        crate::geometry::scale_of(&pts).max(1e-300)
+        pdbem_geometry::scale_of(&pts).max(1e-300)
     }
 }
 
@@ -407,20 +401,39 @@ pub fn ray_hole(o: &P2, d: &P2, h: &HoleShape) -> Option<f64> {
 mod tests {
     use super::*;
 
-    fn scene(cracks: &str, holes: &str) -> Scene {
-        let src = format!(
-            "(name: \"f\", material: (E: 1, nu: 0.3, plane: Stress),
-              body: (outline: Rectangle(x0: 0, y0: 0, width: 10, height: 10), holes: [{holes}]),
-              cracks: [{cracks}],
-              boundary: [(on: \"top\", y: Traction(1)), (on: \"bottom\", y: Traction(-1))])"
-        );
-        Scene::from_ron_str(&src, "front.ron").expect("valid scene")
+    /// A 10 m x 10 m plate with `cracks` (name, start, direction angle in degrees,
+    /// length) and `holes`.
+    fn plate(cracks: &[(&str, (f64, f64), f64, f64)], holes: Vec<HoleShape>) -> Front {
+        let outline = vec![
+            P2::new(0.0, 0.0),
+            P2::new(10.0, 0.0),
+            P2::new(10.0, 10.0),
+            P2::new(0.0, 10.0),
+        ];
+        let on_outline = |p: P2| p.x == 0.0 || p.x == 10.0 || p.y == 0.0 || p.y == 10.0;
+        let cracks = cracks
+            .iter()
+            .map(|&(name, start, angle, length)| {
+                let a = P2::new(start.0, start.1);
+                let b = a + length * pdbem_geometry::direction(angle);
+                FrontCrack {
+                    name: name.into(),
+                    points: vec![a, b],
+                    mouth: on_outline(a),
+                }
+            })
+            .collect();
+        let holes = holes
+            .into_iter()
+            .enumerate()
+            .map(|(i, h)| (format!("hole{i}"), h))
+            .collect();
+        Front::new(Some(outline), holes, cracks)
     }
 
     #[test]
     fn edge_crack_reaching_the_far_side_separates_the_body() {
-        let s = scene(r#"(name: "c", start: (0, 5), angle_deg: 0, length: 2)"#, "");
-        let mut f = Front::of(&s);
+        let mut f = plate(&[("c", (0.0, 5.0), 0.0, 2.0)], vec![]);
         assert_eq!(f.tips.len(), 1);
         assert_eq!(f.tips[0].name, "c.end");
         let mut hits = Vec::new();
@@ -439,11 +452,7 @@ mod tests {
 
     #[test]
     fn interior_crack_needs_both_tips_on_the_outline() {
-        let s = scene(
-            r#"(name: "c", center: (5, 5), angle_deg: 0, length: 2)"#,
-            "",
-        );
-        let mut f = Front::of(&s);
+        let mut f = plate(&[("c", (4.0, 5.0), 0.0, 2.0)], vec![]);
         assert_eq!(f.tips[0].name, "c.start");
         let d0 = f.tip_direction(0);
         assert!((d0.x + 1.0).abs() < 1e-12);
@@ -460,12 +469,10 @@ mod tests {
 
     #[test]
     fn hole_and_crack_stop_a_tip_before_them() {
-        let s = scene(
-            r#"(name: "a", start: (0, 5), angle_deg: 0, length: 2),
-               (name: "b", start: (10, 5), angle_deg: 180, length: 2)"#,
-            "",
+        let mut f = plate(
+            &[("a", (0.0, 5.0), 0.0, 2.0), ("b", (10.0, 5.0), 180.0, 2.0)],
+            vec![],
         );
-        let mut f = Front::of(&s);
         let hit = loop {
             let h = f.step_ahead(0, P2::new(1.0, 0.0), 1.0, 0.5);
             if h != Obstacle::None {
@@ -476,11 +483,11 @@ mod tests {
         assert_eq!(f.tips[0].ended.as_deref(), Some("coalescence:b"));
         // Both edge cracks joined: mouths on both sides.
         assert!(f.separated());
-        let s = scene(
-            r#"(name: "a", start: (0, 5), angle_deg: 0, length: 2)"#,
-            r#"Circle(center: (6, 5), radius: 1)"#,
-        );
-        let mut f = Front::of(&s);
+        let circle = HoleShape::Circle {
+            center: P2::new(6.0, 5.0),
+            radius: 1.0,
+        };
+        let mut f = plate(&[("a", (0.0, 5.0), 0.0, 2.0)], vec![circle]);
         let hit = loop {
             let h = f.step_ahead(0, P2::new(1.0, 0.0), 1.0, 0.5);
             if h != Obstacle::None {
@@ -494,11 +501,7 @@ mod tests {
 
     #[test]
     fn set_path_replaces_the_grown_part_at_either_end() {
-        let s = scene(
-            r#"(name: "c", center: (5, 5), angle_deg: 0, length: 2)"#,
-            "",
-        );
-        let mut f = Front::of(&s);
+        let mut f = plate(&[("c", (4.0, 5.0), 0.0, 2.0)], vec![]);
         f.set_path(
             1,
             &[P2::new(6.0, 5.0), P2::new(7.0, 5.0), P2::new(8.0, 5.5)],
