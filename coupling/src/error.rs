@@ -134,6 +134,14 @@ pub enum CouplingError {
         /// What is wrong and what to change.
         message: String,
     },
+    /// A BEM-only or full-PD growth run could not go on.
+    #[error("{mode} growth: {message}")]
+    Growth {
+        /// `BEM-only` or `full-PD`.
+        mode: &'static str,
+        /// What happened and what to change.
+        message: String,
+    },
     /// Two tip windows would overlap and cannot be merged into one rectangle.
     #[error("tips {first} and {second}: their windows overlap and cannot be merged: {reason}")]
     WindowsCannotMerge {

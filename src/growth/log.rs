@@ -19,6 +19,7 @@ use serde_json::{json, Value};
 
 use crate::growth::GrowthHistory;
 use crate::runner::context::RunContext;
+use pdbem_coupling::growth::events::EngineObserver;
 
 /// File name of the log.
 pub const LOG_FILE: &str = "growth_log.jsonl";
@@ -99,33 +100,50 @@ pub fn step_bar(ctx: &RunContext, steps: usize) -> indicatif::ProgressBar {
     bar
 }
 
-/// The end-of-step verdict of the BEM-only and full-PD loops at step `step` (load `load`):
-/// with `failed` (a crack cut the body; `why` says how) the history records the failure
-/// and the log a `failure` event; otherwise, when no tip is active any more, a note.
-/// Returns whether the run stops.
-pub fn stop_after_step(
-    history: &mut GrowthHistory,
-    log: &GrowthLog,
-    front: &pdbem_coupling::growth::front::Front,
-    failed: bool,
-    step: usize,
-    load: f64,
-    why: &str,
-) -> Result<bool> {
-    if failed {
-        history.failure = true;
-        history.failure_load = Some(load);
-        log.event("failure", json!({"step": step, "load": load}))?;
-        history
-            .notes
-            .push(format!("failure at load {load} (step {step}): {why}"));
-        return Ok(true);
+/// The binary's observer of the BEM-only and full-PD engines: every event goes to
+/// `growth_log.jsonl`, progress to the step bar, messages to the run log (stderr unless
+/// quiet). The first error writing the log is kept and returned by [`RunObserver::finish`].
+pub struct RunObserver<'a> {
+    ctx: &'a RunContext,
+    log: GrowthLog,
+    bar: indicatif::ProgressBar,
+    error: Option<anyhow::Error>,
+}
+
+impl<'a> RunObserver<'a> {
+    /// Opens the run's log and a bar over `steps` load steps.
+    pub fn new(ctx: &'a RunContext, steps: usize) -> Result<RunObserver<'a>> {
+        Ok(RunObserver {
+            ctx,
+            log: GrowthLog::open(ctx)?,
+            bar: step_bar(ctx, steps),
+            error: None,
+        })
     }
-    if front.active().is_empty() {
-        history
-            .notes
-            .push(format!("every tip stopped by step {step} (load {load})"));
-        return Ok(true);
+
+    /// Clears the bar; the first log error, if any.
+    pub fn finish(self) -> Result<()> {
+        self.bar.finish_and_clear();
+        match self.error {
+            Some(e) => Err(e),
+            None => Ok(()),
+        }
     }
-    Ok(false)
+}
+
+impl EngineObserver for RunObserver<'_> {
+    fn event(&mut self, kind: &str, fields: Value) {
+        if let Err(e) = self.log.event(kind, fields) {
+            self.error.get_or_insert(e);
+        }
+    }
+
+    fn progress(&mut self, done: usize, _total: usize, status: &str) {
+        self.bar.set_position(done as u64);
+        self.bar.set_message(status.to_string());
+    }
+
+    fn message(&mut self, text: &str) {
+        self.bar.suspend(|| self.ctx.log(text));
+    }
 }

@@ -7,6 +7,7 @@ use anyhow::{bail, Context, Result};
 use pdbem_bem::mesh::LoopSpec;
 use pdbem_bem::post::Background;
 use pdbem_bem::{Bc, Mesh, SolveParams};
+use pdbem_coupling::growth::bem_only::{BemOnlyBody, BemOnlyParams};
 use pdbem_coupling::growth::front::{Front, FrontCrack};
 use pdbem_coupling::growth::{Growth, GrowthParams, GrowthSetup, LoadSteps, Scenario, TipSpec};
 use pdbem_coupling::pd_window::EdgeCondition;
@@ -16,6 +17,7 @@ use pdbem_coupling::CouplingParams;
 
 use super::bem::{conditions, material, MissingGroup};
 use super::coupled::{macro_body, outer_conditions, params_of, pd_settings, window_specs};
+use super::sizing::Sizing;
 use crate::scene::shapes::SceneGeometry;
 use crate::scene::{GrowthMode, Scene};
 
@@ -153,4 +155,80 @@ pub fn front(scene: &Scene) -> Front {
         })
         .collect();
     Front::new(geo.outline.map(|o| o.points), geo.holes, cracks)
+}
+
+/// The scene's conditions for BEM-only growth: every group meshed (a missing one is an
+/// error) and, on an infinite plate, minus the remote traction on every element.
+pub struct BemOnlyScenario<'a> {
+    scene: &'a Scene,
+    remote: Option<[f64; 3]>,
+}
+
+impl Scenario for BemOnlyScenario<'_> {
+    fn bem_conditions(&self, mesh: &Mesh) -> std::result::Result<Vec<[Bc; 2]>, String> {
+        conditions(self.scene, mesh, 1.0, self.remote, MissingGroup::Error)
+            .map_err(|e| format!("{e:#}"))
+    }
+
+    fn outer_conditions(&self, _window: &Window) -> Vec<EdgeCondition> {
+        Vec::new()
+    }
+}
+
+/// The input of BEM-only growth.
+pub struct BemOnlyInput<'a> {
+    /// The body every geometry shares.
+    pub body: BemOnlyBody,
+    /// The initial crack front.
+    pub front: Front,
+    /// Toughness, load factors, increment, snapshot steps.
+    pub params: BemOnlyParams,
+    /// The scene's conditions.
+    pub scenario: BemOnlyScenario<'a>,
+}
+
+/// The BEM-only growth input of `scene` (with `growth` and fracture data): the static
+/// BEM model's loops and cracks at the one sizing rule, K_c from `material.fracture`.
+pub fn bem_only_input(scene: &Scene) -> Result<BemOnlyInput<'_>> {
+    let file = scene.file_label();
+    let k_c = scene.material.k_c().with_context(|| {
+        format!(
+            "{}: material.fracture: BEM-only growth needs g_c (J/m^2) or k_c (Pa m^0.5)",
+            file.display()
+        )
+    })?;
+    let geo = SceneGeometry::of(scene);
+    let loops = super::bem::loops(scene, &geo, 1.0);
+    let sizing = Sizing::of(scene, &geo, &loops, 1.0)?;
+    let cracks = super::bem::crack_specs(scene, &geo, &sizing, 1.0);
+    let body = BemOnlyBody {
+        loops,
+        cracks,
+        material: material(scene)?,
+        params: SolveParams {
+            infinite: geo.outline.is_none(),
+            estimate_condition: scene.bem.condition_estimate,
+            ..Default::default()
+        },
+        background: Background {
+            stress: geo.remote.unwrap_or([0.0; 3]),
+        },
+        fit_fraction: scene.bem.cod_fit_fraction,
+    };
+    let gr = scene.growth.as_ref();
+    let params = BemOnlyParams {
+        k_c,
+        loads: scene.load.factors(),
+        da: gr.and_then(|g| g.da),
+        snapshot_steps: gr.map(|g| g.snapshot_steps.clone()).unwrap_or_default(),
+    };
+    Ok(BemOnlyInput {
+        body,
+        front: front(scene),
+        params,
+        scenario: BemOnlyScenario {
+            scene,
+            remote: geo.remote,
+        },
+    })
 }

@@ -108,6 +108,35 @@ impl Front {
         }
     }
 
+    /// Bounding box of the outline, the holes and the cracks as they are now (m); a unit
+    /// box round the origin for an empty front.
+    pub fn bounds(&self) -> (P2, P2) {
+        let mut pts: Vec<P2> = Vec::new();
+        if let Some(o) = &self.outline {
+            pts.extend(o.iter().copied());
+        }
+        for (_, h) in &self.holes {
+            pts.extend(h.polygon());
+        }
+        for c in &self.cracks {
+            pts.extend(c.points.iter().copied());
+        }
+        if pts.is_empty() {
+            return (P2::new(-1.0, -1.0), P2::new(1.0, 1.0));
+        }
+        pdbem_geometry::bounding_box(&pts)
+    }
+
+    /// True when `p` lies in the body: inside the outline (any point of an infinite
+    /// plate) and not inside a hole.
+    pub fn contains(&self, p: &P2) -> bool {
+        let in_outline = self
+            .outline
+            .as_ref()
+            .is_none_or(|o| pdbem_geometry::point_in_polygon(p, o));
+        in_outline && !self.holes.iter().any(|(_, h)| h.contains(p, 0.0))
+    }
+
     /// Position of tip `t` (m).
     pub fn tip_position(&self, t: usize) -> P2 {
         let tip = &self.tips[t];

@@ -52,6 +52,8 @@
 //! - [`driver`]: [`Growth`] (the run: [`Growth::run`], [`Growth::solve_at`]).
 //! - [`geometry`]: the geometry iteration ([`Growth::plan`], [`Growth::apply`],
 //!   [`Growth::relocate`]).
+//! - [`bem_only`]: BEM-only growth (SIF, MCS kink, fixed increment; [`bem_only::run`]).
+//! - [`verdict`]: the end-of-step verdict of the BEM-only and full-PD engines.
 //! - [`criterion`]: maximum circumferential stress kink and equivalent K (BEM-only growth).
 //! - [`events`]: what the BEM-only and full-PD engines report ([`events::EngineObserver`]).
 //! - [`front`]: the crack front of the BEM-only and full-PD engines ([`front::Front`]:
@@ -68,6 +70,7 @@
 //! - [`topology`]: whether cracks and windows cut the BEM body apart (noted).
 //! - [`polyline`]: small polyline helpers.
 
+pub mod bem_only;
 pub mod criterion;
 pub mod driver;
 pub mod events;
@@ -83,6 +86,7 @@ pub mod relocate;
 pub mod tips;
 pub mod topology;
 pub mod transfer;
+pub mod verdict;
 
 pub use driver::Growth;
 pub use params::{GrowthParams, LoadSteps};

@@ -47,12 +47,14 @@ use serde_json::json;
 
 use pdbem_coupling::growth::polyline;
 
-use super::log::{step_bar, stop_after_step, GrowthLog};
+use super::log::RunObserver;
 use super::{FieldSnapshot, GrowthHistory, PathPoint, StepRecord, TipPath};
 use crate::geometry::P2;
 use crate::runner::context::RunContext;
 use crate::scene::Scene;
+use pdbem_coupling::growth::events::EngineObserver;
 use pdbem_coupling::growth::front::{Front, Obstacle};
+use pdbem_coupling::growth::verdict::stop_after_step;
 use pdbem_pd::crack_path::{crack_clusters, trace_crack_beyond, PathParams};
 use pdbem_pd::PdModel;
 use rounds::{load_step, Equilibrium, Tracked, LOOSE_MEASURE};
@@ -283,21 +285,35 @@ fn snapshots(model: &PdModel, step: usize) -> [FieldSnapshot; 2] {
 
 /// Runs full-PD growth of `scene` (see the module documentation).
 pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
-    let file = scene.file_label();
     let (mut model, dx, delta) = model_of(scene)?;
+    let factors = scene.load.factors();
+    let mut obs = RunObserver::new(ctx, factors.len())?;
+    let history = grow(scene, &mut model, (dx, delta), &factors, &mut obs);
+    obs.finish()?;
+    history
+}
+
+/// The load steps of full-PD growth on `model` (spacing and horizon `dxd`).
+fn grow(
+    scene: &Scene,
+    model: &mut PdModel,
+    dxd: (f64, f64),
+    factors: &[f64],
+    obs: &mut dyn EngineObserver,
+) -> Result<GrowthHistory> {
+    let file = scene.file_label();
+    let (dx, delta) = dxd;
     let threshold = scene.growth.as_ref().map_or(0.38, |g| g.damage_threshold);
     let params = PathParams {
         threshold,
         ..Default::default()
     };
-    let factors = scene.load.factors();
-    let log = GrowthLog::open(ctx)?;
-    log.event(
+    obs.event(
         "start",
         json!({"mode": "full-pd", "dx": dx, "horizon": delta, "nodes": model.n_real(),
                "bonds": model.n_bonds() / 2, "steps": factors.len()}),
-    )?;
-    ctx.log(&format!(
+    );
+    obs.message(&format!(
         "{}: full PD, {} real nodes, dx = {dx:e} m",
         scene.name,
         model.n_real()
@@ -332,18 +348,18 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
             .collect(),
         ..Default::default()
     };
-    let mut eq = Equilibrium::new(&model).with_context(|| format!("{}: pd", file.display()))?;
+    let mut eq = Equilibrium::new(model).with_context(|| format!("{}: pd", file.display()))?;
     let n_side = (model.n_real() as f64).sqrt().ceil() as usize;
     let max_rounds = 20 * n_side.max(10);
-    let bar = step_bar(ctx, factors.len());
     let mut first_break = None;
     for (k, &f) in factors.iter().enumerate() {
         let t0 = Instant::now();
         let broken0 = model.broken_bonds();
-        let outcome = load_step(&mut model, &mut eq, f, max_rounds, |m| {
-            let tracked = track(&mut front, &mut tr, &mut history, m, &params, k, f, &log);
+        let outcome = load_step(model, &mut eq, f, max_rounds, |m| {
+            let tracked = track(&mut front, &mut tr, &mut history, m, &params, k, f, obs);
             // A step can run for many minutes on a fine grid: show every round.
-            bar.set_message(round_message(f, m.broken_bonds(), &front.tip_positions()));
+            let status = round_message(f, m.broken_bonds(), &front.tip_positions());
+            obs.progress(k, factors.len(), &status);
             tracked
         });
         let collapsed = match outcome {
@@ -358,9 +374,9 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
         let grown = (0..front.tips.len()).any(|t| front.extension(t) > delta);
         if history.initiation_load.is_none() && grown {
             history.initiation_load = Some(f);
-            history.snapshots.extend(snapshots(&model, k));
+            history.snapshots.extend(snapshots(model, k));
         } else if super::snapshot_steps(scene).contains(&k) {
-            history.snapshots.extend(snapshots(&model, k));
+            history.snapshots.extend(snapshots(model, k));
         }
         if first_break.is_none() && model.broken_bonds() > 0 {
             first_break = Some(f);
@@ -368,21 +384,17 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
         let rec = StepRecord {
             step: k,
             load: f,
-            cmod: cmod(&model, &front, dx),
+            cmod: cmod(model, &front, dx),
             tips: front.tip_positions(),
             broken_bonds: model.broken_bonds(),
             wall_time_s: t0.elapsed().as_secs_f64(),
             coupling_residual: Some(0.0),
             ..Default::default()
         };
-        log.event("step", json!(rec))?;
+        obs.event("step", json!(rec));
         history.steps.push(rec);
-        bar.set_message(round_message(
-            f,
-            model.broken_bonds(),
-            &front.tip_positions(),
-        ));
-        bar.inc(1);
+        let status = round_message(f, model.broken_bonds(), &front.tip_positions());
+        obs.progress(k + 1, factors.len(), &status);
         if let Some(msg) = collapsed {
             history.notes.push(format!(
                 "no equilibrium at load {f} (step {k}) after bonds broke: taken as collapse ({msg})"
@@ -395,14 +407,13 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
         } else {
             "the body came apart along damage no tracked tip followed (a crack from elsewhere)"
         };
-        if stop_after_step(&mut history, &log, &front, failed, k, f, why)? {
+        if stop_after_step(&mut history, obs, &front, failed, k, f, why) {
             break;
         }
     }
-    bar.finish_and_clear();
     let last = history.steps.len().saturating_sub(1);
-    history.snapshots.extend(snapshots(&model, last));
-    log.event("solver", eq.work())?;
+    history.snapshots.extend(snapshots(model, last));
+    obs.event("solver", eq.work());
     let counts = &eq.counts;
     if counts.newton > 0 {
         history.notes.push(format!(
@@ -459,7 +470,7 @@ fn track(
     params: &PathParams,
     step: usize,
     load: f64,
-    log: &GrowthLog,
+    obs: &mut dyn EngineObserver,
 ) -> Result<Tracked> {
     let n = model.n_real();
     let x = &model.positions()[..n];
@@ -485,27 +496,27 @@ fn track(
         );
         if hit != Obstacle::None {
             front.stop(t, &hit);
-            log.event(
+            obs.event(
                 "tip_end",
                 json!({"step": step, "load": load, "tip": front.tips[t].name,
                        "reason": front.tips[t].ended}),
-            )?;
+            );
         }
     }
-    log.event(
+    obs.event(
         "round",
         json!({"step": step, "load": load, "broken_bonds": model.broken_bonds(),
                "tips": front.tip_positions(), "wall_time_s": tr.start.elapsed().as_secs_f64()}),
-    )?;
+    );
     if front.separated() {
         return Ok(Tracked::Separated);
     }
     if let Some((a, b)) = crack_cuts_body(x, phi, front, params, (tr.dx, tr.delta))? {
         tr.apart = true;
-        log.event(
+        obs.event(
             "cut",
             json!({"step": step, "load": load, "outline_contacts": [[a.x, a.y], [b.x, b.y]]}),
-        )?;
+        );
         return Ok(Tracked::Separated);
     }
     Ok(Tracked::Continue)
