@@ -58,9 +58,9 @@ pub fn prepare(scene: &Scene) -> Result<CoupledSetup> {
         bail!("{}: coupled mode needs `pd` and `coupling`", file.display());
     };
     let geo = SceneGeometry::of(scene);
-    let body = macro_body(scene, &geo)?;
     let factor = final_factor(scene);
     let (specs, tips) = window_specs(scene, &geo, co, pd)?;
+    let body = macro_body(scene, &geo, &tips, co.dx())?;
     let layout = Layout {
         outline: body.outline,
         holes: body.holes,
@@ -200,8 +200,17 @@ pub struct MacroBody {
     pub cracks: Vec<MacroCrack>,
 }
 
-/// The macro body of `scene` (finite body; checked by the caller).
-pub fn macro_body(scene: &Scene, geo: &SceneGeometry) -> Result<MacroBody> {
+/// The macro body of `scene` (an error for an infinite plate). A crack with a tip in a
+/// window (`tips`) is meshed at the windows' spacing `dx` unless `bem.group_sizes` names
+/// it: next to a window the BEM crack faces take the interface's resolution (the coupled
+/// mesh never makes them finer, `pdbem_coupling::setup::build`, and window relocations
+/// extend them by elements of that size).
+pub fn macro_body(
+    scene: &Scene,
+    geo: &SceneGeometry,
+    tips: &[WindowTip],
+    dx: f64,
+) -> Result<MacroBody> {
     let loops = super::bem::loops(scene, geo, 1.0);
     let sizing = Sizing::of(scene, geo, &loops, 1.0)?;
     let mut loops = loops.into_iter();
@@ -216,12 +225,18 @@ pub fn macro_body(scene: &Scene, geo: &SceneGeometry) -> Result<MacroBody> {
         .iter()
         .zip(&geo.cracks)
         .zip(&sizing.cracks)
-        .map(|((c, line), &h)| MacroCrack {
-            name: c.name.clone(),
-            points: line.points.clone(),
-            faces: face_mode(c.faces),
-            element_size: h,
-            segment_elements: false,
+        .map(|((c, line), &h)| {
+            let in_window = tips
+                .iter()
+                .any(|t| t.name.rsplit_once('.').is_some_and(|(n, _)| n == c.name));
+            let given = scene.bem.group_sizes.contains_key(&c.name);
+            MacroCrack {
+                name: c.name.clone(),
+                points: line.points.clone(),
+                faces: face_mode(c.faces),
+                element_size: if in_window && !given { dx } else { h },
+                segment_elements: false,
+            }
         })
         .collect();
     Ok(MacroBody {

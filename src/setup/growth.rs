@@ -76,8 +76,8 @@ pub fn input(scene: &Scene) -> Result<PdBemInput<'_>> {
         );
     }
     let geo = SceneGeometry::of(scene);
-    let body = macro_body(scene, &geo)?;
     let (windows, wtips) = window_specs(scene, &geo, co, pd)?;
+    let body = macro_body(scene, &geo, &wtips, co.dx())?;
     let cracks = body.cracks;
     let tips = wtips
         .iter()

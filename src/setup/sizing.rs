@@ -15,7 +15,10 @@
 //!   distance from a tip to the nearest outline or hole element when that is shorter. The
 //!   interaction integral wants its contour (0.25-0.3 L) at least ~20 elements wide, and
 //!   the face reconstruction keeps 0.6 L around each tip constant
-//!   (`pdbem_bem::mesh::stencil`);
+//!   (`pdbem_bem::mesh::stencil`). In the coupled modes a crack with a tip in a PD window
+//!   is meshed at the window spacing dx instead (unless `bem.group_sizes` names it): the
+//!   BEM faces next to a window take the interface's resolution
+//!   ([`super::coupled::macro_body`]);
 //! - **PD windows**: dx = `coupling.side / coupling.n` ([`crate::scene::Coupling::dx`]).
 
 use std::collections::BTreeMap;
