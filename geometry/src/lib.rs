@@ -7,7 +7,8 @@
 //! clockwise.
 //!
 //! Map (everything is re-exported at the crate root):
-//! - this file: [`P2`], [`p2`], [`cross`], [`direction`], [`rotate`], [`EPS_REL`];
+//! - this file: [`P2`], [`p2`], [`cross`], [`direction`], [`rotate`], [`scale_of`],
+//!   [`EPS_REL`];
 //! - [`polygon`]: signed area and orientation, bounding box, scale, containment,
 //!   distance to the boundary, self-intersection;
 //! - [`segment`]: projection of a point and distance to a segment, "on the segment",
@@ -33,7 +34,7 @@ pub mod shape;
 pub use circle::circle_polygon;
 pub use polygon::{
     bounding_box, is_ccw, on_polygon_boundary, point_in_polygon, polygon_distance,
-    polygon_distance_hypot, polygon_self_intersection, scale_of, signed_area,
+    polygon_distance_hypot, polygon_self_intersection, signed_area,
 };
 pub use polyline::{
     point_at, polyline_distance_hypot, polyline_length, polyline_length_hypot,
@@ -57,6 +58,14 @@ pub const EPS_REL: f64 = 1e-10;
 /// Builds a point from a `(x, y)` tuple, as scenes store them.
 pub fn p2(t: (f64, f64)) -> P2 {
     P2::new(t.0, t.1)
+}
+
+/// Length scale of a point set: the largest |coordinate| (at least 1e-300),
+/// used to turn [`EPS_REL`] into an absolute tolerance.
+pub fn scale_of(pts: &[P2]) -> f64 {
+    pts.iter()
+        .map(|p| p.x.abs().max(p.y.abs()))
+        .fold(1e-300, f64::max)
 }
 
 /// 2-D cross product `a.x b.y - a.y b.x`.

@@ -18,14 +18,6 @@ pub fn is_ccw(pts: &[P2]) -> bool {
     signed_area(pts) > 0.0
 }
 
-/// Length scale of a point set: the largest |coordinate| (at least 1e-300),
-/// used to turn [`EPS_REL`](crate::EPS_REL) into an absolute tolerance.
-pub fn scale_of(pts: &[P2]) -> f64 {
-    pts.iter()
-        .map(|p| p.x.abs().max(p.y.abs()))
-        .fold(1e-300, f64::max)
-}
-
 /// Axis-aligned bounding box `(min, max)` of a non-empty point set.
 pub fn bounding_box(pts: &[P2]) -> (P2, P2) {
     let mut lo = P2::new(f64::INFINITY, f64::INFINITY);
@@ -191,7 +183,7 @@ mod tests {
         let (lo, hi) = bounding_box(&pts);
         assert_eq!(lo, P2::new(-1.0, -4.0));
         assert_eq!(hi, P2::new(3.0, 2.0));
-        assert_eq!(scale_of(&pts), 4.0);
-        assert_eq!(scale_of(&[]), 1e-300);
+        assert_eq!(crate::scale_of(&pts), 4.0);
+        assert_eq!(crate::scale_of(&[]), 1e-300);
     }
 }

@@ -2,7 +2,7 @@
 //! segment-segment intersection (with a relative tolerance, and exact for PD bond
 //! cutting).
 
-use crate::{cross, polygon::scale_of, EPS_REL, P2};
+use crate::{cross, scale_of, EPS_REL, P2};
 
 /// Distance from `p` to the segment `a`-`b` (a point when `a == b`).
 pub fn point_segment_distance(p: &P2, a: &P2, b: &P2) -> f64 {
