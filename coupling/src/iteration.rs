@@ -36,13 +36,12 @@ use std::time::Instant;
 
 use pdbem_bem::post::Background;
 use pdbem_bem::{Bc, BemSystem, Material, Mesh, PairCache, Solution, SolveParams};
-use pdbem_pd::solvers::{adr, implicit, switching, Convergence};
+use pdbem_pd::solvers::{adr, frozen, implicit, switching, Convergence};
 use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::error::CouplingError;
 use crate::floating::FloatingPieces;
-use crate::frozen;
 use crate::maps::{bem_to_virtual, pd_to_tractions, BemView, DisplacementMap, TractionMap};
 use crate::relaxation::{Aitken, Constant, IqnIls, Relaxation};
 use crate::setup::WindowModel;
@@ -109,7 +108,7 @@ pub struct StaggeredParams {
     /// Break rounds per PD solve; 0: break only at converged interface states.
     pub rounds: usize,
     /// At converged interface states, break only the bonds within this relative band of
-    /// the largest stretch ([`crate::breaking`]); 1 breaks every bond past its critical
+    /// the largest stretch ([`pdbem_pd::breaking`]); 1 breaks every bond past its critical
     /// stretch.
     pub break_fraction: f64,
     /// Break-and-re-equilibrate rounds of the PD model (interface held) per converged
@@ -144,7 +143,7 @@ impl Default for StaggeredParams {
 /// iterations.
 ///
 /// Each equilibrium is the chord iteration's, with ADR and then Newton where it fails
-/// ([`crate::frozen::FrozenSolver`] with the windows' [`crate::frozen::Fallbacks`]).
+/// ([`frozen::FrozenSolver`] with the windows' [`frozen::Fallbacks`]).
 fn staggered(
     model: &mut pdbem_pd::PdModel,
     slot: &mut frozen::SolverSlot,
@@ -612,7 +611,7 @@ pub fn solve_prepared(
     }
 }
 
-/// Break rounds in every window with its interface held ([`crate::breaking`]); returns the
+/// Break rounds in every window with its interface held ([`pdbem_pd::breaking`]); returns the
 /// bond pairs broken.
 fn commit_windows(
     windows: &mut [WindowModel],
@@ -623,8 +622,14 @@ fn commit_windows(
         .enumerate()
         .map(|(i, w)| {
             let (model, slot) = (&mut w.model, &mut w.solver);
-            crate::breaking::break_rounds(model, slot, p.break_fraction, p.break_rounds, &p.newton)
-                .map_err(|e| CouplingError::pd(i, e))
+            pdbem_pd::breaking::break_rounds(
+                model,
+                slot,
+                p.break_fraction,
+                p.break_rounds,
+                &p.newton,
+            )
+            .map_err(|e| CouplingError::pd(i, e))
         })
         .collect();
     counts.into_iter().sum()

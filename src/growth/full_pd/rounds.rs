@@ -18,8 +18,8 @@
 
 use anyhow::{bail, Result};
 
-use pdbem_coupling::frozen::{Fallbacks, FrozenSolver, Solved};
 use pdbem_pd::material::BondLaw;
+use pdbem_pd::solvers::frozen::{Fallbacks, FrozenSolver, Solved};
 use pdbem_pd::solvers::implicit::ImplicitParams;
 use pdbem_pd::solvers::{Convergence, SolveInfo};
 use pdbem_pd::{PdError, PdModel};
