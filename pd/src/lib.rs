@@ -20,8 +20,12 @@
 //! - [`measure`]: initiation load and kink angle from the damage field.
 //! - [`crack_path`]: tip tracking: the macro crack connected to an entry
 //!   point, its tip and smoothed path ([`crack_path::trace_crack`]).
-//! - [`cases`]: the seed cases as problem constructors; [`bench`](mod@bench): benchmarks.
+//! - [`cases`]: the seed cases as problem constructors (CLI tests, integration
+//!   tests, benchmarks).
+//! - `bench` (cargo feature `bench`): benchmarks for `pdbem bench pd` and the
+//!   `bench_full` example.
 
+#[cfg(any(test, feature = "bench"))]
 pub mod bench;
 pub mod bonds;
 pub mod boundary;
