@@ -48,11 +48,6 @@ impl PreparedBem {
         self.system.info().factor_s + self.system.info().response_s
     }
 
-    /// Pieces of the BEM body held only by the windows (cut off by cracks).
-    pub fn floating_pieces(&self) -> usize {
-        self.floating.len()
-    }
-
     /// Number of BEM unknowns.
     pub fn unknowns(&self) -> usize {
         self.system.info().unknowns

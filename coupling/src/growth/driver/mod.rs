@@ -215,11 +215,6 @@ impl<'s, S: Scenario> Growth<'s, S> {
         self.geometries
     }
 
-    /// BEM unknowns of the current geometry.
-    pub fn bem_unknowns(&self) -> usize {
-        self.bem.unknowns()
-    }
-
     /// CMOD (m) of the crack named `crack` in the last solution (None without a solution
     /// or a mouth).
     pub fn cmod(&self, crack: &str) -> Option<f64> {
