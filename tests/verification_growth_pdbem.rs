@@ -368,7 +368,7 @@ fn seed001_two_parallel_cracks_run_apart_to_the_sides_at_the_lefm_load() {
     // PD): initiation at 13.7 MPa from all four tips, paths bending away from each other
     // to the sides. With the seed 002 threshold 0.38 the tracker lost the fresh cracks
     // and no window moved up to 19.9 MPa; with 0.34 Newton stalled in a window where the
-    // cracks ran (now equilibrated by ADR, `coupling::frozen`).
+    // cracks ran (now equilibrated by ADR, `pdbem_pd::solvers::frozen`).
     let sc = scene("growth_two_parallel_cracks");
     let h = run_pd_bem(&sc, "parallel");
     let lefm = lefm_load(&sc);

@@ -15,7 +15,9 @@
 //!   further right-hand sides, condition estimate.
 //! - [`post`]: interior displacement and stress, boundary stress, SIFs (crack-opening fit and
 //!   interaction integral), kink angle, CMOD.
+//! - `bench` (cargo feature `bench`): assembly / factorisation timings for `pdbem bench bem`.
 
+#[cfg(feature = "bench")]
 pub mod bench;
 pub mod error;
 pub mod integrate;

@@ -19,17 +19,12 @@
 //!   Eqs. 25-28) and IQN-ILS.
 //! - [`spectrum`]: Ritz values of the interface operator (why a scheme needs the
 //!   iterations it needs).
-//! - [`breaking`]: progressive bond breaking at converged interface states.
-//! - [`frozen`]: a PD model's equilibrium with frozen bonds (the chord iteration on a kept
-//!   factor, Newton and ADR where it fails).
 //! - [`growth`]: Algorithm 2 (seed 002 sections 2.3.2-2.3.3): load steps with moving
 //!   tip windows, crack extension and structural failure ([`growth::Growth`]).
 //! - [`error`]: the crate's error type, [`CouplingError`].
 
-pub mod breaking;
 pub mod error;
 pub mod floating;
-pub mod frozen;
 pub mod growth;
 pub mod interface;
 pub mod iteration;

@@ -185,21 +185,3 @@ fn crossing_forces(model: &PdModel, iface: &Interface, f: &mut [[f64; 2]]) {
         }
     }
 }
-
-/// Relative interface mismatch: max over coupled nodes of |a - b| / max |b|.
-pub fn max_relative_difference(a: &[f64], b: &[f64]) -> f64 {
-    let scale = b
-        .chunks(2)
-        .map(|c| c[0].hypot(c[1]))
-        .fold(0.0_f64, f64::max);
-    let d = a
-        .chunks(2)
-        .zip(b.chunks(2))
-        .map(|(p, q)| (p[0] - q[0]).hypot(p[1] - q[1]))
-        .fold(0.0_f64, f64::max);
-    if scale > 0.0 {
-        d / scale
-    } else {
-        d
-    }
-}

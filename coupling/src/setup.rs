@@ -65,7 +65,7 @@ pub struct WindowModel {
     /// BEM group of its interface elements.
     pub group: String,
     /// Its frozen-history solvers, kept between equilibria (built on first use).
-    pub solver: crate::frozen::SolverSlot,
+    pub solver: pdbem_pd::solvers::frozen::SolverSlot,
 }
 
 /// The built coupled geometry.

@@ -1,4 +1,4 @@
-//! Full benchmark run: `cargo run --release -p pdbem-pd --example bench_full`.
+//! Full benchmark run: `cargo run --release -p pdbem-pd --features bench --example bench_full`.
 //! `--quick` for the smoke-test sizes; `--parts` measures only the cases
 //! given as `plate:N:NE[:REPEATS]` or `tpb:NX:NY:NE[:REPEATS]` and prints
 //! each as it finishes.

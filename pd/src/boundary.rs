@@ -26,16 +26,6 @@ pub struct Boundary {
     pub body: Vec<P2>,
 }
 
-impl Boundary {
-    /// Number of prescribed DOFs.
-    pub fn n_fixed(&self) -> usize {
-        self.fixed
-            .iter()
-            .map(|f| f[0] as usize + f[1] as usize)
-            .sum()
-    }
-}
-
 /// Resolve the problem's boundary conditions on the grid.
 pub fn resolve(p: &PdProblem, grid: &Grid) -> Result<Boundary, PdError> {
     let n = grid.len();

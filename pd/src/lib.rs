@@ -12,15 +12,24 @@
 //! - [`model`]: [`PdModel`], the state and the operations the solvers and the
 //!   coupling use (`set_prescribed_displacements`, `virtual_node_forces`, ...).
 //! - [`solvers`]: [`solvers::adr`], [`solvers::implicit`] and
-//!   [`solvers::switching`], each `params in, Result<SolveInfo, PdError> out`.
+//!   [`solvers::switching`], each `params in, Result<SolveInfo, PdError> out`;
+//!   [`solvers::frozen`]: a model's equilibrium with frozen bonds (the chord
+//!   iteration on a kept factor, Newton and ADR where it fails).
+//! - [`breaking`]: progressive bond breaking at converged states, most
+//!   stretched bonds first, re-equilibrating with [`solvers::frozen`].
 //! - [`measure`]: initiation load and kink angle from the damage field.
 //! - [`crack_path`]: tip tracking: the macro crack connected to an entry
 //!   point, its tip and smoothed path ([`crack_path::trace_crack`]).
-//! - [`cases`]: the seed cases as problem constructors; [`bench`](mod@bench): benchmarks.
+//! - [`cases`]: the seed cases as problem constructors (CLI tests, integration
+//!   tests, benchmarks).
+//! - `bench` (cargo feature `bench`): benchmarks for `pdbem bench pd` and the
+//!   `bench_full` example.
 
+#[cfg(any(test, feature = "bench"))]
 pub mod bench;
 pub mod bonds;
 pub mod boundary;
+pub mod breaking;
 pub mod cases;
 pub mod crack_path;
 pub mod damage;

@@ -28,14 +28,6 @@ pub fn critical_stretch(plane: Plane, youngs_modulus: f64, g_c: f64, delta: f64)
     }
 }
 
-/// Poisson's ratio implied by bond-based PD in 2-D (REFERENCES.md).
-pub fn implied_poisson(plane: Plane) -> f64 {
-    match plane {
-        Plane::Stress => 1.0 / 3.0,
-        Plane::Strain => 0.25,
-    }
-}
-
 /// The failure law resolved to numbers.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum BondLaw {
@@ -86,15 +78,6 @@ impl BondLaw {
         match *self {
             BondLaw::Degrading { s_m, s_c, .. } => s_c - s_m,
             _ => 0.0,
-        }
-    }
-
-    /// The stretch at which a bond counts as broken (`s0` or `s_c`).
-    pub fn break_stretch(&self) -> f64 {
-        match *self {
-            BondLaw::Elastic => f64::INFINITY,
-            BondLaw::Brittle { s0 } => s0,
-            BondLaw::Degrading { s_c, .. } => s_c,
         }
     }
 }

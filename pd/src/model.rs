@@ -307,16 +307,6 @@ impl PdModel {
         self.force.iter().map(|f| [f[0] * v, f[1] * v]).collect()
     }
 
-    /// Sum of the internal forces (N) on the given nodes: minus the reaction
-    /// the supports there must provide.
-    pub fn force_on(&mut self, nodes: &[usize]) -> P2 {
-        self.compute_forces(History::Frozen);
-        let v = self.grid.volume;
-        nodes.iter().fold([0.0; 2], |a, &i| {
-            [a[0] + self.force[i][0] * v, a[1] + self.force[i][1] * v]
-        })
-    }
-
     /// Compute the force densities into the scratch buffer.
     pub(crate) fn compute_forces(&mut self, history: History) -> ForceStats {
         internal_forces(

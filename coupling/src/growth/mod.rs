@@ -17,7 +17,7 @@
 //! times K_c):
 //! - The PD windows are solved with [`crate::iteration::PdSolve::Staggered`]: bonds break
 //!   only at converged interface states, the most stretched first
-//!   ([`crate::breaking`]), a few rounds with the interface held; the step converges when
+//!   ([`pdbem_pd::breaking`]), a few rounds with the interface held; the step converges when
 //!   the residual is below psi and no bond breaks. Breaking inside every PD solve lets
 //!   the crack run through the whole window in one solve and spread damage sideways.
 //! - A band of $(1 - r)$ times the window side along the interface sides ($r$ = trigger
@@ -36,7 +36,7 @@
 //!   hole, so a tip growing towards one ends at it ([`TipEnd::Hole`]) when its window
 //!   cannot move on without covering it ([`Growth::plan`]).
 //! - A window's PD equilibrium with frozen bonds is Newton's, with ADR when Newton fails
-//!   ([`crate::frozen`]).
+//!   ([`pdbem_pd::solvers::frozen`]).
 //! - Reported paths of tips that reached the outline end by the rule of the full-PD mode
 //!   ([`polyline::end_on_outline`]): the last horizon, where the damage fans out over a
 //!   ligament shorter than a bond, is replaced by the path's approach continued to the

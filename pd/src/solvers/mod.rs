@@ -7,6 +7,9 @@
 //! - [`switching`]: implicit while no bond passes the damage onset, the
 //!   failure increments by the secant re-commit rounds (ADR if those fail),
 //!   implicit again once failure stops (seed 000 section 4).
+//! - [`frozen`]: equilibrium with the bond history frozen (chord iteration on a
+//!   kept [`secant`] factor, Newton and ADR fallbacks), for the coupling's
+//!   windows and full-PD growth.
 //! - [`secant`]: the secant equilibria of the re-commit rounds with one
 //!   Cholesky factor and Woodbury low-rank updates (used by [`switching`]).
 //!
@@ -19,6 +22,7 @@
 
 pub mod adr;
 pub mod anderson;
+pub mod frozen;
 pub mod implicit;
 pub mod secant;
 pub mod switching;

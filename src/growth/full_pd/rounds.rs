@@ -6,7 +6,7 @@
 //! bonds broken since corrected by Woodbury updates, Anderson mixing); for brittle bonds
 //! the secant and the frozen-history forces are the same, so it converges to the same
 //! equilibrium as Newton. Newton (seed 000 Eq. 5) takes over where the chord iteration
-//! fails, and ADR where Newton fails: `pdbem_coupling::frozen::FrozenSolver`, the solvers
+//! fails, and ADR where Newton fails: `pdbem_pd::solvers::frozen::FrozenSolver`, the solvers
 //! of the PD-BEM windows, with the whole-body settings of [`Equilibrium::new`].
 //! Degrading bonds go to Newton directly (their secant force, at the committed
 //! history, is not the frozen-history force Newton balances).
@@ -18,8 +18,8 @@
 
 use anyhow::{bail, Result};
 
-use pdbem_coupling::frozen::{Fallbacks, FrozenSolver, Solved};
 use pdbem_pd::material::BondLaw;
+use pdbem_pd::solvers::frozen::{Fallbacks, FrozenSolver, Solved};
 use pdbem_pd::solvers::implicit::ImplicitParams;
 use pdbem_pd::solvers::{Convergence, SolveInfo};
 use pdbem_pd::{PdError, PdModel};

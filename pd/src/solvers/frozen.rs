@@ -1,6 +1,6 @@
 //! Equilibrium of a PD model (a window, or the whole body in full-PD growth) with the
 //! bond history frozen: the secant chord iteration on a kept factorisation for brittle
-//! bonds ([`FrozenSolver`], [`pdbem_pd::solvers::secant`]), Newton-Raphson (seed 000
+//! bonds ([`FrozenSolver`], [`crate::solvers::secant`]), Newton-Raphson (seed 000
 //! section 2, Eq. 5) for degrading bonds, and where the first solver fails adaptive
 //! dynamic relaxation (seed 002 Eqs. 9-15) and Newton in the order [`Fallbacks`] sets
 //! (windows: ADR first; full PD: Newton first).
@@ -21,12 +21,12 @@
 
 use std::fmt;
 
-use pdbem_pd::forces::History;
-use pdbem_pd::material::BondLaw;
-use pdbem_pd::solvers::implicit::{ImplicitParams, Newton};
-use pdbem_pd::solvers::secant::{SecantParams, SecantSolver, CONTRACTION_REFACTOR};
-use pdbem_pd::solvers::{adr, Convergence};
-use pdbem_pd::{PdError, PdModel, SolveInfo};
+use crate::forces::History;
+use crate::material::BondLaw;
+use crate::solvers::implicit::{ImplicitParams, Newton};
+use crate::solvers::secant::{SecantParams, SecantSolver, CONTRACTION_REFACTOR};
+use crate::solvers::{adr, Convergence};
+use crate::{PdError, PdModel, SolveInfo};
 
 /// Low-rank columns (changed bond pairs) kept before the chord iteration refactorises
 /// (the explicit-implicit switch's default).
@@ -326,7 +326,7 @@ pub fn equilibrate_adr(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use pdbem_pd::cases::bar_tension;
+    use crate::cases::bar_tension;
 
     fn loaded_bar() -> PdModel {
         let case = bar_tension(0.005);
@@ -377,7 +377,7 @@ mod tests {
 
     /// Seed 001's edge-cracked plate (brittle bonds), 30 x 30 nodes, at `load` MPa.
     fn edge_plate(load: f64) -> PdModel {
-        use pdbem_pd::cases::{seed001_crack, CrackKind};
+        use crate::cases::{seed001_crack, CrackKind};
         let mut m = PdModel::new(&seed001_crack(CrackKind::Edge, 30).problem).unwrap();
         m.set_load_factor(load);
         m
@@ -457,10 +457,9 @@ mod tests {
         // A clone starts empty; a model of another size gets new solvers.
         assert!(format!("{:?}", slot.clone()).contains("empty"));
         let other = edge_plate(1.0);
-        let mut small = PdModel::new(
-            &pdbem_pd::cases::seed001_crack(pdbem_pd::cases::CrackKind::Edge, 20).problem,
-        )
-        .unwrap();
+        let mut small =
+            PdModel::new(&crate::cases::seed001_crack(crate::cases::CrackKind::Edge, 20).problem)
+                .unwrap();
         small.set_load_factor(1.0);
         assert!(slot.get(&m).unwrap().fits(&other));
         assert!(!slot.get(&m).unwrap().fits(&small));

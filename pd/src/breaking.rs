@@ -1,5 +1,5 @@
 //! Bond breaking at converged interface states, most stretched bonds first (crack growth
-//! with [`crate::iteration::PdSolve::Staggered`]).
+//! with `PdSolve::Staggered` of `pdbem-coupling`).
 //!
 //! Committing the history breaks every bond past its critical stretch $s_0$ at once. Under
 //! load control a growing crack is overloaded ($K > K_c$ and rising), and breaking every
@@ -16,17 +16,17 @@
 //! Laws other than the brittle PMB law are committed in full.
 //!
 //! [`break_rounds`] repeats this with the window's interface held: break, re-equilibrate
-//! the PD model (the window's kept solvers, [`crate::frozen::FrozenSolver`]), break
+//! the PD model (the window's kept solvers, [`FrozenSolver`](crate::solvers::frozen::FrozenSolver)), break
 //! again, up to a number of rounds or until no bond is past $s_0$. The load
 //! redistributes mostly inside the window, so a few PD rounds per converged interface
 //! state let the crack advance by several bonds for the price of one interface
 //! re-convergence.
 
-use pdbem_pd::material::BondLaw;
-use pdbem_pd::solvers::implicit::ImplicitParams;
-use pdbem_pd::{PdError, PdModel, SolveInfo};
+use crate::material::BondLaw;
+use crate::solvers::implicit::ImplicitParams;
+use crate::{PdError, PdModel, SolveInfo};
 
-use crate::frozen::SolverSlot;
+use crate::solvers::frozen::SolverSlot;
 
 /// Up to `rounds` progressive commits of `model`, each followed by a frozen-bond
 /// equilibrium at the held boundary values; returns the bond pairs broken.
@@ -106,7 +106,7 @@ fn stretches(model: &PdModel) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use pdbem_pd::{Failure, PdProblem, Region};
+    use crate::{Failure, PdProblem, Region};
 
     fn bar() -> PdModel {
         let p = PdProblem {

@@ -45,17 +45,27 @@
 //!
 //! The result is deterministic (ties broken by node index) and does not
 //! depend on the number of threads.
+//!
+//! Files of the module:
+//! - `mod.rs`: [`PathParams`], [`CrackPath`], the entry points and the tracing steps.
+//! - `search`: steps 1-4: candidates, in-crack shortest paths (Dijkstra), the chain back
+//!   from the tip, the tip beyond a previous tip.
+//! - `smooth`: steps 5-6: resampling and centring the path across the band (mean shift).
+//! - `cell_hash`: the uniform cell hash of the fixed-radius neighbour queries.
 
-use std::cmp::Ordering;
-use std::collections::{BinaryHeap, HashMap};
+mod cell_hash;
+mod search;
+mod smooth;
 
-use pdbem_geometry as g;
 use serde::Serialize;
 
 use crate::damage::MACRO_CRACK_DAMAGE;
 use crate::error::PdError;
-use crate::geometry::{from_g, to_g_all, P2};
+use crate::geometry::P2;
 use crate::model::PdModel;
+use cell_hash::CellHash;
+use search::{chain_to_tip, crack_nodes, shortest_paths, tip_beyond};
+use smooth::{centre_across, point_at_length, polyline_length, resample};
 
 /// Parameters of the tip tracker. Lengths are multiples of the grid spacing.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -150,10 +160,7 @@ impl CrackPath {
     /// for a path shorter than a point.
     pub fn tip_direction(&self, back: f64) -> Option<P2> {
         let tip = self.tip();
-        let from = from_g(g::point_at(
-            &to_g_all(&self.points),
-            (self.length - back).max(0.0),
-        ));
+        let from = point_at_length(&self.points, (self.length - back).max(0.0));
         let d = [tip[0] - from[0], tip[1] - from[1]];
         let l = d[0].hypot(d[1]);
         (l > 0.0).then(|| [d[0] / l, d[1] / l])
@@ -269,7 +276,7 @@ fn trace(
     let raw = resample(&chain, params.spacing * dx);
     let connected: Vec<P2> = search.reached.iter().map(|&k| pts[k]).collect();
     let points = centre_across(&raw, &connected, params.smoothing * dx);
-    let length = g::polyline_length(&to_g_all(&points));
+    let length = polyline_length(&points);
     let mut nodes: Vec<usize> = search.reached.iter().map(|&k| cand[k]).collect();
     nodes.sort_unstable();
     Ok(CrackPath {
@@ -278,287 +285,6 @@ fn trace(
         tip_node: Some(cand[search.tip]),
         length,
     })
-}
-
-/// The farthest reached candidate beyond the previous tip `p` (module docs,
-/// step 4): $d_e(q) + d_q(n) \le d_e(n) + $ `slack`, with $q$ the reached
-/// candidate nearest `p` and $d_q$ the in-crack distance from it. $q$
-/// itself always qualifies.
-fn tip_beyond(pts: &[P2], hash: &CellHash, s: &Search, p: P2, link: f64, slack: f64) -> usize {
-    let q = *s
-        .reached
-        .iter()
-        .min_by(|&&a, &&b| {
-            dist2(pts[a], p)
-                .total_cmp(&dist2(pts[b], p))
-                .then(a.cmp(&b))
-        })
-        .expect("a search reaches its seeds");
-    let dq = dijkstra(pts, hash, &[(q, 0.0)], link).dist;
-    let mut tip = q;
-    for &n in &s.reached {
-        let beyond = s.dist[q] + dq[n] <= s.dist[n] + slack;
-        if beyond && (s.dist[n], std::cmp::Reverse(n)) > (s.dist[tip], std::cmp::Reverse(tip)) {
-            tip = n;
-        }
-    }
-    tip
-}
-
-/// The candidates (step 1 of the module docs): indices and positions of the
-/// nodes with damage above the threshold, after checking the inputs.
-fn crack_nodes(
-    positions: &[P2],
-    damage: &[f64],
-    dx: f64,
-    params: &PathParams,
-) -> Result<(Vec<usize>, Vec<P2>), PdError> {
-    params.validate()?;
-    if damage.len() != positions.len() {
-        return Err(PdError::LengthMismatch {
-            what: "damage",
-            expected: positions.len(),
-            got: damage.len(),
-        });
-    }
-    if !(dx > 0.0 && dx.is_finite()) {
-        return Err(PdError::invalid(
-            "dx",
-            format!("grid spacing {dx} m must be positive"),
-        ));
-    }
-    let cand: Vec<usize> = (0..positions.len())
-        .filter(|&i| damage[i] > params.threshold)
-        .collect();
-    let pts = cand.iter().map(|&i| positions[i]).collect();
-    Ok((cand, pts))
-}
-
-/// Result of the Dijkstra search over the candidate graph.
-struct Search {
-    /// Predecessor of each reached candidate (`usize::MAX` for a seed).
-    pred: Vec<usize>,
-    /// In-crack distance of each candidate from the entry (infinite if not
-    /// reached).
-    dist: Vec<f64>,
-    /// Candidates reached from the seeds, in order of distance.
-    reached: Vec<usize>,
-    /// The reached candidate farthest along the crack.
-    tip: usize,
-}
-
-/// A heap entry ordered by smallest distance first, then smallest index.
-#[derive(PartialEq)]
-struct Item(f64, usize);
-
-impl Eq for Item {}
-
-impl Ord for Item {
-    fn cmp(&self, o: &Self) -> Ordering {
-        o.0.total_cmp(&self.0).then(o.1.cmp(&self.1))
-    }
-}
-
-impl PartialOrd for Item {
-    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
-        Some(self.cmp(o))
-    }
-}
-
-/// Dijkstra from the seeds near `entry`; `None` when there is no seed.
-fn shortest_paths(
-    pts: &[P2],
-    hash: &CellHash,
-    entry: P2,
-    params: &PathParams,
-    dx: f64,
-) -> Option<Search> {
-    let r_entry = params.entry_radius * dx;
-    let seeds: Vec<(usize, f64)> = pts
-        .iter()
-        .enumerate()
-        .map(|(k, p)| (k, dist2(*p, entry).sqrt()))
-        .filter(|(_, d)| *d <= r_entry)
-        .collect();
-    if seeds.is_empty() {
-        return None;
-    }
-    let s = dijkstra(pts, hash, &seeds, params.link * dx);
-    // The farthest candidate; of equal distances the first settled (the
-    // smallest index).
-    let mut far = s.reached[0];
-    for &k in &s.reached {
-        if s.dist[k] > s.dist[far] {
-            far = k;
-        }
-    }
-    Some(Search { tip: far, ..s })
-}
-
-/// Dijkstra over the candidates linked within `link` from `seeds` (candidate,
-/// starting distance); `tip` is left at the first seed settled.
-fn dijkstra(pts: &[P2], hash: &CellHash, seeds: &[(usize, f64)], link: f64) -> Search {
-    let n = pts.len();
-    let mut dist = vec![f64::INFINITY; n];
-    let mut pred = vec![usize::MAX; n];
-    let mut heap = BinaryHeap::new();
-    for &(k, d) in seeds {
-        if d < dist[k] {
-            dist[k] = d;
-            heap.push(Item(d, k));
-        }
-    }
-    let mut done = vec![false; n];
-    let mut reached = Vec::new();
-    while let Some(Item(d, k)) = heap.pop() {
-        if done[k] {
-            continue;
-        }
-        done[k] = true;
-        reached.push(k);
-        hash.for_each_within(pts, pts[k], link, |j| {
-            let nd = d + dist2(pts[k], pts[j]).sqrt();
-            if !done[j] && nd < dist[j] {
-                dist[j] = nd;
-                pred[j] = k;
-                heap.push(Item(nd, j));
-            }
-        });
-    }
-    let tip = reached.first().copied().unwrap_or(usize::MAX);
-    Search {
-        pred,
-        dist,
-        reached,
-        tip,
-    }
-}
-
-/// The entry followed by the node positions from the seed to the tip.
-fn chain_to_tip(pts: &[P2], s: &Search, entry: P2) -> Vec<P2> {
-    let mut chain = Vec::new();
-    let mut k = s.tip;
-    while k != usize::MAX {
-        chain.push(pts[k]);
-        k = s.pred[k];
-    }
-    chain.push(entry);
-    chain.reverse();
-    chain.dedup_by(|a, b| dist2(*a, *b) == 0.0);
-    chain
-}
-
-/// Points every `h` along the polyline, keeping both end points.
-fn resample(line: &[P2], h: f64) -> Vec<P2> {
-    let g_line = to_g_all(line);
-    let total = g::polyline_length(&g_line);
-    if line.len() < 2 || total == 0.0 {
-        return line[..1].to_vec();
-    }
-    let n = ((total / h).round() as usize).max(1);
-    (0..=n)
-        .map(|k| from_g(g::point_at(&g_line, total * k as f64 / n as f64)))
-        .collect()
-}
-
-/// Move every point but the first across the path to the weighted
-/// centroid of the crack nodes within `radius` of it (normal component
-/// only). The normal at a point is that of the chord of `line` from
-/// `radius` before to `radius` after it, which averages out the zig-zag of
-/// the node chain.
-fn centre_across(line: &[P2], crack: &[P2], radius: f64) -> Vec<P2> {
-    if line.len() < 2 || radius == 0.0 {
-        return line.to_vec();
-    }
-    let hash = CellHash::new(crack, radius);
-    let mut out = line.to_vec();
-    let g_line = to_g_all(line);
-    let mut s = 0.0;
-    for k in 1..line.len() {
-        s += dist2(line[k - 1], line[k]).sqrt();
-        let a = from_g(g::point_at(&g_line, (s - radius).max(0.0)));
-        let b = from_g(g::point_at(&g_line, s + radius));
-        let t = [b[0] - a[0], b[1] - a[1]];
-        let lt = t[0].hypot(t[1]);
-        if lt == 0.0 {
-            continue;
-        }
-        let nrm = [-t[1] / lt, t[0] / lt];
-        out[k] = mean_shift_across(line[k], nrm, crack, &hash, radius);
-    }
-    out
-}
-
-/// Mean shift along the normal `nrm` with the smooth kernel
-/// $w = (1 - d^2/r^2)^2$: move `p` by the weighted mean normal offset of the
-/// crack nodes within `r` until the move is below 1e-9 `r`. With `r` at
-/// least twice the band's row spacing the kernel density across the band
-/// has one maximum, on the centre line of a symmetric band; 100 passes cap
-/// the loop (the move shrinks geometrically).
-fn mean_shift_across(p: P2, nrm: P2, crack: &[P2], hash: &CellHash, r: f64) -> P2 {
-    let mut q = p;
-    let r2 = r * r;
-    for _ in 0..100 {
-        let (mut s, mut w) = (0.0, 0.0);
-        hash.for_each_within(crack, q, r, |j| {
-            let c = 1.0 - dist2(crack[j], q) / r2;
-            let wj = c * c;
-            s += wj * ((crack[j][0] - q[0]) * nrm[0] + (crack[j][1] - q[1]) * nrm[1]);
-            w += wj;
-        });
-        if w <= 0.0 {
-            break;
-        }
-        let off = s / w;
-        q = [q[0] + off * nrm[0], q[1] + off * nrm[1]];
-        if off.abs() < 1e-9 * r {
-            break;
-        }
-    }
-    q
-}
-
-#[inline]
-fn dist2(a: P2, b: P2) -> f64 {
-    (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)
-}
-
-/// A uniform cell hash of points for fixed-radius neighbour queries.
-struct CellHash {
-    h: f64,
-    cells: HashMap<(i64, i64), Vec<usize>>,
-}
-
-impl CellHash {
-    fn new(pts: &[P2], h: f64) -> Self {
-        let mut cells: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
-        for (k, p) in pts.iter().enumerate() {
-            cells.entry(Self::key(*p, h)).or_default().push(k);
-        }
-        CellHash { h, cells }
-    }
-
-    fn key(p: P2, h: f64) -> (i64, i64) {
-        ((p[0] / h).floor() as i64, (p[1] / h).floor() as i64)
-    }
-
-    /// Call `f(j)` for every point `j` within `r` (<= the cell size) of `q`,
-    /// in increasing cell then insertion order.
-    fn for_each_within(&self, pts: &[P2], q: P2, r: f64, mut f: impl FnMut(usize)) {
-        let (cx, cy) = Self::key(q, self.h);
-        let r2 = (r * (1.0 + 1e-9)).powi(2);
-        for gy in cy - 1..=cy + 1 {
-            for gx in cx - 1..=cx + 1 {
-                if let Some(v) = self.cells.get(&(gx, gy)) {
-                    for &j in v {
-                        if dist2(pts[j], q) <= r2 {
-                            f(j);
-                        }
-                    }
-                }
-            }
-        }
-    }
 }
 
 #[cfg(test)]

@@ -1,0 +1,350 @@
+//! Algorithm 2 of seed 002 (section 2.3.2, Fig. 8): load steps, each iterated by
+//! Algorithm 1 on the current geometry, with the geometry iteration (section 2.3.3,
+//! Fig. 9) whenever a tip passes its window margin.
+//!
+//! [`Growth::run`] does, for every load factor $f_k$ = `initial + k step`:
+//! 1. Algorithm 1 at $f_k$ on the factored BEM system of the current geometry
+//!    ([`crate::iteration::solve_prepared`], warm-started from the last interface state
+//!    scaled to $f_k$). After every iteration the active tips are traced; a tip past its
+//!    window margin or at the outline stops the iteration (step 6).
+//! 2. Tips that reached the outline end the run (structural failure, step 9), as do two
+//!    edge cracks that meet, or a tip past its margin for which no window around it fits
+//!    inside the body (the outline is within the window's reach of a rotated window).
+//!    A window whose crack runs to it from the outline may move onto the outline: the
+//!    BEM body is then cut apart and the window alone holds the cut-off piece
+//!    ([`crate::floating`]) until the crack crosses the window to the outline. Tips at a
+//!    hole or running into another crack end and the run goes on with the others (the
+//!    run ends when no tip is left).
+//! 3. Tips past their margin are relocated ([`Growth::relocate`], steps 7 and 10): new
+//!    window (one covering all the tips of a window that moves), extended cracks,
+//!    overlapping windows merged, mesh rebuilt and refactored, state transferred; then 1.
+//!    again at the same load. A tip whose window cannot move on because a hole is in the
+//!    way ends at that hole ([`TipEnd::Hole`], noted through the observer) and the others
+//!    go on.
+//! 4. Otherwise the step converged (interface residual below psi and no bond broke in the
+//!    last PD solves) and is recorded; the load grows.
+//!
+//! The scene-specific parts (BEM conditions of a mesh, conditions on window sides lying on
+//! the outline, both at load factor 1) come from a [`Scenario`]; progress goes to an
+//! [`Observer`](crate::growth::Observer), so the crate stays free of I/O.
+//!
+//! Files of the module:
+//! - `mod.rs`: [`Growth`], its construction and accessors, the geometry build, tip tracing
+//!   and paths.
+//! - `run`: the strain watch, [`Growth::solve_at`] and the load-step loop [`Growth::run`].
+//! - `ends`: tips and runs that end (outline, hole, other crack, ligament), damage beyond
+//!   the tips.
+
+mod ends;
+mod run;
+
+use pdbem_bem::post::sif::cmod;
+use pdbem_bem::{PairCache, V2};
+use pdbem_pd::crack_path::CrackPath;
+
+use crate::error::CouplingError;
+use crate::growth::merge::resolve_overlaps;
+use crate::growth::params::GrowthParams;
+use crate::growth::polyline;
+use crate::growth::records::{GrowthSetup, Scenario};
+use crate::growth::tips::{entry_point, protect_band, towards_tip, track, TipEnd, TipState};
+use crate::iteration::{CoupledProblem, CoupledSolution, PreparedBem};
+use crate::setup::{build, Layout};
+use crate::window::{Body, Window};
+
+/// A growth run in progress: the current geometry, its factored BEM system, the windows
+/// and the tips. [`Growth::run`] drives it; [`Growth::solve_at`] and [`Growth::relocate`]
+/// are its two moves, public for tests and studies.
+pub struct Growth<'s, S: Scenario> {
+    pub(super) scenario: &'s S,
+    pub(super) params: GrowthParams,
+    pub(super) setup: GrowthSetup,
+    pub(super) body: Body,
+    pub(super) problem: CoupledProblem,
+    pub(super) bem: PreparedBem,
+    pub(super) tips: Vec<TipState>,
+    /// Interface state to start from and the load it belongs to.
+    pub(super) start: Option<(Vec<f64>, f64)>,
+    pub(super) last: Option<CoupledSolution>,
+    /// Arc length of each tip along its crack polyline at each record: (s, step, load).
+    pub(super) progress: Vec<Vec<(f64, usize, f64)>>,
+    /// Arc length of the initial tip along its crack (oriented towards the tip).
+    pub(super) initial_s: Vec<f64>,
+    /// Initial tip positions.
+    pub(super) initial_tip: Vec<V2>,
+    /// Tip positions before the last solve (where joined cracks are cut to meet).
+    pub(super) before: Vec<V2>,
+    pub(super) geometries: usize,
+    /// Element-pair blocks of the last BEM assembly, reused by the next (relocations
+    /// change only the crack faces near the tips and the window interfaces).
+    pub(super) pairs: PairCache,
+}
+
+/// Builds mesh, windows (with their no-fail bands) and the factored BEM system of a
+/// layout.
+pub(super) fn build_geometry<S: Scenario>(
+    layout: &Layout,
+    setup: &GrowthSetup,
+    scenario: &S,
+    ratio: f64,
+    pairs: &mut PairCache,
+) -> Result<(CoupledProblem, PreparedBem), CouplingError> {
+    let built = build(layout, |_, w| scenario.outer_conditions(w))?;
+    let bcs =
+        scenario
+            .bem_conditions(&built.mesh)
+            .map_err(|message| CouplingError::InvalidGrowth {
+                field: "scenario",
+                message,
+            })?;
+    let mut problem = CoupledProblem {
+        mesh: built.mesh,
+        material: setup.material,
+        bcs,
+        bem_params: setup.bem_params.clone(),
+        background: setup.background,
+        thickness: setup.thickness,
+        windows: built.windows,
+    };
+    for wm in problem.windows.iter_mut() {
+        protect_band(wm, ratio);
+    }
+    let bem = PreparedBem::with_cache(&mut problem, Some(pairs))?;
+    Ok((problem, bem))
+}
+
+impl<'s, S: Scenario> Growth<'s, S> {
+    /// Validates the parameters, builds the initial geometry and assigns the tips to
+    /// their windows (overlapping windows merged).
+    pub fn new(
+        mut setup: GrowthSetup,
+        scenario: &'s S,
+        params: GrowthParams,
+    ) -> Result<Self, CouplingError> {
+        params.validate()?;
+        let body = Body {
+            outline: setup.layout.outline.points.clone(),
+            holes: setup
+                .layout
+                .holes
+                .iter()
+                .map(|h| h.points.clone())
+                .collect(),
+        };
+        let names: Vec<String> = setup.tips.iter().map(|t| t.name.clone()).collect();
+        let mut owner = tip_windows(&setup, &body)?;
+        resolve_overlaps(&mut setup.layout.windows, &mut owner, &names, &body)?;
+        let mut pairs = PairCache::default();
+        let (problem, bem) = build_geometry(
+            &setup.layout,
+            &setup,
+            scenario,
+            params.trigger_ratio,
+            &mut pairs,
+        )?;
+        let mut tips = Vec::new();
+        let mut initial_s = Vec::new();
+        for (t, spec) in setup.tips.iter().enumerate() {
+            let line = towards_tip(&setup.layout.cracks[spec.crack].points, spec.at_end);
+            let w = &problem.windows[owner[t]].window;
+            let (entry, macro_tip) = entry_point(w, &line, &spec.name)?;
+            initial_s.push(pdbem_geometry::polyline_length(&line));
+            tips.push(TipState {
+                spec: spec.clone(),
+                window: owner[t],
+                entry,
+                macro_tip,
+                path: CrackPath {
+                    points: vec![[entry.x, entry.y]],
+                    ..Default::default()
+                },
+                ended: None,
+            });
+        }
+        let n = tips.len();
+        let initial_tip: Vec<V2> = tips.iter().map(|t| t.macro_tip).collect();
+        let mut g = Growth {
+            scenario,
+            params,
+            setup,
+            body,
+            problem,
+            bem,
+            tips,
+            start: None,
+            last: None,
+            progress: vec![Vec::new(); n],
+            initial_s,
+            before: initial_tip.clone(),
+            initial_tip,
+            geometries: 1,
+            pairs,
+        };
+        g.retrace()?;
+        Ok(g)
+    }
+
+    /// The current coupled problem (mesh, windows with their PD state).
+    pub fn problem(&self) -> &CoupledProblem {
+        &self.problem
+    }
+
+    /// The current macro layout.
+    pub fn layout(&self) -> &Layout {
+        &self.setup.layout
+    }
+
+    /// The tips.
+    pub fn tips(&self) -> &[TipState] {
+        &self.tips
+    }
+
+    /// The body (outline and holes).
+    pub fn body(&self) -> &Body {
+        &self.body
+    }
+
+    /// The last coupled solution (interface state and BEM solution) of the current
+    /// geometry: None before the first solve and after a relocation until the next one.
+    pub fn last_solution(&self) -> Option<&CoupledSolution> {
+        self.last.as_ref()
+    }
+
+    /// Number of geometries built so far (1 + relocations with a rebuild).
+    pub fn geometries(&self) -> usize {
+        self.geometries
+    }
+
+    /// BEM unknowns of the current geometry (what `pdbem check` reports for it).
+    pub fn bem_unknowns(&self) -> usize {
+        self.bem.unknowns()
+    }
+
+    /// CMOD (m) of the crack named `crack` in the last solution (None without a solution
+    /// or a mouth).
+    pub fn cmod(&self, crack: &str) -> Option<f64> {
+        let sol = self.last.as_ref()?;
+        let i = self
+            .problem
+            .mesh
+            .cracks
+            .iter()
+            .position(|c| c.name == crack)?;
+        cmod(&self.problem.mesh, &sol.solution, i)
+    }
+
+    /// CMOD of the first crack of the mesh that has one.
+    fn first_cmod(&self) -> Option<f64> {
+        let sol = self.last.as_ref()?;
+        (0..self.problem.mesh.cracks.len()).find_map(|i| cmod(&self.problem.mesh, &sol.solution, i))
+    }
+
+    /// The whole crack path of tip `t` from its initial position: the macro polyline from
+    /// the initial tip to the window entry, then the traced PD path (ended on the outline
+    /// by [`polyline::end_on_outline`] when the tip reached it); each point with the step
+    /// and load at which the tip first reached it.
+    pub fn tip_path(&self, t: usize) -> Vec<(V2, usize, f64)> {
+        let tip = &self.tips[t];
+        let line = towards_tip(
+            &self.setup.layout.cracks[tip.spec.crack].points,
+            tip.spec.at_end,
+        );
+        let w = &self.problem.windows[tip.window].window;
+        let s_entry =
+            polyline::entry_length(&line, w).unwrap_or(pdbem_geometry::polyline_length(&line));
+        let mut full = polyline::head(&line, s_entry);
+        full.extend(tip.path_points());
+        if tip.ended == Some(TipEnd::Outline) {
+            let chord = polyline::OUTLINE_CHORD_DX * w.spec.dx;
+            full = polyline::end_on_outline(&full, &self.body.outline, w.delta(), chord);
+        }
+        let s0 = pdbem_geometry::polyline_project(&full, &self.initial_tip[t]);
+        let total = pdbem_geometry::polyline_length(&full);
+        let first = self.progress[t].first().map_or((0, 0.0), |p| (p.1, p.2));
+        let mut out = vec![(pdbem_geometry::point_at(&full, s0), first.0, first.1)];
+        let mut s = s0;
+        let dx = w.spec.dx;
+        while s + dx < total {
+            s += dx;
+            let (k, f) = self.progress[t]
+                .iter()
+                .find(|p| p.0 >= s - 1e-9)
+                .or(self.progress[t].last())
+                .map_or(first, |p| (p.1, p.2));
+            out.push((pdbem_geometry::point_at(&full, s), k, f));
+        }
+        if total > s0 {
+            let (k, f) = self.progress[t].last().map_or(first, |p| (p.1, p.2));
+            out.push((pdbem_geometry::point_at(&full, total), k, f));
+        }
+        out
+    }
+
+    /// Arc length of tip `t` along its crack (polyline to the entry + traced path).
+    fn tip_arc(&self, t: usize) -> f64 {
+        let tip = &self.tips[t];
+        let line = towards_tip(
+            &self.setup.layout.cracks[tip.spec.crack].points,
+            tip.spec.at_end,
+        );
+        let w = &self.problem.windows[tip.window].window;
+        let s_entry = polyline::entry_length(&line, w).unwrap_or(0.0);
+        if tip.path.is_empty() {
+            pdbem_geometry::polyline_length(&line)
+        } else {
+            s_entry + tip.path.length
+        }
+    }
+
+    fn record_progress(&mut self, step: usize, load: f64) {
+        for t in 0..self.tips.len() {
+            let s = self.tip_arc(t).max(self.initial_s[t]);
+            self.progress[t].push((s, step, load));
+        }
+    }
+
+    /// Traces every active tip in its window.
+    pub(super) fn retrace(&mut self) -> Result<(), CouplingError> {
+        for t in 0..self.tips.len() {
+            if !self.tips[t].active() {
+                continue;
+            }
+            let w = self.tips[t].window;
+            self.tips[t].path = track(
+                &self.problem.windows[w],
+                w,
+                self.tips[t].entry,
+                &self.params.path,
+            )?;
+        }
+        Ok(())
+    }
+}
+/// Window of every tip: the window containing its crack end.
+fn tip_windows(setup: &GrowthSetup, body: &Body) -> Result<Vec<usize>, CouplingError> {
+    setup
+        .tips
+        .iter()
+        .map(|t| {
+            let pts = &setup.layout.cracks[t.crack].points;
+            let p = if t.at_end {
+                *pts.last().expect("points")
+            } else {
+                pts[0]
+            };
+            setup
+                .layout
+                .windows
+                .iter()
+                .enumerate()
+                .find(|(i, s)| {
+                    Window::place(*i, (*s).clone(), body).is_ok_and(|w| w.contains(p, -1e-9))
+                })
+                .map(|(i, _)| i)
+                .ok_or_else(|| CouplingError::Relocation {
+                    tip: t.name.clone(),
+                    reason: format!("no window contains the tip ({:.4}, {:.4})", p.x, p.y),
+                })
+        })
+        .collect()
+}

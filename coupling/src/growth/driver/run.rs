@@ -1,0 +1,326 @@
+//! The moves of a growth run: the strain watch, one solve at a load factor
+//! ([`Growth::solve_at`]) and the load-step loop ([`Growth::run`]).
+
+use std::ops::ControlFlow;
+use std::time::Instant;
+
+use pdbem_bem::post::field::FieldEvaluator;
+use pdbem_bem::V2;
+
+use super::Growth;
+use crate::error::CouplingError;
+use crate::growth::overstrain::{self, Hotspot};
+use crate::growth::params::GrowthParams;
+use crate::growth::records::{
+    Failure, GrowthResult, IterationEvent, Observer, Scenario, SolveOutcome, StepResult,
+};
+use crate::growth::tips::{passed_margin, reached_boundary, track, TipEnd, TipState};
+use crate::iteration::{solve_prepared, StepOptions};
+use crate::window::{Body, Window};
+
+/// Spread-out candidates of the strain watch per step ([`overstrain::search`]: at least
+/// four horizons apart, then every sample within that distance of the four most strained
+/// of them): the interior field costs one pass over the elements per sample, the ranking
+/// none. Measured in [`overstrain`].
+const OVERSTRAIN_SAMPLES: usize = 32;
+
+impl<'s, S: Scenario> Growth<'s, S> {
+    /// The most strained point of the BEM body away from the windows in the last solution
+    /// ([`overstrain`]; the field is evaluated at the [`OVERSTRAIN_SAMPLES`] samples behind
+    /// the elements of largest boundary strain, and around the most strained of them);
+    /// None without a solution, windows or a failure law.
+    fn overstrain(&self) -> Option<Hotspot> {
+        let sol = self.last.as_ref()?;
+        let windows = &self.problem.windows;
+        let first = windows.first()?;
+        let delta = first.window.delta();
+        let onset = Some(first.model.law().damage_onset()).filter(|s| s.is_finite())?;
+        let mesh = &self.problem.mesh;
+        let skip: Vec<usize> = windows
+            .iter()
+            .filter_map(|w| mesh.group(&w.group))
+            .collect();
+        let boxes: Vec<&Window> = windows.iter().map(|w| &w.window).collect();
+        let tips: Vec<V2> = self.tips.iter().map(TipState::position).collect();
+        let (w, h) = first.window.size();
+        let clear = 0.5 * w.max(h);
+        let samples = overstrain::sample_points(mesh, &skip, &boxes, &tips, delta, clear);
+        let ranks = overstrain::boundary_strains(mesh, &self.problem.material, &sol.solution);
+        let size = overstrain::SearchSize {
+            candidates: OVERSTRAIN_SAMPLES,
+            spread: 4.0 * delta,
+            refined: 4,
+        };
+        let pb = &self.problem;
+        let eval = FieldEvaluator::new(mesh, &pb.material, &sol.solution, pb.background);
+        overstrain::search(&eval, &samples, &ranks, onset, size)
+    }
+
+    /// Algorithm 1 at load factor `load` on the current geometry (step `step`, for the
+    /// observer), stopped early when a tip needs attention (past its window margin or at
+    /// the outline or a hole). Updates the tips' traces.
+    pub fn solve_at(
+        &mut self,
+        step: usize,
+        load: f64,
+        observer: &mut dyn Observer,
+    ) -> Result<SolveOutcome, CouplingError> {
+        let start = self
+            .start
+            .as_ref()
+            .map(|(x, f)| x.iter().map(|v| v * load / f).collect());
+        let holes = self.hole_names();
+        let tips = &self.tips;
+        let (body, params) = (&self.body, &self.params);
+        let mut positions: Vec<V2> = tips.iter().map(TipState::position).collect();
+        let mut trace_error: Option<CouplingError> = None;
+        let mut monitor = |rep: &crate::iteration::IterationReport<'_>| {
+            let mut stop = false;
+            for (t, tip) in tips.iter().enumerate().filter(|(_, t)| t.active()) {
+                let wm = &rep.windows[tip.window];
+                match track(wm, tip.window, tip.entry, &params.path) {
+                    Ok(p) if !p.is_empty() => {
+                        positions[t] = V2::new(p.tip()[0], p.tip()[1]);
+                        stop |= needs_attention(
+                            &wm.window,
+                            tip.entry,
+                            positions[t],
+                            (body, &holes),
+                            params,
+                        );
+                    }
+                    Ok(_) => {}
+                    Err(e) => {
+                        trace_error = Some(e);
+                        stop = true;
+                    }
+                }
+            }
+            observer.iteration(&IterationEvent {
+                step,
+                load,
+                iteration: rep.iteration,
+                residual: rep.residual,
+                bonds_broken: rep.bonds_broken,
+                tips: &positions,
+            });
+            if stop {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        };
+        let opts = StepOptions {
+            load_scale: load,
+            start,
+            monitor: Some(&mut monitor),
+        };
+        let (sol, info) = solve_prepared(&mut self.problem, &self.bem, &params.coupling, opts)?;
+        if let Some(e) = trace_error {
+            return Err(e);
+        }
+        self.start = Some((sol.x_pd.clone(), load));
+        self.last = Some(sol);
+        self.before = self.tips.iter().map(TipState::position).collect();
+        self.retrace()?;
+        Ok(SolveOutcome {
+            converged: info.converged,
+            iterations: info.iterations,
+            residual: info.residuals.last().copied().unwrap_or(f64::NAN),
+            bonds_broken: info.bonds_broken.iter().sum(),
+            pd_s: info.timings.pd_s,
+        })
+    }
+
+    /// Tips past their window margin.
+    fn triggered(&self) -> Vec<usize> {
+        (0..self.tips.len())
+            .filter(|&t| {
+                let tip = &self.tips[t];
+                let w = &self.problem.windows[tip.window].window;
+                tip.active()
+                    && !tip.path.is_empty()
+                    && passed_margin(w, tip.position(), tip.entry, self.params.trigger_ratio)
+            })
+            .collect()
+    }
+
+    /// Broken bond pairs over all windows.
+    fn broken_bonds(&self) -> usize {
+        self.problem
+            .windows
+            .iter()
+            .map(|w| w.model.broken_bonds())
+            .sum()
+    }
+
+    /// Runs Algorithm 2 (see the module docs).
+    pub fn run(&mut self, observer: &mut dyn Observer) -> Result<GrowthResult, CouplingError> {
+        let mut out = GrowthResult::default();
+        self.record_progress(0, self.params.loads.initial);
+        for k in 0..self.params.loads.count {
+            let load = self.params.loads.factor(k);
+            let t0 = Instant::now();
+            let (mut iterations, mut pd_s, mut relocations) = (0, 0.0, 0);
+            let mut gave_way = false;
+            let (converged, residual, cut) = loop {
+                let o = match self.solve_at(k, load, observer) {
+                    Ok(o) => o,
+                    Err(e) => match self.ligament_gave_way(&e) {
+                        Some((t, what)) => {
+                            observer.note(&format!(
+                                "step {k} (load {load}): the PD ligament ahead of tip {} \
+                                 gave way ({what}): structural failure",
+                                self.tips[t].spec.name
+                            ));
+                            gave_way = true;
+                            break (false, f64::NAN, Some(t));
+                        }
+                        None => return Err(step_error(k, load, e)),
+                    },
+                };
+                iterations += o.iterations;
+                pd_s += o.pd_s;
+                if o.bonds_broken > 0 && out.initiation_load.is_none() {
+                    out.initiation_load = Some(load);
+                }
+                if let Some(t) = self.end_tips(observer) {
+                    break (false, o.residual, Some(t));
+                }
+                let which = self.triggered();
+                if which.is_empty() {
+                    if o.converged {
+                        break (true, o.residual, None);
+                    }
+                    // Stopped for a tip that has now ended: iterate on with the others.
+                    continue;
+                }
+                if relocations >= self.params.max_relocations_per_step {
+                    return Err(CouplingError::Relocation {
+                        tip: self.tips[which[0]].spec.name.clone(),
+                        reason: format!(
+                            "more than {relocations} relocations in step {k} (load {load}); lower the load step"
+                        ),
+                    });
+                }
+                self.record_progress(k, load);
+                let plan = self.plan(&which)?;
+                if let Some(&t) = plan.at_outline.first() {
+                    let p = self.tips[t].position();
+                    observer.note(&format!(
+                        "tip {} at ({:.4}, {:.4}): no window around it fits inside the body, \
+                         the outer boundary is within the window's reach: the crack reaches \
+                         it, structural failure",
+                        self.tips[t].spec.name, p.x, p.y
+                    ));
+                    self.tips[t].ended = Some(TipEnd::Outline);
+                    break (false, o.residual, Some(t));
+                }
+                if plan.cuts_body {
+                    let t = which[0];
+                    let p = self.tips[t].position();
+                    observer.note(&format!(
+                        "tip {} at ({:.4}, {:.4}): its moved window reaches the outline and \
+                         the cracks cut the BEM body apart; the windows alone hold the \
+                         cut-off part",
+                        self.tips[t].spec.name, p.x, p.y
+                    ));
+                }
+                let recs = self.apply(plan, k, load, observer)?;
+                if recs.is_empty() {
+                    // Every triggered tip ended at a hole: iterate on with the others.
+                    if o.converged || self.tips.iter().all(|t| !t.active()) {
+                        break (o.converged, o.residual, None);
+                    }
+                    continue;
+                }
+                relocations += recs.len();
+                out.relocations.extend(recs);
+            };
+            self.record_progress(k, load);
+            let rec = StepResult {
+                step: k,
+                load,
+                iterations,
+                residual,
+                converged,
+                broken_bonds: self.broken_bonds(),
+                tips: self.tips.iter().map(TipState::position).collect(),
+                // The last solution of a step whose ligament gave way is not an equilibrium.
+                cmod: if gave_way { None } else { self.first_cmod() },
+                relocations,
+                wall_s: t0.elapsed().as_secs_f64(),
+                pd_s,
+                // Only an equilibrium says how strained the body is.
+                overstrain: if converged { self.overstrain() } else { None },
+            };
+            observer.step(&rec);
+            observer.state(&rec, &self.problem, self.last.as_ref());
+            out.steps.push(rec);
+            if let Some(t) = cut {
+                let name = self.tips[t].spec.name.clone();
+                out.notes.push(if gave_way {
+                    format!(
+                        "structural failure at step {k} (load {load}): the PD ligament at tip \
+                         {name} gave way (the coupling broke down with the remaining ligament in \
+                         the window)"
+                    )
+                } else if let Some(TipEnd::Coalescence(other)) = &self.tips[t].ended {
+                    format!(
+                        "structural failure at step {k} (load {load}): tip {name} joined the \
+                         crack of tip {other}; both cracks start on the outer boundary, so \
+                         together they cut the body"
+                    )
+                } else {
+                    format!(
+                        "structural failure at step {k} (load {load}): tip {name} reached the \
+                         outer boundary"
+                    )
+                });
+                out.failure = Some(Failure {
+                    step: k,
+                    load,
+                    tip: name,
+                });
+                break;
+            }
+            if self.tips.iter().all(|t| !t.active()) {
+                out.notes
+                    .push(format!("every tip ended by step {k} (load {load})"));
+                break;
+            }
+        }
+        for t in &self.tips {
+            if let Some(e) = &t.ended {
+                out.notes.push(format!("tip {} ended: {e}", t.spec.name));
+            }
+        }
+        out.notes.extend(self.damage_beyond_tips());
+        Ok(out)
+    }
+}
+
+/// Whether a traced tip at `p` (entry `entry`) in `w` is past the margin or at the outline
+/// or a hole (`body` with its hole names).
+fn needs_attention(
+    w: &Window,
+    entry: V2,
+    p: V2,
+    (body, holes): (&Body, &[String]),
+    params: &GrowthParams,
+) -> bool {
+    passed_margin(w, p, entry, params.trigger_ratio)
+        || reached_boundary(body, holes, p, params.boundary_reach * w.spec.dx).is_some()
+}
+
+/// Adds the step and load to an error of a step.
+fn step_error(step: usize, load: f64, e: CouplingError) -> CouplingError {
+    match e {
+        CouplingError::NoConvergence { .. } | CouplingError::Diverged { .. } => {
+            CouplingError::InvalidStep {
+                message: format!("load step {step} (load factor {load}): {e}"),
+            }
+        }
+        other => other,
+    }
+}

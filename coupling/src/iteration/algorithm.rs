@@ -1,0 +1,219 @@
+//! Algorithm 1 at a load scale on a prepared BEM system ([`solve_prepared`]): the
+//! iteration with relaxation, back-offs and bond breaking.
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use super::evaluate::{evaluate, reset_window};
+use super::params::{CouplingParams, PdSolve, StaggeredParams};
+use super::prepared::PreparedBem;
+use super::{
+    relative_residual, CoupledProblem, CoupledSolution, CouplingInfo, IterationReport, StepOptions,
+    BREAK_ITERATION_FACTOR,
+};
+use crate::error::CouplingError;
+use crate::setup::WindowModel;
+
+/// Runs Algorithm 1 on `problem` with the prepared BEM system `bem` (see the module docs
+/// for the load scale, bond breaking and the monitor).
+pub fn solve_prepared(
+    problem: &mut CoupledProblem,
+    bem: &PreparedBem,
+    params: &CouplingParams,
+    mut opts: StepOptions<'_>,
+) -> Result<(CoupledSolution, CouplingInfo), CouplingError> {
+    let t0 = Instant::now();
+    let mut info = CouplingInfo {
+        scheme: params.acceleration.name().into(),
+        ..Default::default()
+    };
+    let n: usize = problem.windows.iter().map(|w| w.interface.len()).sum();
+    info.interface_unknowns = n;
+    let scale = opts.load_scale;
+    if !(scale.is_finite() && scale > 0.0) {
+        return Err(CouplingError::InvalidStep {
+            message: format!("load scale {scale} must be positive and finite"),
+        });
+    }
+    let mut x = match opts.start.take() {
+        Some(x0) if x0.len() == n => x0,
+        Some(x0) => {
+            return Err(CouplingError::InvalidStep {
+                message: format!(
+                    "start vector has {} values for {n} interface unknowns",
+                    x0.len()
+                ),
+            })
+        }
+        None => vec![0.0; n],
+    };
+    let pd_solve = pd_solve_at(&params.pd_solve, scale);
+    let commit_at_convergence = match &pd_solve {
+        PdSolve::Staggered(p) if p.rounds == 0 => Some(p.clone()),
+        _ => None,
+    };
+    let mut weight_scale = 1.0;
+    let mut relax = params.acceleration.build(weight_scale);
+    let mut best = (f64::INFINITY, x.clone());
+    let mut since_best = 0;
+    let mut growing = 0;
+    let mut since_break = 0;
+    let mut backoffs_since_break = 0;
+    let mut pd_failure: Option<String> = None;
+    loop {
+        let evaluated = evaluate(problem, bem, &x, params, &pd_solve, scale, &mut info);
+        info.iterations += 1;
+        since_break += 1;
+        let (e, xt, state, broke) = match evaluated {
+            Ok((sol, xt, tractions, broke)) => (
+                relative_residual(&x, &xt),
+                xt,
+                Some((sol, tractions)),
+                broke,
+            ),
+            Err(CouplingError::Pd { window, source }) => {
+                // A failed PD solve counts as divergence: restart its state from rest.
+                reset_window(&mut problem.windows[window]);
+                pd_failure = Some(format!("PD window {window} failed: {source}"));
+                (f64::NAN, x.clone(), None, 0)
+            }
+            Err(other) => return Err(other),
+        };
+        let mut broke = broke;
+        if let Some(sp) = &commit_at_convergence {
+            if state.is_some() && e.is_finite() && e < params.psi && broke == 0 {
+                broke = commit_windows(&mut problem.windows, sp)?;
+            }
+        }
+        info.residuals.push(e);
+        info.bonds_broken.push(broke);
+        let stop = opts.monitor.as_mut().is_some_and(|m| {
+            m(&IterationReport {
+                iteration: info.iterations,
+                residual: e,
+                bonds_broken: broke,
+                windows: &problem.windows,
+            })
+            .is_break()
+        });
+        let converged = e.is_finite() && e < params.psi && broke == 0;
+        if let (true, Some((sol, tractions))) = (converged || stop, state) {
+            info.converged = converged;
+            info.interrupted = !converged;
+            info.timings.total_s = t0.elapsed().as_secs_f64();
+            let out = CoupledSolution {
+                solution: sol,
+                x_pd: x,
+                x_bem: xt,
+                tractions,
+            };
+            return Ok((out, info));
+        }
+        if broke > 0 {
+            // The map changed a little (a few bonds near a tip): the accelerator keeps its
+            // secant data, the divergence history restarts, back-offs are forgiven.
+            since_break = 0;
+            weight_scale = 1.0;
+            relax = params.acceleration.build(weight_scale);
+            best = (f64::INFINITY, xt.clone());
+            since_best = 0;
+            growing = 0;
+            backoffs_since_break = 0;
+        }
+        if since_break >= params.max_iter
+            || info.iterations >= BREAK_ITERATION_FACTOR * params.max_iter
+        {
+            return Err(CouplingError::NoConvergence {
+                iterations: info.iterations,
+                last: e,
+                psi: params.psi,
+                residuals: info.residuals,
+            });
+        }
+        growing = if broke == 0
+            && info.residuals.len() > 1
+            && e > info.residuals[info.residuals.len() - 2]
+        {
+            growing + 1
+        } else {
+            0
+        };
+        if e < 0.99 * best.0 {
+            best = (e, x.clone());
+            since_best = 0;
+        } else {
+            since_best += 1;
+        }
+        let reason = if !e.is_finite() {
+            Some(
+                pd_failure
+                    .take()
+                    .unwrap_or_else(|| "non-finite residual".to_string()),
+            )
+        } else if growing >= params.growth_window {
+            Some(format!("residual grew {growing} times in a row"))
+        } else if since_best >= params.stagnation_window {
+            Some(format!("no 1 % improvement in {since_best} iterations"))
+        } else {
+            None
+        };
+        if let Some(reason) = reason {
+            if backoffs_since_break >= params.max_backoffs {
+                return Err(CouplingError::Diverged {
+                    reason,
+                    iterations: info.iterations,
+                    backoffs: info.backoffs,
+                    residuals: info.residuals,
+                });
+            }
+            info.backoffs += 1;
+            backoffs_since_break += 1;
+            weight_scale *= 0.5;
+            relax = params.acceleration.build(weight_scale);
+            x = best.1.clone();
+            growing = 0;
+            since_best = 0;
+            info.weights.push(Some(0.0));
+            continue;
+        }
+        x = relax.next(&x, &xt);
+        info.weights.push(relax.last_weight());
+    }
+}
+
+/// Break rounds in every window with its interface held ([`pdbem_pd::breaking`]); returns the
+/// bond pairs broken.
+fn commit_windows(
+    windows: &mut [WindowModel],
+    p: &StaggeredParams,
+) -> Result<usize, CouplingError> {
+    let counts: Vec<Result<usize, CouplingError>> = windows
+        .par_iter_mut()
+        .enumerate()
+        .map(|(i, w)| {
+            let (model, slot) = (&mut w.model, &mut w.solver);
+            pdbem_pd::breaking::break_rounds(
+                model,
+                slot,
+                p.break_fraction,
+                p.break_rounds,
+                &p.newton,
+            )
+            .map_err(|e| CouplingError::pd(i, e))
+        })
+        .collect();
+    counts.into_iter().sum()
+}
+
+/// The PD solver with its target load set to the load scale.
+pub(super) fn pd_solve_at(solve: &PdSolve, scale: f64) -> PdSolve {
+    let mut s = solve.clone();
+    match &mut s {
+        PdSolve::Switching(p) => p.target_load = scale,
+        PdSolve::Implicit(p) => p.target_load = scale,
+        PdSolve::Adr(p) => p.target_load = scale,
+        PdSolve::Staggered(p) => p.newton.target_load = scale,
+    }
+    s
+}

@@ -1,0 +1,187 @@
+//! The crack nodes and in-crack shortest paths of the tracker (module docs of
+//! [`crate::crack_path`], steps 1-4): candidates, Dijkstra over the candidate graph from
+//! the entry, the chain back from the tip, the tip beyond a previous tip.
+
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
+use super::cell_hash::CellHash;
+use super::smooth::dist2;
+use super::PathParams;
+use crate::error::PdError;
+use crate::geometry::P2;
+
+/// The farthest reached candidate beyond the previous tip `p` (module docs,
+/// step 4): $d_e(q) + d_q(n) \le d_e(n) + $ `slack`, with $q$ the reached
+/// candidate nearest `p` and $d_q$ the in-crack distance from it. $q$
+/// itself always qualifies.
+pub(super) fn tip_beyond(
+    pts: &[P2],
+    hash: &CellHash,
+    s: &Search,
+    p: P2,
+    link: f64,
+    slack: f64,
+) -> usize {
+    let q = *s
+        .reached
+        .iter()
+        .min_by(|&&a, &&b| {
+            dist2(pts[a], p)
+                .total_cmp(&dist2(pts[b], p))
+                .then(a.cmp(&b))
+        })
+        .expect("a search reaches its seeds");
+    let dq = dijkstra(pts, hash, &[(q, 0.0)], link).dist;
+    let mut tip = q;
+    for &n in &s.reached {
+        let beyond = s.dist[q] + dq[n] <= s.dist[n] + slack;
+        if beyond && (s.dist[n], std::cmp::Reverse(n)) > (s.dist[tip], std::cmp::Reverse(tip)) {
+            tip = n;
+        }
+    }
+    tip
+}
+
+/// The candidates (step 1 of the module docs): indices and positions of the
+/// nodes with damage above the threshold, after checking the inputs.
+pub(super) fn crack_nodes(
+    positions: &[P2],
+    damage: &[f64],
+    dx: f64,
+    params: &PathParams,
+) -> Result<(Vec<usize>, Vec<P2>), PdError> {
+    params.validate()?;
+    if damage.len() != positions.len() {
+        return Err(PdError::LengthMismatch {
+            what: "damage",
+            expected: positions.len(),
+            got: damage.len(),
+        });
+    }
+    if !(dx > 0.0 && dx.is_finite()) {
+        return Err(PdError::invalid(
+            "dx",
+            format!("grid spacing {dx} m must be positive"),
+        ));
+    }
+    let cand: Vec<usize> = (0..positions.len())
+        .filter(|&i| damage[i] > params.threshold)
+        .collect();
+    let pts = cand.iter().map(|&i| positions[i]).collect();
+    Ok((cand, pts))
+}
+
+/// Result of the Dijkstra search over the candidate graph.
+pub(super) struct Search {
+    /// Predecessor of each reached candidate (`usize::MAX` for a seed).
+    pub(super) pred: Vec<usize>,
+    /// In-crack distance of each candidate from the entry (infinite if not
+    /// reached).
+    pub(super) dist: Vec<f64>,
+    /// Candidates reached from the seeds, in order of distance.
+    pub(super) reached: Vec<usize>,
+    /// The reached candidate farthest along the crack.
+    pub(super) tip: usize,
+}
+
+/// A heap entry ordered by smallest distance first, then smallest index.
+#[derive(PartialEq)]
+struct Item(f64, usize);
+
+impl Eq for Item {}
+
+impl Ord for Item {
+    fn cmp(&self, o: &Self) -> Ordering {
+        o.0.total_cmp(&self.0).then(o.1.cmp(&self.1))
+    }
+}
+
+impl PartialOrd for Item {
+    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
+        Some(self.cmp(o))
+    }
+}
+
+/// Dijkstra from the seeds near `entry`; `None` when there is no seed.
+pub(super) fn shortest_paths(
+    pts: &[P2],
+    hash: &CellHash,
+    entry: P2,
+    params: &PathParams,
+    dx: f64,
+) -> Option<Search> {
+    let r_entry = params.entry_radius * dx;
+    let seeds: Vec<(usize, f64)> = pts
+        .iter()
+        .enumerate()
+        .map(|(k, p)| (k, dist2(*p, entry).sqrt()))
+        .filter(|(_, d)| *d <= r_entry)
+        .collect();
+    if seeds.is_empty() {
+        return None;
+    }
+    let s = dijkstra(pts, hash, &seeds, params.link * dx);
+    // The farthest candidate; of equal distances the first settled (the
+    // smallest index).
+    let mut far = s.reached[0];
+    for &k in &s.reached {
+        if s.dist[k] > s.dist[far] {
+            far = k;
+        }
+    }
+    Some(Search { tip: far, ..s })
+}
+
+/// Dijkstra over the candidates linked within `link` from `seeds` (candidate,
+/// starting distance); `tip` is left at the first seed settled.
+fn dijkstra(pts: &[P2], hash: &CellHash, seeds: &[(usize, f64)], link: f64) -> Search {
+    let n = pts.len();
+    let mut dist = vec![f64::INFINITY; n];
+    let mut pred = vec![usize::MAX; n];
+    let mut heap = BinaryHeap::new();
+    for &(k, d) in seeds {
+        if d < dist[k] {
+            dist[k] = d;
+            heap.push(Item(d, k));
+        }
+    }
+    let mut done = vec![false; n];
+    let mut reached = Vec::new();
+    while let Some(Item(d, k)) = heap.pop() {
+        if done[k] {
+            continue;
+        }
+        done[k] = true;
+        reached.push(k);
+        hash.for_each_within(pts, pts[k], link, |j| {
+            let nd = d + dist2(pts[k], pts[j]).sqrt();
+            if !done[j] && nd < dist[j] {
+                dist[j] = nd;
+                pred[j] = k;
+                heap.push(Item(nd, j));
+            }
+        });
+    }
+    let tip = reached.first().copied().unwrap_or(usize::MAX);
+    Search {
+        pred,
+        dist,
+        reached,
+        tip,
+    }
+}
+
+/// The entry followed by the node positions from the seed to the tip.
+pub(super) fn chain_to_tip(pts: &[P2], s: &Search, entry: P2) -> Vec<P2> {
+    let mut chain = Vec::new();
+    let mut k = s.tip;
+    while k != usize::MAX {
+        chain.push(pts[k]);
+        k = s.pred[k];
+    }
+    chain.push(entry);
+    chain.reverse();
+    chain.dedup_by(|a, b| dist2(*a, *b) == 0.0);
+    chain
+}

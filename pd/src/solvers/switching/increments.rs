@@ -1,0 +1,120 @@
+//! The damage increments of the switching solver: the secant re-commit rounds on one
+//! kept factor, and ADR where they fail (or by choice, [`super::DamageSolver`]).
+
+use std::time::Instant;
+
+use super::{Increment, Switcher};
+use crate::error::PdError;
+use crate::model::PdModel;
+use crate::solvers::{PhaseKind, StepRecord};
+
+impl<'p> Switcher<'p> {
+    /// Increment `k -> k + 1` with bond failure: the secant rounds, or ADR
+    /// if they fail (or by choice). Returns whether any bond's damage grew.
+    pub(super) fn damage_increment(
+        &mut self,
+        model: &mut PdModel,
+        k: usize,
+    ) -> Result<bool, PdError> {
+        let ts = Instant::now();
+        let (lam, next) = (self.load_at(k), self.load_at(k + 1));
+        let mut inc = None;
+        if self.secant_enabled() {
+            model.save_into(&mut self.saved);
+            match self.secant_rounds(model, next) {
+                Ok(out) => inc = Some(out),
+                Err(e) => {
+                    model.restore(&self.saved);
+                    self.info.adr_fallbacks += 1;
+                    self.switch(
+                        PhaseKind::Explicit,
+                        lam,
+                        format!("the secant rounds failed at load {next}: {e}"),
+                    );
+                }
+            }
+        }
+        let inc = match inc {
+            Some(out) => out,
+            None => self.adr_increment(model, next)?,
+        };
+        self.adr_warm = inc.kind == PhaseKind::Explicit;
+        self.info.iterations += inc.iterations;
+        self.info.steps.push(StepRecord {
+            load: next,
+            iterations: inc.iterations,
+            broken_bonds: model.broken_bonds(),
+            max_stretch: inc.stats.max_stretch,
+            measure: inc.measure,
+            kind: inc.kind,
+        });
+        self.info.push_phase(
+            inc.kind,
+            lam,
+            next,
+            inc.iterations,
+            ts.elapsed().as_secs_f64(),
+        );
+        Ok(inc.grew)
+    }
+
+    /// The secant re-commit rounds at load `lam`, each equilibrium by the
+    /// chord iteration of [`SecantSolver`] (the first one also carries the
+    /// load increment, as a linear predictor would).
+    fn secant_rounds(&mut self, model: &mut PdModel, lam: f64) -> Result<Increment, PdError> {
+        model.set_load_factor(lam);
+        let (mut iterations, mut grew) = (0, false);
+        let tangent = &mut self.newton.tangent;
+        // Bonds may have changed since the last round (an ADR increment).
+        self.secant.track_changes(model, tangent, &mut self.info)?;
+        for _ in 0..self.p.max_break_rounds.max(1) {
+            let (it, measure) =
+                self.secant
+                    .equilibrate(model, tangent, &self.sp, &mut self.info)?;
+            iterations += it;
+            self.info.secant_rounds += 1;
+            let stats = model.commit_history();
+            self.secant.track_changes(model, tangent, &mut self.info)?;
+            grew |= stats.growing > 0;
+            if stats.newly_broken == 0 && stats.max_growth <= self.growth_tol {
+                return Ok(Increment {
+                    iterations,
+                    measure,
+                    stats,
+                    grew,
+                    kind: PhaseKind::Secant,
+                });
+            }
+        }
+        Err(PdError::NoConvergence {
+            solver: "switching (secant re-commit rounds)",
+            iterations: self.p.max_break_rounds,
+            load: lam,
+            measure: f64::NAN,
+            tolerance: self.growth_tol,
+        })
+    }
+
+    /// One increment to load `lam` by ADR with the re-commit rounds.
+    fn adr_increment(&mut self, model: &mut PdModel, lam: f64) -> Result<Increment, PdError> {
+        model.set_load_factor(lam);
+        if !self.adr_warm {
+            self.adr.reset();
+        }
+        let (iterations, measure, stats, grew) = self.adr.equilibrate(
+            model,
+            self.p.convergence,
+            self.p.iters_per_explicit_step.max(1),
+            self.p.max_adr_iters,
+            self.p.max_break_rounds,
+            &mut self.info.residual_history,
+        )?;
+        Ok(Increment {
+            iterations,
+            measure,
+            stats,
+            grew,
+            kind: PhaseKind::Explicit,
+        })
+    }
+}
