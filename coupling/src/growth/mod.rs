@@ -53,6 +53,8 @@
 //! - [`geometry`]: the geometry iteration ([`Growth::plan`], [`Growth::apply`],
 //!   [`Growth::relocate`]).
 //! - [`bem_only`]: BEM-only growth (SIF, MCS kink, fixed increment; [`bem_only::run`]).
+//! - [`full_pd`]: full-PD growth, the whole body at the window resolution
+//!   ([`full_pd::run`]), the reference PD-BEM is compared with.
 //! - [`verdict`]: the end-of-step verdict of the BEM-only and full-PD engines.
 //! - [`criterion`]: maximum circumferential stress kink and equivalent K (BEM-only growth).
 //! - [`events`]: what the BEM-only and full-PD engines report ([`events::EngineObserver`]).
@@ -75,6 +77,7 @@ pub mod criterion;
 pub mod driver;
 pub mod events;
 pub mod front;
+pub mod full_pd;
 pub mod geometry;
 pub mod history;
 pub mod merge;

@@ -16,13 +16,34 @@
 //! at dx = 0.05 m two or three times per round; the chord iteration solves with the kept
 //! factor (see the module note of `pdbem_pd::solvers::secant` for the cost model).
 
-use anyhow::{bail, Result};
+use crate::error::CouplingError;
 
 use pdbem_pd::material::BondLaw;
 use pdbem_pd::solvers::frozen::{Fallbacks, FrozenSolver, Solved};
 use pdbem_pd::solvers::implicit::ImplicitParams;
 use pdbem_pd::solvers::{Convergence, SolveInfo};
 use pdbem_pd::{PdError, PdModel};
+
+/// A full-PD growth error with `message`; [`message_of`] gives the message back.
+pub(super) fn fail(message: String) -> CouplingError {
+    CouplingError::Growth {
+        mode: "full-PD",
+        message,
+    }
+}
+
+/// The message of a full-PD growth error, without the mode prefix (for notes).
+pub(super) fn message_of(e: &CouplingError) -> String {
+    match e {
+        CouplingError::Growth { message, .. } => message.clone(),
+        other => other.to_string(),
+    }
+}
+
+/// A PD error of the whole-body model as a full-PD growth error.
+pub(super) fn pd_fail(e: PdError) -> CouplingError {
+    fail(e.to_string())
+}
 
 /// Outcome of tracking after a break round.
 pub(super) enum Tracked {
@@ -124,13 +145,15 @@ impl Equilibrium {
     /// Equilibrium at the model's load with the bond history frozen
     /// ([`FrozenSolver::equilibrate`]: the chord iteration, Newton, ADR), counting the
     /// fallbacks; the failure of all is the error.
-    pub fn solve(&mut self, model: &mut PdModel) -> Result<()> {
+    pub fn solve(&mut self, model: &mut PdModel) -> Result<(), CouplingError> {
         let start = model.displacements().to_vec();
         let solved = self
             .solver
             .equilibrate(model, &self.ip, &start, &mut self.info)
             .map_err(|e| {
-                anyhow::anyhow!("no frozen-bond equilibrium (chord iteration, Newton, ADR): {e}")
+                fail(format!(
+                    "no frozen-bond equilibrium (chord iteration, Newton, ADR): {e}"
+                ))
             })?;
         if self.solver.has_chord() && !matches!(solved, Solved::Chord(_)) {
             self.counts.newton += 1;
@@ -166,11 +189,11 @@ pub(super) fn load_step(
     eq: &mut Equilibrium,
     f: f64,
     max_rounds: usize,
-    mut after: impl FnMut(&PdModel) -> Result<Tracked>,
-) -> Result<()> {
+    mut after: impl FnMut(&PdModel) -> Result<Tracked, CouplingError>,
+) -> Result<(), CouplingError> {
     let brittle = matches!(model.law(), BondLaw::Brittle { .. });
     let s0 = model.law().damage_onset();
-    eq.predict_to(model, f)?;
+    eq.predict_to(model, f).map_err(pd_fail)?;
     for _ in 0..max_rounds {
         eq.solve(model)?;
         let broken = if brittle {
@@ -185,7 +208,9 @@ pub(super) fn load_step(
             return Ok(());
         }
     }
-    bail!("bonds still breaking after {max_rounds} equilibrium rounds at load {f}")
+    Err(fail(format!(
+        "bonds still breaking after {max_rounds} equilibrium rounds at load {f}"
+    )))
 }
 
 /// One sequentially linear round at the equilibrium of load `f`: when the largest stretch
@@ -193,7 +218,7 @@ pub(super) fn load_step(
 /// bonds pass s0 and breaks them (`commit_history` at the scaled state); returns the
 /// directed bonds broken (0: the state holds at `f`). The displacements are restored to
 /// the load-f state.
-fn break_most_stretched(model: &mut PdModel, f: f64, s0: f64) -> Result<usize> {
+fn break_most_stretched(model: &mut PdModel, f: f64, s0: f64) -> Result<usize, CouplingError> {
     let st = model.stretch_stats();
     // NaN stretches (a diverged state) break nothing either.
     if st.max_stretch.is_nan() || st.max_stretch <= s0 {
@@ -212,10 +237,15 @@ fn break_most_stretched(model: &mut PdModel, f: f64, s0: f64) -> Result<usize> {
 }
 
 /// The state `scale u` at load `scale f`.
-fn set_scaled(model: &mut PdModel, u: &[[f64; 2]], f: f64, scale: f64) -> Result<()> {
+fn set_scaled(
+    model: &mut PdModel,
+    u: &[[f64; 2]],
+    f: f64,
+    scale: f64,
+) -> Result<(), CouplingError> {
     let v: Vec<[f64; 2]> = u.iter().map(|p| [p[0] * scale, p[1] * scale]).collect();
     model.set_load_factor(f * scale);
-    model.set_displacements(&v)?;
+    model.set_displacements(&v).map_err(pd_fail)?;
     Ok(())
 }
 
@@ -224,7 +254,12 @@ fn set_scaled(model: &mut PdModel, u: &[[f64; 2]], f: f64, scale: f64) -> Result
 /// a scale at which at most the most stretched bond passes (s0 / s_max). The stretch is
 /// linear in the displacements only for small rotations (a nearly cut plate reached
 /// 0.96 s0 instead of 1.02 s0 by linear scaling), hence the count rather than a formula.
-fn critical_scale(model: &mut PdModel, u: &[[f64; 2]], f: f64, lo: f64) -> Result<f64> {
+fn critical_scale(
+    model: &mut PdModel,
+    u: &[[f64; 2]],
+    f: f64,
+    lo: f64,
+) -> Result<f64, CouplingError> {
     let (mut lo, mut hi) = (lo.min(1.0), 1.0);
     for _ in 0..60 {
         let mid = 0.5 * (lo + hi);

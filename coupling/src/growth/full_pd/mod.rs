@@ -3,10 +3,10 @@
 //! meant to reproduce at a fraction of the cost.
 //!
 //! Algorithm:
-//! 1. The scene becomes a [`pdbem_pd::PdProblem`] through
-//!    [`crate::setup::pd::full_pd_problem`] (same conditions, pre-cracks, failure law) with
-//!    `pd.dx` set to the window spacing.
-//! 2. For every load factor of the scene, warm-started from the previous equilibrium:
+//! 1. The caller builds the whole-body [`PdModel`] at the window spacing (the `pdbem`
+//!    binary: `setup::pd::full_pd_problem`, the scene's conditions, pre-cracks and failure
+//!    law) and the crack [`Front`].
+//! 2. For every load factor, warm-started from the previous equilibrium:
 //!    equilibrium with the bond history frozen (tolerances 1e-6 as in
 //!    [`pdbem_pd::measure::ramp_to_initiation`]) by the chord iteration on a kept
 //!    factorisation for brittle bonds, Newton for degrading ones, with Newton and ADR as
@@ -42,22 +42,18 @@
 
 use std::time::Instant;
 
-use anyhow::{Context, Result};
-use serde_json::json;
-
-use pdbem_coupling::growth::polyline;
-
-use super::log::RunObserver;
-use super::{FieldSnapshot, GrowthHistory, PathPoint, StepRecord, TipPath};
-use crate::geometry::P2;
-use crate::runner::context::RunContext;
-use crate::scene::Scene;
-use pdbem_coupling::growth::events::EngineObserver;
-use pdbem_coupling::growth::front::{Front, Obstacle};
-use pdbem_coupling::growth::verdict::stop_after_step;
+use pdbem_geometry::P2;
 use pdbem_pd::crack_path::{crack_clusters, trace_crack_beyond, PathParams};
 use pdbem_pd::PdModel;
-use rounds::{load_step, Equilibrium, Tracked, LOOSE_MEASURE};
+use rounds::{load_step, message_of, pd_fail, Equilibrium, Tracked, LOOSE_MEASURE};
+use serde_json::json;
+
+use super::events::EngineObserver;
+use super::front::{Front, Obstacle};
+use super::history::{FieldSnapshot, GrowthHistory, PathPoint, StepRecord, TipPath};
+use super::polyline;
+use super::verdict::stop_after_step;
+use crate::error::CouplingError;
 
 mod rounds;
 
@@ -80,8 +76,8 @@ fn crack_cuts_body(
     front: &Front,
     params: &PathParams,
     (dx, delta): (f64, f64),
-) -> Result<Option<(P2, P2)>> {
-    for cluster in crack_clusters(x, phi, dx, params)? {
+) -> Result<Option<(P2, P2)>, CouplingError> {
+    for cluster in crack_clusters(x, phi, dx, params).map_err(pd_fail)? {
         let contacts: Vec<P2> = cluster
             .iter()
             .map(|&i| P2::new(x[i][0], x[i][1]))
@@ -119,20 +115,19 @@ fn single_linkage(points: &[P2], link: f64) -> Vec<usize> {
     firsts
 }
 
-/// The PD model of the scene at the window spacing, and that spacing.
-pub fn model_of(scene: &Scene) -> Result<(PdModel, f64, f64)> {
-    let file = scene.file_label();
-    let co = scene.coupling.as_ref().with_context(|| {
-        format!(
-            "{}: full-PD growth takes dx = coupling.side / coupling.n: add `coupling`",
-            file.display()
-        )
-    })?;
-    let dx = co.dx();
-    let problem = crate::setup::pd::full_pd_problem(scene)?;
-    let delta = problem.horizon();
-    let model = PdModel::new(&problem).with_context(|| format!("{}: pd", file.display()))?;
-    Ok((model, dx, delta))
+/// Parameters of a full-PD run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FullPdParams {
+    /// Grid spacing dx (m).
+    pub dx: f64,
+    /// Horizon delta (m).
+    pub delta: f64,
+    /// Load factors, one per step.
+    pub loads: Vec<f64>,
+    /// Damage above which a node belongs to a macro crack (the tip tracker's threshold).
+    pub damage_threshold: f64,
+    /// Steps (0-based) after which damage and displacement snapshots are taken as well.
+    pub snapshot_steps: Vec<usize>,
 }
 
 /// Per-tip tracking state.
@@ -164,7 +159,7 @@ impl Tracker {
         let near_other = |p: &P2| {
             others.iter().any(|c| {
                 c.windows(2).any(|w| {
-                    crate::geometry::point_segment_distance(p, &w[0], &w[1])
+                    pdbem_geometry::point_segment_distance(p, &w[0], &w[1])
                         < OTHER_CRACK_DX * self.dx
                 })
             })
@@ -189,10 +184,11 @@ impl Tracker {
         t: usize,
         (x, phi): (&[[f64; 2]], &[f64]),
         params: &PathParams,
-    ) -> Result<Option<Vec<P2>>> {
+    ) -> Result<Option<Vec<P2>>, CouplingError> {
         let masked = self.masked_damage(front, t, x, phi);
         let (o, last) = (front.tips[t].initial, front.tip_position(t));
-        let path = trace_crack_beyond(x, &masked, self.dx, [o.x, o.y], [last.x, last.y], params)?;
+        let path = trace_crack_beyond(x, &masked, self.dx, [o.x, o.y], [last.x, last.y], params)
+            .map_err(pd_fail)?;
         let tip = path.tip();
         let ahead = (P2::new(tip[0], tip[1]) - o).dot(&self.dir0[t]);
         if path.is_empty() || ahead <= 0.5 * self.dx {
@@ -283,29 +279,19 @@ fn snapshots(model: &PdModel, step: usize) -> [FieldSnapshot; 2] {
     ]
 }
 
-/// Runs full-PD growth of `scene` (see the module documentation).
-pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
-    let (mut model, dx, delta) = model_of(scene)?;
-    let factors = scene.load.factors();
-    let mut obs = RunObserver::new(ctx, factors.len())?;
-    let history = grow(scene, &mut model, (dx, delta), &factors, &mut obs);
-    obs.finish()?;
-    history
-}
-
-/// The load steps of full-PD growth on `model` (spacing and horizon `dxd`).
-fn grow(
-    scene: &Scene,
+/// Runs full-PD growth of `model` (at rest, its pre-cracks cut) from the crack `front`
+/// (see the module documentation); `name` labels the start message.
+pub fn run(
+    name: &str,
     model: &mut PdModel,
-    dxd: (f64, f64),
-    factors: &[f64],
+    mut front: Front,
+    p: &FullPdParams,
     obs: &mut dyn EngineObserver,
-) -> Result<GrowthHistory> {
-    let file = scene.file_label();
-    let (dx, delta) = dxd;
-    let threshold = scene.growth.as_ref().map_or(0.38, |g| g.damage_threshold);
+) -> Result<GrowthHistory, CouplingError> {
+    let (dx, delta) = (p.dx, p.delta);
+    let factors = &p.loads[..];
     let params = PathParams {
-        threshold,
+        threshold: p.damage_threshold,
         ..Default::default()
     };
     obs.event(
@@ -314,11 +300,9 @@ fn grow(
                "bonds": model.n_bonds() / 2, "steps": factors.len()}),
     );
     obs.message(&format!(
-        "{}: full PD, {} real nodes, dx = {dx:e} m",
-        scene.name,
+        "{name}: full PD, {} real nodes, dx = {dx:e} m",
         model.n_real()
     ));
-    let mut front = crate::setup::growth::front(scene);
     let mut tr = Tracker {
         dir0: (0..front.tips.len())
             .map(|t| front.tip_direction(t))
@@ -348,7 +332,7 @@ fn grow(
             .collect(),
         ..Default::default()
     };
-    let mut eq = Equilibrium::new(model).with_context(|| format!("{}: pd", file.display()))?;
+    let mut eq = Equilibrium::new(model).map_err(pd_fail)?;
     let n_side = (model.n_real() as f64).sqrt().ceil() as usize;
     let max_rounds = 20 * n_side.max(10);
     let mut first_break = None;
@@ -364,18 +348,19 @@ fn grow(
         });
         let collapsed = match outcome {
             Ok(()) => None,
-            Err(e) if model.broken_bonds() > broken0 => Some(format!("{e:#}")),
+            Err(e) if model.broken_bonds() > broken0 => Some(message_of(&e)),
             Err(e) => {
-                return Err(e).with_context(|| {
-                    format!("{}: full-PD growth, step {k} (load {f})", file.display())
-                })
+                return Err(rounds::fail(format!(
+                    "step {k} (load {f}): {}",
+                    message_of(&e)
+                )))
             }
         };
         let grown = (0..front.tips.len()).any(|t| front.extension(t) > delta);
         if history.initiation_load.is_none() && grown {
             history.initiation_load = Some(f);
             history.snapshots.extend(snapshots(model, k));
-        } else if super::snapshot_steps(scene).contains(&k) {
+        } else if p.snapshot_steps.contains(&k) {
             history.snapshots.extend(snapshots(model, k));
         }
         if first_break.is_none() && model.broken_bonds() > 0 {
@@ -471,7 +456,7 @@ fn track(
     step: usize,
     load: f64,
     obs: &mut dyn EngineObserver,
-) -> Result<Tracked> {
+) -> Result<Tracked, CouplingError> {
     let n = model.n_real();
     let x = &model.positions()[..n];
     let phi = model.damage();
@@ -537,14 +522,16 @@ mod tests {
     use super::*;
     use pdbem_pd::{PdProblem, Region};
 
-    /// The 10 m square plate of a scene (for its outline) and a PD model of it at
+    /// A 10 m square plate (its outline, no cracks in the front) and a PD model of it at
     /// dx = 0.5 m with the pre-cracks `cracks` (polylines).
     fn plate(cracks: Vec<Vec<[f64; 2]>>) -> (Front, PdModel, f64) {
-        let src = "(name: \"cut\", material: (E: 1, nu: 0.3, plane: Stress),
-              body: (outline: Rectangle(x0: 0, y0: 0, width: 10, height: 10)),
-              boundary: [(on: \"top\", y: Traction(1)), (on: \"bottom\", y: Traction(-1))])";
-        let front =
-            crate::setup::growth::front(&Scene::from_ron_str(src, "cut.ron").expect("scene"));
+        let outline = vec![
+            P2::new(0.0, 0.0),
+            P2::new(10.0, 0.0),
+            P2::new(10.0, 10.0),
+            P2::new(0.0, 10.0),
+        ];
+        let front = Front::new(Some(outline), Vec::new(), Vec::new());
         let p = PdProblem {
             region: Region::rectangle([0.0, 0.0], [10.0, 10.0]),
             dx: 0.5,

@@ -1,0 +1,42 @@
+//! Full-PD crack growth of a scene: the engine is [`pdbem_coupling::growth::full_pd`]
+//! (the whole body in PD at the window spacing, frozen-history equilibria and break
+//! rounds, tip tracking on the damage); its model comes from the setup layer
+//! ([`crate::setup::pd::full_pd_problem`]) and its events go to `growth_log.jsonl` and the
+//! progress bar ([`super::log::RunObserver`]).
+
+use anyhow::{Context, Result};
+use pdbem_coupling::growth::full_pd::{self as engine, FullPdParams};
+use pdbem_pd::PdModel;
+
+use super::log::RunObserver;
+use super::GrowthHistory;
+use crate::runner::context::RunContext;
+use crate::scene::Scene;
+
+/// The PD model of the scene at the window spacing, that spacing and the horizon.
+pub fn model_of(scene: &Scene) -> Result<(PdModel, f64, f64)> {
+    let file = scene.file_label();
+    let problem = crate::setup::pd::full_pd_problem(scene)?;
+    let (dx, delta) = (problem.dx, problem.horizon());
+    let model = PdModel::new(&problem).with_context(|| format!("{}: pd", file.display()))?;
+    Ok((model, dx, delta))
+}
+
+/// Runs full-PD growth of `scene`.
+pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
+    let (mut model, dx, delta) = model_of(scene)?;
+    let growth = scene.growth.as_ref();
+    let params = FullPdParams {
+        dx,
+        delta,
+        loads: scene.load.factors(),
+        damage_threshold: growth.map_or(0.38, |g| g.damage_threshold),
+        snapshot_steps: growth.map(|g| g.snapshot_steps.clone()).unwrap_or_default(),
+    };
+    let front = crate::setup::growth::front(scene);
+    let mut obs = RunObserver::new(ctx, params.loads.len())?;
+    let history = engine::run(&scene.name, &mut model, front, &params, &mut obs)
+        .with_context(|| scene.file_label().display().to_string());
+    obs.finish()?;
+    history
+}
