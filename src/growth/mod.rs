@@ -1,14 +1,16 @@
-//! Crack growth (issue 5; seed 002 Algorithm 2, sections 2.3.2-2.3.3).
+//! Crack growth runs of a scene (issue 5; seed 002 Algorithm 2, sections 2.3.2-2.3.3):
+//! the three engines live in `pdbem_coupling::growth` and all return the same
+//! [`GrowthHistory`]; this module runs them on a scene and reports what they produce.
+//! - [`pd_bem`]: moving PD windows over the tips iterated against the BEM body
+//!   (`pdbem_coupling::growth::Growth`), with its observer (progress bar, run log,
+//!   window snapshots);
+//! - [`bem_only`]: SIF at the tip, kink by maximum circumferential stress, fixed
+//!   increment `da`, critical load from K_c = sqrt(E' G_c) (Liu, Li & Xie 2017, seed 002
+//!   ref. \[34\]; `pdbem_coupling::growth::bem_only`);
+//! - [`full_pd`]: the whole body in PD at the window resolution
+//!   (`pdbem_coupling::growth::full_pd`).
 //!
-//! Three modes produce the same [`GrowthHistory`] so that outputs, plots and the
-//! `plot-paths` overlay treat them alike:
-//! - PD-BEM: moving PD windows over the tips iterated against the BEM body
-//!   (`pdbem_coupling::growth`);
-//! - BEM-only: SIF at the tip, kink by maximum circumferential stress, fixed increment
-//!   `da`, critical load from K_c = sqrt(E' G_c) (Liu, Li & Xie 2017, seed 002 ref. \[34\]);
-//! - full PD: the whole body in PD at the window resolution.
-//!
-//! Shared pieces: [`log`] (`growth_log.jsonl`, progress bar), [`output`] (files and
+//! Reporting: [`log`] (`growth_log.jsonl`, progress bar), [`output`] (files and
 //! plots of a run, [`output::finish`]), [`overlay`] (`pdbem plot-paths`), [`bench`](mod@bench)
 //! (`pdbem bench growth`).
 //!
