@@ -190,6 +190,9 @@ pub fn describe(scene: &Scene) -> String {
             m.e, m.nu, m.plane, m.thickness
         ),
     ];
+    if !scene.description.is_empty() {
+        out.insert(1, format!("  description: {}", scene.description));
+    }
     out.push(match (&geo.outline, geo.remote) {
         (Some(o), _) => {
             let (lo, hi) = crate::geometry::bounding_box(&o.points);
