@@ -3,7 +3,8 @@
 //! Map:
 //! - [`scene`]: RON scene types, loading, the one `validate()`, dotted paths for sweeps;
 //! - [`geometry`]: plane geometry helpers (the `pdbem-geometry` crate, re-exported);
-//! - [`analytic`]: reference solutions of REFERENCES.md (Tada SENT, CMOD, Kirsch, ...);
+//! - [`analytic`]: reference solutions of REFERENCES.md (`pdbem_bem::analytic`, re-exported
+//!   for the scene's material constants);
 //! - [`setup`]: the one scene-to-model layer (sizing rule, BEM / PD / coupled models,
 //!   run footprint) that validation, `check` and `run` share;
 //! - [`runner`]: [`runner::RunContext`], [`runner::RunSummary`], dispatch to the solvers,
@@ -15,7 +16,7 @@
 //! - [`bench`](mod@bench): `pdbem bench`;
 //! - [`cli`]: the `pdbem` command line.
 
-pub mod analytic;
+pub use pdbem_bem::analytic;
 pub mod bench;
 pub mod cli;
 pub use pdbem_geometry as geometry;

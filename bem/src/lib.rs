@@ -7,6 +7,8 @@
 //! reinforce the diagonal (REFERENCES.md: the other sign makes the operator nearly singular).
 //!
 //! Map of the crate:
+//! - [`analytic`]: closed-form LEFM references of REFERENCES.md the BEM is verified against
+//!   (Tada SENT, the SENT FEM table, CMOD, Kirsch, inclined crack, Griffith K_c, PD constants).
 //! - [`material`]: elastic constants, plane stress via the effective Poisson ratio.
 //! - [`mesh`]: loops, holes, cracks with coincident or gapped faces, tip refinement.
 //! - [`integrate`]: element integrals of U, T, K, H (closed form near, Gauss far, finite
@@ -16,6 +18,7 @@
 //! - [`post`]: interior displacement and stress, boundary stress, SIFs (crack-opening fit and
 //!   interaction integral), kink angle, CMOD.
 
+pub mod analytic;
 pub mod bench;
 pub mod error;
 pub mod integrate;

@@ -10,7 +10,7 @@
 //! when the scene gives no fracture data, G_c is taken from the PD critical stretch at the
 //! window's horizon (the same material the PD modes see): G_c = 9 E delta s0^2 / (4 pi)
 //! (plane stress) or 12 E delta s0^2 / (5 pi) (plane strain), the inverse of
-//! [`crate::analytic::pd_critical_stretch`]. `--quick` runs full PD at twice the
+//! [`pdbem_bem::analytic::pd_critical_stretch`]. `--quick` runs full PD at twice the
 //! window spacing (so its ratio to PD-BEM is not the same-resolution one) and BEM-only
 //! with da = 5 dx; PD-BEM is unchanged.
 
@@ -434,7 +434,7 @@ mod tests {
     fn gc_inverts_the_critical_stretch() {
         for plane in [Plane::Stress, Plane::Strain] {
             let g = gc_from_stretch(30e9, 7.5e-4, 0.0026, plane);
-            let s0 = crate::analytic::pd_critical_stretch(g, 30e9, 7.5e-4, plane);
+            let s0 = pdbem_bem::analytic::pd_critical_stretch(g, 30e9, 7.5e-4, plane);
             assert!((s0 - 0.0026).abs() < 1e-15, "{plane:?}: {s0}");
         }
     }
