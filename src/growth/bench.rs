@@ -87,7 +87,7 @@ pub struct GrowthBenchRun {
     pub history: Option<GrowthHistory>,
 }
 
-/// Deviation between the paths of one tip in two modes ([`super::compare`]).
+/// Deviation between the paths of one tip in two modes ([`pdbem_coupling::growth::compare`]).
 #[derive(Debug, Clone, Serialize)]
 pub struct PathDeviation {
     /// First mode.
@@ -143,11 +143,11 @@ pub fn deviations(runs: &[GrowthBenchRun], dx: f64) -> Vec<PathDeviation> {
             };
             for pa in &ha.paths {
                 if let Some(pb) = hb.paths.iter().find(|p| p.name == pa.name) {
-                    let (d, common) = super::compare::path_deviation(pa, pb);
+                    let (d, common) = pdbem_coupling::growth::compare::path_deviation(pa, pb);
                     let before = overstrain_load.map(|f| {
-                        let (d, common) = super::compare::path_deviation(
-                            &super::compare::reached_below(pa, f),
-                            &super::compare::reached_below(pb, f),
+                        let (d, common) = pdbem_coupling::growth::compare::path_deviation(
+                            &pdbem_coupling::growth::compare::reached_below(pa, f),
+                            &pdbem_coupling::growth::compare::reached_below(pb, f),
                         );
                         [d, common]
                     });

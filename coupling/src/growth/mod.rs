@@ -52,6 +52,8 @@
 //! - [`driver`]: [`Growth`] (the run: [`Growth::run`], [`Growth::solve_at`]).
 //! - [`geometry`]: the geometry iteration ([`Growth::plan`], [`Growth::apply`],
 //!   [`Growth::relocate`]).
+//! - [`compare`]: path comparison between growth runs (Hausdorff-type deviation of two
+//!   tip paths over their common reach, [`compare::path_deviation`]).
 //! - [`bem_only`]: BEM-only growth (SIF, MCS kink, fixed increment; [`bem_only::run`]).
 //! - [`verdict`]: the end-of-step verdict of the BEM-only and full-PD engines.
 //! - [`criterion`]: maximum circumferential stress kink and equivalent K (BEM-only growth).
@@ -71,6 +73,7 @@
 //! - [`polyline`]: small polyline helpers.
 
 pub mod bem_only;
+pub mod compare;
 pub mod criterion;
 pub mod driver;
 pub mod events;
