@@ -63,6 +63,8 @@
 //! - [`history`]: the mode-independent record of a growth run ([`history::GrowthHistory`]:
 //!   tip paths, steps, relocations, snapshots), what PD-BEM, BEM-only and full-PD growth
 //!   all produce.
+//! - [`summary`]: the PD-BEM run ([`Growth`], [`GrowthResult`]) as a [`history::GrowthHistory`]
+//!   ([`summary::history_of`]), with window damage snapshots.
 //! - [`records`]: the [`Scenario`] and [`Observer`] traits, the setup and the records.
 //! - [`params`]: [`GrowthParams`], [`LoadSteps`].
 //! - [`tips`]: tip specs and state, tracking, the margin and end tests.
@@ -86,6 +88,7 @@ pub mod params;
 pub mod polyline;
 pub mod records;
 pub mod relocate;
+pub mod summary;
 pub mod tips;
 pub mod topology;
 pub mod transfer;
