@@ -22,6 +22,8 @@
 //! - [`breaking`]: progressive bond breaking at converged interface states.
 //! - [`frozen`]: a PD model's equilibrium with frozen bonds (the chord iteration on a kept
 //!   factor, Newton and ADR where it fails).
+//! - [`post`]: post-processing of a coupled solution (interaction-integral SIFs of a tip
+//!   inside a window, [`post::window_tip_sif`]).
 //! - [`growth`]: Algorithm 2 (seed 002 sections 2.3.2-2.3.3): load steps with moving
 //!   tip windows, crack extension and structural failure ([`growth::Growth`]).
 //! - [`error`]: the crate's error type, [`CouplingError`].
@@ -35,6 +37,7 @@ pub mod interface;
 pub mod iteration;
 pub mod maps;
 pub mod pd_window;
+pub mod post;
 pub mod relaxation;
 pub mod setup;
 pub mod spectrum;
