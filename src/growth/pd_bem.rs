@@ -7,14 +7,16 @@
 //! multiplied by the factor) and the growth settings (`growth`: trigger ratio, move
 //! distance, elements per extension, damage threshold). The run itself is
 //! [`pdbem_coupling::growth::Growth::run`]; this module adapts the scene to it (the
-//! [`Scenario`](pdbem_coupling::growth::Scenario): BEM conditions of each rebuilt mesh and conditions on window sides lying
-//! on the outline, both at load factor 1), shows a progress bar per load step with the
-//! coupling residual and the tip positions, logs every relocation (run log and
-//! `growth_log.jsonl`), and turns the result into a [`GrowthHistory`]
-//! ([`pdbem_coupling::growth::summary::history_of`]) with damage snapshots of the windows (just before each relocation, labels
+//! [`Scenario`](pdbem_coupling::growth::Scenario) of `setup::growth`: BEM conditions of
+//! each rebuilt mesh and conditions on window sides lying on the outline, both at load
+//! factor 1), shows a progress bar per load step with the coupling residual and the tip
+//! positions, logs every relocation (run log and `growth_log.jsonl`), and turns the result
+//! into a [`GrowthHistory`] ([`pdbem_coupling::growth::summary::history_of`]) with damage
+//! snapshots of the windows (just before each relocation, labels
 //! `damage_window<i>_step<k>_reloc<r>` with r counting relocations, since a load step can
 //! hold several; at the last step `damage_window<i>_step<k>`) and the displacement
-//! magnitude over the PD nodes and BEM interior points at the last step.
+//! magnitude over the PD nodes and BEM interior points at the last step (which needs the
+//! scene's geometry, so it stays here).
 
 use anyhow::{Context, Result};
 use pdbem_bem::post::FieldEvaluator;
