@@ -67,7 +67,7 @@ pub struct TipResult {
     /// Reference K_I from the FEM table (SENT, 0.1 <= a/W <= 0.8).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub k1_ref_fem: Option<f64>,
-    /// Relative error of `k1` (see [`reference::relative_error`]).
+    /// Relative error of `k1` (see [`super::reference::relative_error`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub k1_err: Option<f64>,
     /// Relative error of `k2`.
