@@ -3,7 +3,6 @@
 //! Map:
 //! - [`scene`]: RON scene types, loading, the one `validate()`, dotted paths for sweeps;
 //! - [`geometry`]: plane geometry helpers (the `pdbem-geometry` crate, re-exported);
-//! - [`analytic`]: reference solutions of REFERENCES.md (Tada SENT, CMOD, Kirsch, ...);
 //! - [`setup`]: the one scene-to-model layer (sizing rule, BEM / PD / coupled models,
 //!   run footprint) that validation, `check` and `run` share;
 //! - [`runner`]: [`runner::RunContext`], [`runner::RunSummary`], dispatch to the solvers,
@@ -15,7 +14,6 @@
 //! - [`bench`](mod@bench): `pdbem bench`;
 //! - [`cli`]: the `pdbem` command line.
 
-pub mod analytic;
 pub mod bench;
 pub mod cli;
 pub use pdbem_geometry as geometry;

@@ -15,11 +15,12 @@
 
 use std::time::Instant;
 
-use crate::geometry::{point_segment_projection, polygon_distance};
+use crate::geometry::point_segment_projection;
 use anyhow::{Context, Result};
-use pdbem_bem::post::sif::{analyze_tips, cmod, interaction_integral, SifOptions};
+use pdbem_bem::post::sif::{analyze_tips, cmod, SifOptions};
 use pdbem_bem::post::FieldEvaluator;
 use pdbem_bem::V2;
+use pdbem_coupling::post::{WindowContour, WindowTipSif};
 use pdbem_coupling::{CoupledSolution, CouplingInfo};
 use serde_json::json;
 
@@ -83,44 +84,31 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     Ok(summary)
 }
 
-/// Interaction-integral SIFs of a windowed tip on a circle around its window.
+/// Interaction-integral SIFs of a windowed tip on a circle around its window, clear of
+/// the scene's outline and holes ([`pdbem_coupling::post::window_tip_sif`] with the
+/// default contour).
 pub fn window_tip_sif(
     out: &CoupledOutcome,
     scene: &Scene,
     tip: &WindowTip,
-) -> Option<(f64, f64, f64, f64)> {
-    let pb = &out.setup.problem;
-    let w = &pb.windows[tip.window].window;
-    let half_diag = w
-        .corners()
-        .iter()
-        .map(|c| (c - tip.position).norm())
-        .fold(0.0, f64::max);
+) -> Option<WindowTipSif> {
     let geo = SceneGeometry::of(scene);
-    let mut clearance = f64::INFINITY;
+    let mut boundaries: Vec<Vec<V2>> = Vec::new();
     if let Some(o) = &geo.outline {
-        let pts: Vec<V2> = o.points.to_vec();
-        clearance = clearance.min(polygon_distance(&tip.position, &pts));
+        boundaries.push(o.points.to_vec());
     }
     for (_, h) in &geo.holes {
-        let pts: Vec<V2> = h.polygon().to_vec();
-        clearance = clearance.min(polygon_distance(&tip.position, &pts));
+        boundaries.push(h.polygon().to_vec());
     }
-    let r_min = 1.1 * half_diag;
-    let r_max = 0.9 * clearance;
-    if r_min >= r_max {
-        return None;
-    }
-    let radius = (1.25 * half_diag).min(0.5 * (r_min + r_max).max(r_min));
-    let ev = FieldEvaluator::new(
-        &pb.mesh,
-        &pb.material,
-        &out.solution.solution,
-        pb.background,
-    );
-    let h = w.spec.dx;
-    let (k1, k2, j) = interaction_integral(&ev, tip.position, tip.direction, radius, 64, h);
-    Some((k1, k2, j, radius))
+    pdbem_coupling::post::window_tip_sif(
+        &out.setup.problem,
+        &out.solution,
+        tip.window,
+        tip.position,
+        tip.direction,
+        &boundaries,
+        &WindowContour::default(),
+    )
 }
 
 /// The summary of a coupled solve (without reference values; the runner adds them).
@@ -129,10 +117,9 @@ pub fn summarize(scene: &Scene, out: &CoupledOutcome) -> Result<RunSummary> {
     let sol = &out.solution.solution;
     let mut tips = Vec::new();
     for t in &out.setup.tips {
-        let Some((k1, k2, j, r)) = window_tip_sif(out, scene, t) else {
+        let Some(WindowTipSif { k1, k2, .. }) = window_tip_sif(out, scene, t) else {
             continue;
         };
-        let _ = (j, r);
         tips.push(TipResult {
             name: t.name.clone(),
             position: [t.position.x, t.position.y],

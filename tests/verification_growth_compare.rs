@@ -1,6 +1,6 @@
 //! Issue 5: the three growth modes of one scene give the same crack path, measured as
 //! the Hausdorff distance of the paths over their common reach
-//! ([`pdbem::growth::compare`]).
+//! ([`pdbem_coupling::growth::compare`]).
 //!
 //! - `growth_tension_edge` (seed 002 section 3.2.2, mode I): PD-BEM, BEM-only and full
 //!   PD within 2 dx.
@@ -13,10 +13,10 @@
 //! ([`pdbem::growth::bench::scene_for`]), so the three modes see the same material.
 
 use pdbem::growth::bench::scene_for;
-use pdbem::growth::compare::path_deviation;
 use pdbem::growth::{bem_only, full_pd, pd_bem, GrowthHistory};
 use pdbem::runner::RunContext;
 use pdbem::scene::{GrowthMode, Scene};
+use pdbem_coupling::growth::compare::path_deviation;
 
 fn base(name: &str) -> Scene {
     Scene::load(format!("{}/cases/{name}.ron", env!("CARGO_MANIFEST_DIR"))).expect("case")

@@ -13,11 +13,11 @@
 
 use std::path::{Path, PathBuf};
 
-use pdbem::analytic::{central_crack_width_factor, griffith_k_c, sent_f_tada};
 use pdbem::growth::{bem_only, overlay, GrowthHistory, TipPath};
 use pdbem::runner::{run_scene, RunContext, RunSummary};
 use pdbem::scene::path::{parse_value, with_overrides};
 use pdbem::scene::Scene;
+use pdbem_bem::analytic::{central_crack_width_factor, griffith_k_c, sent_f_tada};
 
 fn scratch(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("pdbem-growth-{}-{name}", std::process::id()));
@@ -158,7 +158,7 @@ fn bem_only_inclined_crack_kinks_by_the_mcs_angle_of_each_tip() {
         assert!(p.points.len() >= 2, "{} did not grow", c.tip);
         let initial = if c.tip.ends_with(".end") { 30.0 } else { 210.0 };
         let turned = heading(p, 0, 1) - initial;
-        let kink = pdbem::analytic::kink_angle_deg(c.k[0], c.k[1]);
+        let kink = pdbem_bem::analytic::kink_angle_deg(c.k[0], c.k[1]);
         eprintln!(
             "inclined {}: turned {turned}, MCS {kink}, heading {}",
             c.tip,

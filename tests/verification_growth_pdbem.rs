@@ -246,8 +246,8 @@ fn seed001_inclined_crack_pd_bem_turns_perpendicular_at_the_griffith_load() {
     // finite-width factor 15.80 MPa; seed 001 (full PD) 15.9 MPa.
     let sc = scene("growth_inclined_crack");
     let h = run_pd_bem(&sc, "incl");
-    let k_c = pdbem::analytic::griffith_k_c(110.0, 30e9);
-    let f = pdbem::analytic::central_crack_width_factor(0.005, 0.05);
+    let k_c = pdbem_bem::analytic::griffith_k_c(110.0, 30e9);
+    let f = pdbem_bem::analytic::central_crack_width_factor(0.005, 0.05);
     let griffith = k_c / (f * (std::f64::consts::PI * 0.005).sqrt() * 0.5 * 4.0 / 5f64.sqrt());
     let init = h.initiation_load.expect("a tip advanced") * 1e6;
     eprintln!("seed001 PD-BEM: initiation {init:.4e} Pa, Griffith {griffith:.4e} Pa");

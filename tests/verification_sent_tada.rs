@@ -3,7 +3,7 @@
 mod common_scene;
 
 use common_scene::*;
-use pdbem::analytic::{sent_cmod, sent_f_fem, sent_f_tada};
+use pdbem_bem::analytic::{sent_cmod, sent_f_fem, sent_f_tada};
 use std::f64::consts::PI;
 
 const W: f64 = 10.0;

@@ -7,6 +7,8 @@
 //! reinforce the diagonal (REFERENCES.md: the other sign makes the operator nearly singular).
 //!
 //! Map of the crate:
+//! - [`analytic`]: closed-form LEFM references of REFERENCES.md the BEM is verified against
+//!   (Tada SENT, the SENT FEM table, CMOD, Kirsch, inclined crack, Griffith K_c, PD constants).
 //! - [`material`]: elastic constants, plane stress via the effective Poisson ratio.
 //! - [`mesh`]: loops, holes, cracks with coincident or gapped faces, tip refinement.
 //! - [`integrate`]: element integrals of U, T, K, H (closed form near, Gauss far, finite
@@ -17,6 +19,7 @@
 //!   interaction integral), kink angle, CMOD.
 //! - `bench` (cargo feature `bench`): assembly / factorisation timings for `pdbem bench bem`.
 
+pub mod analytic;
 #[cfg(feature = "bench")]
 pub mod bench;
 pub mod error;

@@ -19,6 +19,8 @@
 //!   Eqs. 25-28) and IQN-ILS.
 //! - [`spectrum`]: Ritz values of the interface operator (why a scheme needs the
 //!   iterations it needs).
+//! - [`post`]: post-processing of a coupled solution (interaction-integral SIFs of a tip
+//!   inside a window, [`post::window_tip_sif`]).
 //! - [`growth`]: Algorithm 2 (seed 002 sections 2.3.2-2.3.3): load steps with moving
 //!   tip windows, crack extension and structural failure ([`growth::Growth`]).
 //! - [`error`]: the crate's error type, [`CouplingError`].
@@ -30,6 +32,7 @@ pub mod interface;
 pub mod iteration;
 pub mod maps;
 pub mod pd_window;
+pub mod post;
 pub mod relaxation;
 pub mod setup;
 pub mod spectrum;

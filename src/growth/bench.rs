@@ -10,7 +10,7 @@
 //! when the scene gives no fracture data, G_c is taken from the PD critical stretch at the
 //! window's horizon (the same material the PD modes see): G_c = 9 E delta s0^2 / (4 pi)
 //! (plane stress) or 12 E delta s0^2 / (5 pi) (plane strain), the inverse of
-//! [`crate::analytic::pd_critical_stretch`]. `--quick` runs full PD at twice the
+//! [`pdbem_bem::analytic::pd_critical_stretch`]. `--quick` runs full PD at twice the
 //! window spacing (so its ratio to PD-BEM is not the same-resolution one) and BEM-only
 //! with da = 5 dx; PD-BEM is unchanged.
 
@@ -87,7 +87,7 @@ pub struct GrowthBenchRun {
     pub history: Option<GrowthHistory>,
 }
 
-/// Deviation between the paths of one tip in two modes ([`super::compare`]).
+/// Deviation between the paths of one tip in two modes ([`pdbem_coupling::growth::compare`]).
 #[derive(Debug, Clone, Serialize)]
 pub struct PathDeviation {
     /// First mode.
@@ -143,11 +143,11 @@ pub fn deviations(runs: &[GrowthBenchRun], dx: f64) -> Vec<PathDeviation> {
             };
             for pa in &ha.paths {
                 if let Some(pb) = hb.paths.iter().find(|p| p.name == pa.name) {
-                    let (d, common) = super::compare::path_deviation(pa, pb);
+                    let (d, common) = pdbem_coupling::growth::compare::path_deviation(pa, pb);
                     let before = overstrain_load.map(|f| {
-                        let (d, common) = super::compare::path_deviation(
-                            &super::compare::reached_below(pa, f),
-                            &super::compare::reached_below(pb, f),
+                        let (d, common) = pdbem_coupling::growth::compare::path_deviation(
+                            &pdbem_coupling::growth::compare::reached_below(pa, f),
+                            &pdbem_coupling::growth::compare::reached_below(pb, f),
                         );
                         [d, common]
                     });
@@ -434,7 +434,7 @@ mod tests {
     fn gc_inverts_the_critical_stretch() {
         for plane in [Plane::Stress, Plane::Strain] {
             let g = gc_from_stretch(30e9, 7.5e-4, 0.0026, plane);
-            let s0 = crate::analytic::pd_critical_stretch(g, 30e9, 7.5e-4, plane);
+            let s0 = pdbem_bem::analytic::pd_critical_stretch(g, 30e9, 7.5e-4, plane);
             assert!((s0 - 0.0026).abs() < 1e-15, "{plane:?}: {s0}");
         }
     }

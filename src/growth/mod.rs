@@ -12,7 +12,7 @@
 //!
 //! Reporting: [`log`] (`growth_log.jsonl`, progress bar), [`output`] (files and
 //! plots of a run, [`output::finish`]), [`overlay`] (`pdbem plot-paths`), [`bench`](mod@bench)
-//! (`pdbem bench growth`).
+//! (`pdbem bench growth`); path comparison is `pdbem_coupling::growth::compare`.
 //!
 //! Loads: step k applies the factor `load.initial + k load.step` to every boundary value
 //! of the scene (`Load::factors`); `load` in the records is that factor, which is the
@@ -20,7 +20,6 @@
 
 pub mod bem_only;
 pub mod bench;
-pub mod compare;
 pub mod full_pd;
 pub mod log;
 pub mod output;

@@ -7,30 +7,28 @@
 //! multiplied by the factor) and the growth settings (`growth`: trigger ratio, move
 //! distance, elements per extension, damage threshold). The run itself is
 //! [`pdbem_coupling::growth::Growth::run`]; this module adapts the scene to it (the
-//! [`Scenario`]: BEM conditions of each rebuilt mesh and conditions on window sides lying
-//! on the outline, both at load factor 1), shows a progress bar per load step with the
-//! coupling residual and the tip positions, logs every relocation (run log and
-//! `growth_log.jsonl`), and converts the result into a [`GrowthHistory`] with damage
+//! [`Scenario`](pdbem_coupling::growth::Scenario) of `setup::growth`: BEM conditions of
+//! each rebuilt mesh and conditions on window sides lying on the outline, both at load
+//! factor 1), shows a progress bar per load step with the coupling residual and the tip
+//! positions, logs every relocation (run log and `growth_log.jsonl`), and turns the result
+//! into a [`GrowthHistory`] ([`pdbem_coupling::growth::summary::history_of`]) with damage
 //! snapshots of the windows (just before each relocation, labels
 //! `damage_window<i>_step<k>_reloc<r>` with r counting relocations, since a load step can
 //! hold several; at the last step `damage_window<i>_step<k>`) and the displacement
-//! magnitude over the PD nodes and BEM interior points at the last step.
+//! magnitude over the PD nodes and BEM interior points at the last step (which needs the
+//! scene's geometry, so it stays here).
 
 use anyhow::{Context, Result};
 use pdbem_bem::post::FieldEvaluator;
 use pdbem_bem::V2;
-use pdbem_coupling::growth::overstrain::Hotspot;
-use pdbem_coupling::growth::{
-    Growth, GrowthResult, IterationEvent, Observer, RelocationRecord, Scenario, StepResult,
-};
+use pdbem_coupling::growth::summary::{damage_snapshots, history_of, initial_windows};
+use pdbem_coupling::growth::{Growth, IterationEvent, Observer, RelocationRecord, StepResult};
 use pdbem_coupling::iteration::{CoupledProblem, CoupledSolution};
 use pdbem_coupling::setup::WindowModel;
 use serde_json::json;
 
 use super::log::{step_bar, GrowthLog};
-use super::{
-    FieldSnapshot, GrowthHistory, Overstrain, PathPoint, Relocation, TipPath, WindowOutline,
-};
+use super::{FieldSnapshot, GrowthHistory};
 use crate::geometry::{point_segment_projection, P2};
 use crate::runner::context::RunContext;
 use crate::scene::shapes::SceneGeometry;
@@ -150,23 +148,6 @@ impl Observer for Progress<'_> {
     }
 }
 
-/// Damage at the real nodes of every window (labels `damage_window<i>_step<k><tag>`).
-fn damage_snapshots(step: usize, windows: &[WindowModel], tag: &str) -> Vec<FieldSnapshot> {
-    windows
-        .iter()
-        .enumerate()
-        .map(|(i, w)| {
-            let n = w.model.n_real();
-            FieldSnapshot {
-                step,
-                label: format!("damage_window{i}_step{step}{tag}"),
-                points: w.model.positions()[..n].to_vec(),
-                values: w.model.damage()[..n].to_vec(),
-            }
-        })
-        .collect()
-}
-
 /// Displacement magnitude at the PD nodes and at BEM interior points on a grid over the
 /// body (outside windows and half an element from the boundary) at the last solution.
 fn displacement_snapshot(
@@ -216,147 +197,6 @@ fn displacement_snapshot(
     snap
 }
 
-/// The window outlines of the initial geometry.
-fn initial_windows<S: Scenario>(g: &Growth<'_, S>) -> Vec<WindowOutline> {
-    g.tips()
-        .iter()
-        .map(|t| WindowOutline {
-            step: 0,
-            tip: t.spec.name.clone(),
-            corners: corners(&g.problem().windows[t.window].window.corners()),
-        })
-        .collect()
-}
-
-fn corners(c: &[V2; 4]) -> [[f64; 2]; 4] {
-    c.map(|p| [p.x, p.y])
-}
-
-/// Load factor of the first path point more than `distance` from its tip's initial
-/// position, over all tips (None: no tip got that far).
-pub fn grown_by(paths: &[TipPath], distance: f64) -> Option<f64> {
-    paths
-        .iter()
-        .filter_map(|p| {
-            let o = p.points.first()?;
-            p.points
-                .iter()
-                .find(|q| (q.x - o.x).hypot(q.y - o.y) > distance)
-                .map(|q| q.load)
-        })
-        .min_by(f64::total_cmp)
-}
-
-/// The history of a finished run.
-fn history<S: Scenario>(
-    g: &Growth<'_, S>,
-    result: &GrowthResult,
-    windows: Vec<WindowOutline>,
-) -> GrowthHistory {
-    let paths: Vec<TipPath> = (0..g.tips().len())
-        .map(|t| TipPath {
-            name: g.tips()[t].spec.name.clone(),
-            points: g
-                .tip_path(t)
-                .into_iter()
-                .map(|(p, step, load)| PathPoint {
-                    x: p.x,
-                    y: p.y,
-                    step,
-                    load,
-                })
-                .collect(),
-            ended: g.tips()[t].ended.as_ref().map(|e| e.to_string()),
-        })
-        .collect();
-    let steps = result
-        .steps
-        .iter()
-        .map(|s| super::StepRecord {
-            step: s.step,
-            load: s.load,
-            cmod: s.cmod,
-            tips: s.tips.iter().map(|p| [p.x, p.y]).collect(),
-            coupling_iterations: s.iterations,
-            coupling_residual: s.residual.is_finite().then_some(s.residual),
-            broken_bonds: s.broken_bonds,
-            wall_time_s: s.wall_s,
-        })
-        .collect();
-    let mut outlines = windows;
-    outlines.extend(result.relocations.iter().map(|r| WindowOutline {
-        step: r.step,
-        tip: r.tip.clone(),
-        corners: corners(&r.corners),
-    }));
-    // Initiation as in full PD: a tip advanced by more than one horizon (the first bond
-    // breaks at the sharp pre-crack tip well below the Griffith load: a note).
-    let horizon = g
-        .problem()
-        .windows
-        .first()
-        .map_or(0.0, |w| w.window.delta());
-    let initiation_load = grown_by(&paths, horizon);
-    let mut notes = result.notes.clone();
-    if let Some(f) = result.initiation_load {
-        notes.push(format!("first bond broke at load {f}"));
-    }
-    let overstrain = first_overstrain(&result.steps);
-    if let Some(o) = &overstrain {
-        notes.push(overstrain_note(o));
-    }
-    GrowthHistory {
-        mode: "pd-bem".into(),
-        paths,
-        steps,
-        windows: outlines,
-        relocations: result
-            .relocations
-            .iter()
-            .map(|r| Relocation {
-                step: r.step,
-                tip: r.tip.clone(),
-                from: [r.from.x, r.from.y],
-                to: [r.to.x, r.to.y],
-                elements_added: r.elements_added,
-                rebuild_s: r.rebuild_s,
-            })
-            .collect(),
-        initiation_load,
-        failure: result.failure.is_some(),
-        failure_load: result.failure.as_ref().map(|f| f.load),
-        overstrain,
-        notes,
-        snapshots: Vec::new(),
-    }
-}
-
-/// The first step whose BEM body reached the PD onset stretch away from the windows.
-fn first_overstrain(steps: &[StepResult]) -> Option<Overstrain> {
-    steps.iter().find_map(|s| {
-        let h = s.overstrain.filter(Hotspot::breaks)?;
-        Some(Overstrain {
-            step: s.step,
-            load: s.load,
-            position: [h.position.x, h.position.y],
-            strain: h.strain,
-            onset: h.onset,
-        })
-    })
-}
-
-/// The note of the first overstrained step ([`GrowthHistory::overstrain`]).
-fn overstrain_note(o: &Overstrain) -> String {
-    format!(
-        "from step {} (load {}) the BEM body is strained past the PD onset stretch away from \
-         the windows: maximum principal strain {:.3e} >= {:.3e} one horizon inside the \
-         boundary at ({:.3}, {:.3}). A full-PD model would break bonds there and may start \
-         a crack that PD-BEM, growing cracks only in its windows, cannot model; results from \
-         this load on assume the body stays elastic there (check with --growth-mode full-pd)",
-        o.step, o.load, o.strain, o.onset, o.position[0], o.position[1]
-    )
-}
-
 /// Runs PD-BEM growth of `scene`.
 pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
     let file = scene.file_label();
@@ -401,7 +241,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
     if let Some(e) = progress.error.take() {
         return Err(e);
     }
-    let mut h = history(&g, &result, windows);
+    let mut h = history_of(&g, &result, windows);
     let last = result.steps.len().saturating_sub(1);
     h.snapshots = std::mem::take(&mut progress.snapshots);
     h.snapshots

@@ -1,5 +1,5 @@
 //! Reference values and errors for a run, from the scene's `reference`
-//! section (REFERENCES.md formulas in [`crate::analytic`]).
+//! section (REFERENCES.md formulas in [`pdbem_bem::analytic`]).
 //!
 //! Errors: `k1_err = (k1 - k1_ref) / |k1_ref|`, likewise for `k2` and `cmod`;
 //! when a reference value is zero (K_II of a mode-I crack) the error is taken
@@ -9,10 +9,10 @@
 use serde_json::json;
 
 use super::summary::{RunSummary, TipResult};
-use crate::analytic::{inclined_crack_k, kink_angle_deg, sent_cmod, sent_f_fem, sent_k1};
 use crate::geometry::{polyline_length, P2};
 use crate::scene::shapes::{CrackLine, SceneGeometry};
 use crate::scene::{Reference, Scene};
+use pdbem_bem::analytic::{inclined_crack_k, kink_angle_deg, sent_cmod, sent_f_fem, sent_k1};
 
 /// Relative error of `value` against `reference`, scaled by `scale` when the
 /// reference is (nearly) zero.

@@ -7,13 +7,13 @@ use anyhow::Context;
 use super::context::RunContext;
 use super::reference::tip_references;
 use super::summary::RunSummary;
-use crate::analytic::{inclined_crack_k, sent_f_tada, SENT_FEM_TABLE};
 use crate::geometry::polyline_length;
 use crate::output::csv::{num, opt};
 use crate::output::{CsvTable, OutputWriter};
 use crate::plot::{self, Figure, GeometryPlot, Series, SeriesStyle, XyPlot};
 use crate::scene::shapes::SceneGeometry;
 use crate::scene::{PlotFormat, Reference, Scene};
+use pdbem_bem::analytic::{inclined_crack_k, sent_f_tada, SENT_FEM_TABLE};
 
 /// Writes every output of a run into the staging area (plots first, so their
 /// notes reach `summary.json`).

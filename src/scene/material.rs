@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-pub use crate::analytic::PlaneKind as Plane;
+pub use pdbem_bem::analytic::PlaneKind as Plane;
 
 /// Default out-of-plane thickness: 1 m (results per unit thickness).
 pub(crate) fn default_thickness() -> f64 {
@@ -48,12 +48,12 @@ pub struct Fracture {
 impl Material {
     /// Effective modulus E' (Pa): E in plane stress, E/(1-nu^2) in plane strain.
     pub fn e_prime(&self) -> f64 {
-        crate::analytic::e_prime(self.e, self.nu, self.plane)
+        pdbem_bem::analytic::e_prime(self.e, self.nu, self.plane)
     }
 
     /// Shear modulus mu = E / (2 (1 + nu)) (Pa).
     pub fn shear_modulus(&self) -> f64 {
-        crate::analytic::shear_modulus(self.e, self.nu)
+        pdbem_bem::analytic::shear_modulus(self.e, self.nu)
     }
 
     /// Fracture toughness K_c (Pa sqrt(m)): given, or sqrt(E' G_c), or `None`.
@@ -61,7 +61,7 @@ impl Material {
         let f = self.fracture.as_ref()?;
         f.k_c.or_else(|| {
             f.g_c
-                .map(|g| crate::analytic::griffith_k_c(g, self.e_prime()))
+                .map(|g| pdbem_bem::analytic::griffith_k_c(g, self.e_prime()))
         })
     }
 }

@@ -52,6 +52,8 @@
 //! - [`driver`]: [`Growth`] (the run: [`Growth::run`], [`Growth::solve_at`]).
 //! - [`geometry`]: the geometry iteration ([`Growth::plan`], [`Growth::apply`],
 //!   [`Growth::relocate`]).
+//! - [`compare`]: path comparison between growth runs (Hausdorff-type deviation of two
+//!   tip paths over their common reach, [`compare::path_deviation`]).
 //! - [`bem_only`]: BEM-only growth (SIF, MCS kink, fixed increment; [`bem_only::run`]).
 //! - [`full_pd`]: full-PD growth, the whole body at the window resolution
 //!   ([`full_pd::run`]), the reference PD-BEM is compared with.
@@ -63,6 +65,8 @@
 //! - [`history`]: the mode-independent record of a growth run ([`history::GrowthHistory`]:
 //!   tip paths, steps, relocations, snapshots), what PD-BEM, BEM-only and full-PD growth
 //!   all produce.
+//! - [`summary`]: the PD-BEM run ([`Growth`], [`GrowthResult`]) as a [`history::GrowthHistory`]
+//!   ([`summary::history_of`]), with window damage snapshots.
 //! - [`records`]: the [`Scenario`] and [`Observer`] traits, the setup and the records.
 //! - [`params`]: [`GrowthParams`], [`LoadSteps`].
 //! - [`tips`]: tip specs and state, tracking, the margin and end tests.
@@ -73,6 +77,7 @@
 //! - [`polyline`]: small polyline helpers.
 
 pub mod bem_only;
+pub mod compare;
 pub mod criterion;
 pub mod driver;
 pub mod events;
@@ -86,6 +91,7 @@ pub mod params;
 pub mod polyline;
 pub mod records;
 pub mod relocate;
+pub mod summary;
 pub mod tips;
 pub mod topology;
 pub mod transfer;

@@ -11,8 +11,9 @@
 //! path over an 8 m ligament), and an arc-length cut would then compare points that lie
 //! at different depths.
 
-use super::TipPath;
-use crate::geometry::{point_segment_distance, P2};
+use pdbem_geometry::{point_segment_distance, P2};
+
+use super::history::TipPath;
 
 /// Points of a path.
 fn polyline(p: &TipPath) -> Vec<P2> {
@@ -113,7 +114,7 @@ pub fn path_deviation(a: &TipPath, b: &TipPath) -> (f64, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::growth::PathPoint;
+    use crate::growth::history::PathPoint;
 
     fn path(pts: &[(f64, f64)]) -> TipPath {
         TipPath {

@@ -1,5 +1,6 @@
-//! Closed-form reference solutions (REFERENCES.md), used as analytic curves in
-//! plots and as the error reference of runs and sweeps.
+//! Closed-form reference solutions (REFERENCES.md): the LEFM references the BEM is
+//! verified against, also used by pdbem as analytic curves in plots and as the error
+//! reference of runs and sweeps.
 //!
 //! - SENT (single edge-cracked strip in tension): [`sent_f_tada`],
 //!   [`sent_f_polynomial`], [`sent_f_fem`] (converged FEM table), [`sent_k1`],

@@ -1,0 +1,177 @@
+//! The PD-BEM growth run as a mode-independent [`GrowthHistory`]: tip paths (from
+//! [`Growth::tip_path`]), per-step records, window outlines (initial and after every
+//! relocation), relocations, the initiation load (a tip advanced by more than one
+//! horizon, as in full PD), the first overstrained step with its note, and damage
+//! snapshots of the windows. The snapshots that need the scene's geometry (displacement
+//! over the body) and the run log stay with the caller.
+
+use pdbem_bem::V2;
+
+use super::driver::Growth;
+use super::history::{
+    FieldSnapshot, GrowthHistory, Overstrain, PathPoint, Relocation, StepRecord, TipPath,
+    WindowOutline,
+};
+use super::overstrain::Hotspot;
+use super::records::{GrowthResult, Scenario, StepResult};
+use crate::setup::WindowModel;
+
+/// Damage at the real nodes of every window (labels `damage_window<i>_step<k><tag>`).
+pub fn damage_snapshots(step: usize, windows: &[WindowModel], tag: &str) -> Vec<FieldSnapshot> {
+    windows
+        .iter()
+        .enumerate()
+        .map(|(i, w)| {
+            let n = w.model.n_real();
+            FieldSnapshot {
+                step,
+                label: format!("damage_window{i}_step{step}{tag}"),
+                points: w.model.positions()[..n].to_vec(),
+                values: w.model.damage()[..n].to_vec(),
+            }
+        })
+        .collect()
+}
+
+/// The window outlines of the initial geometry.
+pub fn initial_windows<S: Scenario>(g: &Growth<'_, S>) -> Vec<WindowOutline> {
+    g.tips()
+        .iter()
+        .map(|t| WindowOutline {
+            step: 0,
+            tip: t.spec.name.clone(),
+            corners: corners(&g.problem().windows[t.window].window.corners()),
+        })
+        .collect()
+}
+
+/// Corner coordinates of a window outline.
+fn corners(c: &[V2; 4]) -> [[f64; 2]; 4] {
+    c.map(|p| [p.x, p.y])
+}
+
+/// Load factor of the first path point more than `distance` from its tip's initial
+/// position, over all tips (None: no tip got that far).
+pub fn grown_by(paths: &[TipPath], distance: f64) -> Option<f64> {
+    paths
+        .iter()
+        .filter_map(|p| {
+            let o = p.points.first()?;
+            p.points
+                .iter()
+                .find(|q| (q.x - o.x).hypot(q.y - o.y) > distance)
+                .map(|q| q.load)
+        })
+        .min_by(f64::total_cmp)
+}
+
+/// The history of the finished run `result` of `g`, with `windows` the outlines of the
+/// initial geometry ([`initial_windows`], taken before the run) and no snapshots.
+pub fn history_of<S: Scenario>(
+    g: &Growth<'_, S>,
+    result: &GrowthResult,
+    windows: Vec<WindowOutline>,
+) -> GrowthHistory {
+    let paths: Vec<TipPath> = (0..g.tips().len())
+        .map(|t| TipPath {
+            name: g.tips()[t].spec.name.clone(),
+            points: g
+                .tip_path(t)
+                .into_iter()
+                .map(|(p, step, load)| PathPoint {
+                    x: p.x,
+                    y: p.y,
+                    step,
+                    load,
+                })
+                .collect(),
+            ended: g.tips()[t].ended.as_ref().map(|e| e.to_string()),
+        })
+        .collect();
+    let steps = result
+        .steps
+        .iter()
+        .map(|s| StepRecord {
+            step: s.step,
+            load: s.load,
+            cmod: s.cmod,
+            tips: s.tips.iter().map(|p| [p.x, p.y]).collect(),
+            coupling_iterations: s.iterations,
+            coupling_residual: s.residual.is_finite().then_some(s.residual),
+            broken_bonds: s.broken_bonds,
+            wall_time_s: s.wall_s,
+        })
+        .collect();
+    let mut outlines = windows;
+    outlines.extend(result.relocations.iter().map(|r| WindowOutline {
+        step: r.step,
+        tip: r.tip.clone(),
+        corners: corners(&r.corners),
+    }));
+    // Initiation as in full PD: a tip advanced by more than one horizon (the first bond
+    // breaks at the sharp pre-crack tip well below the Griffith load: a note).
+    let horizon = g
+        .problem()
+        .windows
+        .first()
+        .map_or(0.0, |w| w.window.delta());
+    let initiation_load = grown_by(&paths, horizon);
+    let mut notes = result.notes.clone();
+    if let Some(f) = result.initiation_load {
+        notes.push(format!("first bond broke at load {f}"));
+    }
+    let overstrain = first_overstrain(&result.steps);
+    if let Some(o) = &overstrain {
+        notes.push(overstrain_note(o));
+    }
+    GrowthHistory {
+        mode: "pd-bem".into(),
+        paths,
+        steps,
+        windows: outlines,
+        relocations: result
+            .relocations
+            .iter()
+            .map(|r| Relocation {
+                step: r.step,
+                tip: r.tip.clone(),
+                from: [r.from.x, r.from.y],
+                to: [r.to.x, r.to.y],
+                elements_added: r.elements_added,
+                rebuild_s: r.rebuild_s,
+            })
+            .collect(),
+        initiation_load,
+        failure: result.failure.is_some(),
+        failure_load: result.failure.as_ref().map(|f| f.load),
+        overstrain,
+        notes,
+        snapshots: Vec::new(),
+    }
+}
+
+/// The first step whose BEM body reached the PD onset stretch away from the windows.
+pub fn first_overstrain(steps: &[StepResult]) -> Option<Overstrain> {
+    steps.iter().find_map(|s| {
+        let h = s.overstrain.filter(Hotspot::breaks)?;
+        Some(Overstrain {
+            step: s.step,
+            load: s.load,
+            position: [h.position.x, h.position.y],
+            strain: h.strain,
+            onset: h.onset,
+        })
+    })
+}
+
+/// The note of the first overstrained step ([`GrowthHistory::overstrain`]).
+pub fn overstrain_note(o: &Overstrain) -> String {
+    format!(
+        "from step {} (load {}) the BEM body is strained past the PD onset stretch away from \
+         the windows: maximum principal strain {:.3e} >= {:.3e} one horizon inside the \
+         boundary at ({:.3}, {:.3}). A full-PD model would break bonds there and may start \
+         a crack that PD-BEM, growing cracks only in its windows, cannot model; results from \
+         this load on assume the body stays elastic there (check with --growth-mode full-pd)",
+        o.step, o.load, o.strain, o.onset, o.position[0], o.position[1]
+    )
+}
