@@ -48,7 +48,7 @@ pub fn solve_prepared(
         }
         None => vec![0.0; n],
     };
-    let pd_solve = pd_solve_at(&params.pd_solve, scale);
+    let pd_solve = params.pd_solve.at(scale);
     let commit_at_convergence = match &pd_solve {
         PdSolve::Staggered(p) if p.rounds == 0 => Some(p.clone()),
         _ => None,
@@ -204,16 +204,4 @@ fn commit_windows(
         })
         .collect();
     counts.into_iter().sum()
-}
-
-/// The PD solver with its target load set to the load scale.
-pub(super) fn pd_solve_at(solve: &PdSolve, scale: f64) -> PdSolve {
-    let mut s = solve.clone();
-    match &mut s {
-        PdSolve::Switching(p) => p.target_load = scale,
-        PdSolve::Implicit(p) => p.target_load = scale,
-        PdSolve::Adr(p) => p.target_load = scale,
-        PdSolve::Staggered(p) => p.newton.target_load = scale,
-    }
-    s
 }

@@ -6,7 +6,6 @@ use std::time::Instant;
 use pdbem_bem::Bc;
 use rayon::prelude::*;
 
-use super::algorithm::pd_solve_at;
 use super::params::{CouplingParams, PdSolve};
 use super::prepared::PreparedBem;
 use super::window_solve::solve_window_at;
@@ -31,7 +30,7 @@ pub fn interface_map(
         });
     }
     let mut info = CouplingInfo::default();
-    let pd_solve = pd_solve_at(&params.pd_solve, 1.0);
+    let pd_solve = params.pd_solve.at(1.0);
     Ok(evaluate(problem, bem, x, params, &pd_solve, 1.0, &mut info)?.1)
 }
 

@@ -151,3 +151,17 @@ impl Default for CouplingParams {
         }
     }
 }
+
+impl PdSolve {
+    /// The solver with its target load set to the load scale.
+    pub(super) fn at(&self, scale: f64) -> PdSolve {
+        let mut s = self.clone();
+        match &mut s {
+            PdSolve::Switching(p) => p.target_load = scale,
+            PdSolve::Implicit(p) => p.target_load = scale,
+            PdSolve::Adr(p) => p.target_load = scale,
+            PdSolve::Staggered(p) => p.newton.target_load = scale,
+        }
+        s
+    }
+}

@@ -2,7 +2,6 @@
 
 use std::collections::HashMap;
 
-use super::smooth::dist2;
 use crate::geometry::P2;
 
 /// A uniform cell hash of points for fixed-radius neighbour queries.
@@ -41,4 +40,10 @@ impl CellHash {
             }
         }
     }
+}
+
+/// Squared distance between two points.
+#[inline]
+pub(super) fn dist2(a: P2, b: P2) -> f64 {
+    (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)
 }

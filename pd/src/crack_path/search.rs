@@ -5,8 +5,8 @@
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
+use super::cell_hash::dist2;
 use super::cell_hash::CellHash;
-use super::smooth::dist2;
 use super::PathParams;
 use crate::error::PdError;
 use crate::geometry::P2;

@@ -1,7 +1,7 @@
 //! Smoothing of the traced chain (module docs of [`crate::crack_path`]): resampling,
 //! centring across the damage band by mean shift, polyline helpers.
 
-use super::cell_hash::CellHash;
+use super::cell_hash::{dist2, CellHash};
 use crate::geometry::{from_g, to_g_all, P2};
 use pdbem_geometry as g;
 
@@ -81,9 +81,4 @@ pub(super) fn point_at_length(line: &[P2], s: f64) -> P2 {
 /// Length of the polyline.
 pub(super) fn polyline_length(line: &[P2]) -> f64 {
     g::polyline_length(&to_g_all(line))
-}
-
-#[inline]
-pub(super) fn dist2(a: P2, b: P2) -> f64 {
-    (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)
 }
