@@ -208,9 +208,10 @@ fn unnamed(e: &SceneError) -> Option<String> {
 }
 
 /// Parse, validate, describe and estimate one text; `Err` says what went wrong.
-fn exercise(text: &str) -> Result<(), String> {
+fn exercise(text: &str, accepted: &mut usize) -> Result<(), String> {
     let outcome = catch_unwind(AssertUnwindSafe(|| match Scene::from_ron_str(text, FILE) {
         Ok(scene) => {
+            *accepted += 1;
             let _ = pdbem::cli::describe(&scene);
             let e = pdbem::setup::estimate::of(&scene);
             let _ = e.within(&scene, 1 << 30);
@@ -257,11 +258,11 @@ fn mutated_cases_never_panic_and_every_rejection_is_named() {
     std::panic::set_hook(Box::new(|_| {}));
     let start = Instant::now();
     let mut rng = XorShift(0x9E37_79B9_7F4A_7C15);
-    let (mut count, mut failures) = (0usize, Vec::new());
+    let (mut count, mut accepted, mut failures) = (0usize, 0usize, Vec::new());
     for (path, text) in cases.iter().zip(&texts) {
         for m in mutations(text, &all_variants, &mut rng) {
             count += 1;
-            if let Err(why) = exercise(&m) {
+            if let Err(why) = exercise(&m, &mut accepted) {
                 failures.push(format!(
                     "{}: {why}\n--- mutated text ---\n{m}\n",
                     path.display()
@@ -272,10 +273,11 @@ fn mutated_cases_never_panic_and_every_rejection_is_named() {
     std::panic::set_hook(hook);
     let secs = start.elapsed().as_secs_f64();
     eprintln!(
-        "scene fuzz: {count} mutations in {secs:.2} s, {} failures",
+        "scene fuzz: {count} mutations ({accepted} valid) in {secs:.2} s, {} failures",
         failures.len()
     );
     assert!(count >= 2000, "only {count} mutations");
+    assert!(accepted >= count / 10, "only {accepted} of {count} mutations are valid scenes");
     assert!(
         failures.is_empty(),
         "{} of {count} mutations failed; the first ones:\n{}",

@@ -416,7 +416,7 @@ fn check_window_nodes(c: &mut Checker, scene: &Scene, co: &crate::scene::Couplin
         c.fail(
             "coupling.n",
             co.n,
-            format!("AtTips windows need an even number of nodes per side (the tip lies between the two middle node columns): use {} or {}", co.n - 1, co.n + 1),
+            format!("AtTips windows need an even number of nodes per side (the tip lies between the two middle node columns): use {} or {}", co.n - 1, co.n.saturating_add(1)),
         );
     }
 }
