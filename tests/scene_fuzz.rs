@@ -277,7 +277,10 @@ fn mutated_cases_never_panic_and_every_rejection_is_named() {
         failures.len()
     );
     assert!(count >= 2000, "only {count} mutations");
-    assert!(accepted >= count / 10, "only {accepted} of {count} mutations are valid scenes");
+    assert!(
+        accepted >= count / 10,
+        "only {accepted} of {count} mutations are valid scenes"
+    );
     assert!(
         failures.is_empty(),
         "{} of {count} mutations failed; the first ones:\n{}",

@@ -47,8 +47,13 @@ pub fn run_scene(scene: &Scene, out_dir: &Path, quiet: bool) -> anyhow::Result<R
     }
     reference::apply(scene, &mut summary);
     if let Some(field) = summary.non_finite() {
+        let hint = if field.contains("_ref") || field.contains("_err") {
+            "the analytic reference overflows double precision: check `reference` (its sigma and sizes)"
+        } else {
+            "the loading or the geometry is out of the range double precision can carry: check the boundary values, load factors and sizes"
+        };
         anyhow::bail!(
-            "{}: the run gave a non-finite result, {field}: the loading or the geometry is out of the range double precision can carry (check the boundary values, load factors and sizes)",
+            "{}: the run gave a non-finite result, {field}: {hint}",
             scene.file_label().display()
         );
     }
