@@ -4,7 +4,7 @@
 //!
 //! Mutations: every line deleted or duplicated; numbers swapped for 0, -0, +-1e308,
 //! 5e-324, NaN, inf, 2^32, 2^64 - 1; enum variants swapped or misspelt; truncation at
-//! several points; random bytes (a fixed-seed xorshift); unicode. Asserts: no panic, and
+//! several points; whole sections with extreme values added; random bytes (a fixed-seed xorshift); unicode. Asserts: no panic, and
 //! every rejection names a position (line:col) or a field path.
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -25,6 +25,20 @@ const NUMBERS: [&str; 11] = [
     "4294967296",
     "18446744073709551615",
     "-1",
+];
+/// Whole sections with extreme values, added at the top of a scene (a duplicate of a
+/// section the case has is a syntax error with a position).
+const SECTIONS: [&str; 10] = [
+    "load: (count: 18446744073709551615)",
+    "load: (initial: 1e308, step: 1e308, count: 100000)",
+    "bem: (element_size: 5e-324)",
+    "bem: (tip_refinement: (element_size: 5e-324, radius: 1e308), elements_per_circle: 100000)",
+    "pd: (nx: 100000, horizon_factor: 6)",
+    "pd: (dx: 5e-324)",
+    "coupling: (side: 1e308, n: 5000, psi: 5e-324)",
+    "outputs: (grids: [(name: \"g\", from: (-1e12, -1e12), to: (1e12, 1e12), nx: 1000, ny: 1000)])",
+    "outputs: (lines: [(name: \"\", from: (0, 0), to: (0, 0), n: 0)])",
+    "growth: (da: 5e-324, elements_per_extension: 10000, snapshot_steps: [18446744073709551615])",
 ];
 const UNICODE: [&str; 6] = [
     "\u{e9}",
@@ -168,6 +182,11 @@ fn mutations(text: &str, all_variants: &[String], rng: &mut XorShift) -> Vec<Str
         out.push(splice(text, r, v));
         out.push(splice(text, r, &format!("{}x", &text[r.0..r.1])));
         out.push(splice(text, r, &text[r.0..r.1].to_ascii_lowercase()));
+    }
+    if let Some(open) = text.find("\n(").map(|i| i + 2) {
+        for sec in SECTIONS {
+            out.push(format!("{}{sec},{}", &text[..open], &text[open..]));
+        }
     }
     for k in 1..10 {
         out.push(text[..boundary(text, text.len() * k / 10)].to_string());
