@@ -108,6 +108,28 @@ fn a_deep_crack_is_over_budget_naming_the_crack() {
 }
 
 #[test]
+fn a_tiny_tip_element_is_over_budget_naming_the_tip_refinement() {
+    let scene = load(&strip(
+        20.0,
+        10.0,
+        5.0,
+        "bem: (element_size: 0.1, tip_refinement: (element_size: 1e-7, radius: 1))",
+    ));
+    let msg = format!(
+        "{:#}",
+        estimate::of(&scene).within(&scene, GIB).unwrap_err()
+    );
+    assert!(
+        msg.contains("bem.tip_refinement (element_size = 0.0000001)"),
+        "{msg}"
+    );
+    assert!(
+        msg.contains("raise bem.tip_refinement.element_size"),
+        "{msg}"
+    );
+}
+
+#[test]
 fn a_fine_pd_grid_is_over_budget_naming_pd_nx() {
     let scene = load(&strip(20.0, 10.0, 5.0, "pd: (nx: 100000)"));
     let msg = format!(

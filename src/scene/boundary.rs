@@ -68,7 +68,7 @@ pub struct Load {
     pub initial: f64,
     /// Factor increment per step (-). Default 0.
     pub step: f64,
-    /// Number of steps, >= 1. Default 1 (a single step at factor `initial`).
+    /// Number of steps, 1 to 100000. Default 1 (a single step at factor `initial`).
     pub count: usize,
 }
 
