@@ -132,6 +132,16 @@ fn coupling_n_gives_two_horizons() {
 }
 
 #[test]
+fn region_windows_are_two_horizons_high() {
+    // dx = 2 / 20 = 0.1: a region 0.5 high has 5 node rows, fewer than 7.
+    assert_invalid(
+        &scene("pd: (), coupling: (side: 2, n: 20, placement: Region(x0: 4, y0: 1, width: 2, height: 0.5))"),
+        "coupling.placement.height = 0.5",
+        "it must be at least 7 (2 horizons",
+    );
+}
+
+#[test]
 fn odd_coupling_n_at_tips_is_refused() {
     assert_invalid(
         &scene("pd: (), coupling: (side: 2, n: 21)"),

@@ -412,6 +412,15 @@ fn check_window_nodes(c: &mut Checker, scene: &Scene, co: &crate::scene::Couplin
             co.n,
             format!("PD nodes per window side must be at least {needed}: a window must be at least 2 horizons wide (n >= 2 m, m = pd.horizon_factor = {m})"),
         );
+    } else if let Placement::Region { height, .. } = co.placement {
+        let ny = (height / co.dx()).round();
+        if ny.is_finite() && ny < needed as f64 {
+            c.fail(
+                "coupling.placement.height",
+                height,
+                format!("the region is {ny} nodes high at dx = side / n = {}: it must be at least {needed} (2 horizons, as coupling.n)", co.dx()),
+            );
+        }
     } else if co.placement == Placement::AtTips && co.n % 2 == 1 {
         c.fail(
             "coupling.n",
