@@ -142,6 +142,20 @@ fn region_windows_are_two_horizons_high() {
 }
 
 #[test]
+fn full_pd_growth_builds_no_window_and_takes_any_node_count() {
+    // Full PD takes dx = side / n from `coupling` and builds no window.
+    let src = scene("pd: (failure: FromGc), coupling: (side: 2, n: 5), growth: (mode: FullPd)")
+        .replace("plane: Stress)", "plane: Stress, fracture: (g_c: 1))");
+    load(&src).unwrap_or_else(|e| panic!("{e}"));
+    // The same section for PD-BEM growth builds windows of 5 nodes: refused.
+    assert_invalid(
+        &src.replace("FullPd", "PdBem"),
+        "coupling.n = 5",
+        "at least 7",
+    );
+}
+
+#[test]
 fn odd_coupling_n_at_tips_is_refused() {
     assert_invalid(
         &scene("pd: (), coupling: (side: 2, n: 21)"),

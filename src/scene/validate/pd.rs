@@ -148,7 +148,14 @@ fn check_coupling(c: &mut Checker, scene: &Scene, co: &crate::scene::Coupling) {
     if !c.positive("coupling.side", co.side, "window side") {
         return;
     }
-    check_window_nodes(c, scene, co);
+    // Full-PD growth takes only its grid spacing from the coupling section: no window.
+    let windows = scene
+        .growth
+        .as_ref()
+        .is_none_or(|g| g.mode != GrowthMode::FullPd);
+    if windows {
+        check_window_nodes(c, scene, co);
+    }
     check_psi(c, co.psi);
     c.at_least("coupling.max_iter", co.max_iter, 1, "iteration cap");
     check_relaxation(c, &co.relaxation);
@@ -164,7 +171,8 @@ fn check_coupling(c: &mut Checker, scene: &Scene, co: &crate::scene::Coupling) {
         return;
     }
     let corners = match &co.placement {
-        Placement::AtTips => return check_tip_windows(c, scene, co, &outline.points),
+        Placement::AtTips if windows => return check_tip_windows(c, scene, co, &outline.points),
+        Placement::AtTips => return,
         Placement::Centered { center, angle_deg } => {
             square_corners(p2(*center), co.side, *angle_deg)
         }
