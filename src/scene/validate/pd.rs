@@ -403,9 +403,9 @@ fn check_ligaments(c: &mut Checker, scene: &Scene, co: &crate::scene::Coupling) 
 
 /// `coupling.n`: a window is at least two horizons wide (the coupling crate's
 /// `TooFewNodes`: n >= 2 m, m = `pd.horizon_factor`, 7 at the default 3.015), and even
-/// with `AtTips` windows (the tip sits on a cell boundary between the two middle node
-/// columns of a window centred on it; with an odd n every run stopped at run time with
-/// "interface mismatch").
+/// with `AtTips` windows (with an odd n every coupled run stopped at run time with
+/// "interface mismatch"; the cause is not fixed here, the scene is refused), and a
+/// `Region` at least two horizons high.
 fn check_window_nodes(c: &mut Checker, scene: &Scene, co: &crate::scene::Coupling) {
     let m = scene
         .pd
@@ -433,7 +433,7 @@ fn check_window_nodes(c: &mut Checker, scene: &Scene, co: &crate::scene::Couplin
         c.fail(
             "coupling.n",
             co.n,
-            format!("AtTips windows need an even number of nodes per side (the tip lies between the two middle node columns): use {} or {}", co.n - 1, co.n.saturating_add(1)),
+            format!("AtTips windows need an even number of nodes per side (with an odd n the coupled solve ends in an interface mismatch): use {} or {}", co.n - 1, co.n.saturating_add(1)),
         );
     }
 }
