@@ -32,6 +32,10 @@ pub enum Command {
         /// Also write the geometry plot to this folder.
         #[arg(long)]
         plot: Option<PathBuf>,
+        /// Memory budget in bytes (suffixes K, M, G, T: 4G, 512M). Default: half the
+        /// machine's memory.
+        #[arg(long, value_parser = parse_max_memory)]
+        max_memory: Option<u64>,
     },
     /// Solve a scene and write summary.json, CSV tables and plots.
     Run {
@@ -46,6 +50,10 @@ pub enum Command {
         /// Override `growth.mode` of the scene (scenes with a `growth` section).
         #[arg(long, value_enum)]
         growth_mode: Option<GrowthModeArg>,
+        /// Memory budget in bytes (suffixes K, M, G, T: 4G, 512M). Default: half the
+        /// machine's memory.
+        #[arg(long, value_parser = parse_max_memory)]
+        max_memory: Option<u64>,
     },
     /// Run a scene over a grid of values of dotted fields.
     Sweep {
@@ -60,6 +68,10 @@ pub enum Command {
         /// No progress output.
         #[arg(long)]
         quiet: bool,
+        /// Memory budget in bytes (suffixes K, M, G, T: 4G, 512M). Default: half the
+        /// machine's memory.
+        #[arg(long, value_parser = parse_max_memory)]
+        max_memory: Option<u64>,
     },
     /// Benchmarks.
     Bench {
@@ -125,19 +137,34 @@ pub fn main() -> ExitCode {
 /// Runs one command.
 pub fn execute(command: Command) -> anyhow::Result<()> {
     match command {
-        Command::Check { scene, plot } => check(&scene, plot.as_deref()),
+        Command::Check {
+            scene,
+            plot,
+            max_memory,
+        } => {
+            set_budget(max_memory);
+            check(&scene, plot.as_deref())
+        }
         Command::Run {
             scene,
             out,
             quiet,
             growth_mode,
-        } => run(&scene, out, quiet, growth_mode.map(GrowthMode::from)),
+            max_memory,
+        } => {
+            set_budget(max_memory);
+            run(&scene, out, quiet, growth_mode.map(GrowthMode::from))
+        }
         Command::Sweep {
             scene,
             vary,
             out,
             quiet,
-        } => sweep(&scene, &vary, out, quiet),
+            max_memory,
+        } => {
+            set_budget(max_memory);
+            sweep(&scene, &vary, out, quiet)
+        }
         Command::Bench {
             kind,
             out,
@@ -146,6 +173,14 @@ pub fn execute(command: Command) -> anyhow::Result<()> {
         } => crate::bench::run(kind, &out, quick, case.as_deref()),
         Command::PlotPaths { runs, out } => plot_paths(&runs, out),
     }
+}
+
+fn parse_max_memory(text: &str) -> Result<u64, String> {
+    crate::setup::estimate::parse_bytes(text)
+}
+
+fn set_budget(max_memory: Option<u64>) {
+    crate::setup::estimate::set_budget(max_memory.unwrap_or(0));
 }
 
 fn load(path: &Path) -> anyhow::Result<Scene> {
@@ -158,6 +193,7 @@ fn load(path: &Path) -> anyhow::Result<Scene> {
 
 fn check(path: &Path, plot_dir: Option<&Path>) -> anyhow::Result<()> {
     let scene = load(path)?;
+    crate::setup::estimate::check(&scene)?;
     let footprint = crate::setup::footprint::of(&scene)?;
     println!("{}", describe(&scene));
     for line in footprint.describe() {

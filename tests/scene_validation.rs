@@ -417,10 +417,11 @@ fn infinite_plate_without_stress_has_nothing_to_solve() {
 
 #[test]
 fn pd_horizon_smaller_than_dx() {
+    // Below 2 the PD calibration no longer holds (scene_validation_limits: the range).
     assert_invalid(
         &base_with("pd: (dx: 0.1, horizon_factor: 0.8)"),
         "pd.horizon_factor = 0.8",
-        "horizon smaller than dx",
+        "must lie in [2, 6]",
     );
 }
 

@@ -53,8 +53,10 @@ fn fewer_than_two_horizons_per_side() {
         "",
         "side: 0.1, n: 6, placement: Centered(center: (0.25, 0.25))",
     ));
+    // Validation catches it now (the coupling crate's TooFewNodes rule, n >= 2 m).
     assert!(
-        e.contains("less than 2 delta") && e.contains("at least 7 nodes"),
+        e.contains("bad.ron: coupling.n = 6")
+            && e.contains("at least 7: a window must be at least 2 horizons wide"),
         "{e}"
     );
 }

@@ -117,10 +117,19 @@ pub(crate) fn msg<E: std::fmt::Display>(e: E) -> String {
     e.to_string()
 }
 
-/// Finite `(min, max)` of values, widened when empty or degenerate.
+/// Largest magnitude an axis may reach: beyond it values are clamped, so that ranges,
+/// their padding and the tick computation of the plotting library stay finite (a range
+/// reaching infinity made the tick search loop forever).
+pub(crate) const AXIS_LIMIT: f64 = 1e150;
+
+/// Finite `(min, max)` of values (clamped to [`AXIS_LIMIT`]), widened when empty or
+/// degenerate.
 pub(crate) fn span(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for v in values.filter(|v| v.is_finite()) {
+    for v in values
+        .filter(|v| v.is_finite())
+        .map(|v| v.clamp(-AXIS_LIMIT, AXIS_LIMIT))
+    {
         lo = lo.min(v);
         hi = hi.max(v);
     }
@@ -142,6 +151,14 @@ pub(crate) fn equal_aspect(
     w: u32,
     h: u32,
 ) -> ((f64, f64), (f64, f64)) {
+    let c = |v: f64| {
+        if v.is_finite() {
+            v.clamp(-AXIS_LIMIT, AXIS_LIMIT)
+        } else {
+            0.0
+        }
+    };
+    let (lo, hi) = ((c(lo.0), c(lo.1)), (c(hi.0), c(hi.1)));
     let (mut dx, mut dy) = ((hi.0 - lo.0).max(0.0), (hi.1 - lo.1).max(0.0));
     if dx == 0.0 && dy == 0.0 {
         dx = 1.0;
@@ -178,5 +195,9 @@ mod tests {
         let (a, b) = span([2.0, 2.0].into_iter());
         assert!(a < 2.0 && b > 2.0);
         assert_eq!(span([f64::NAN, 1.0, 3.0].into_iter()), (1.0, 3.0));
+        let (a, b) = span([0.0, 1.7e308].into_iter());
+        assert!(a == 0.0 && b == AXIS_LIMIT);
+        let ((x0, x1), (y0, y1)) = equal_aspect((-1e308, 0.0), (1e308, f64::INFINITY), 800, 600);
+        assert!([x0, x1, y0, y1].iter().all(|v| v.is_finite()) && x1 > x0 && y1 > y0);
     }
 }

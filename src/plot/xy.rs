@@ -109,7 +109,14 @@ impl XyPlot {
             .collect();
         let pad = |(a, b): (f64, f64), log: bool| {
             if log {
-                let (a, b) = if a > 0.0 { (a, b) } else { (1.0, 10.0) };
+                // Log axes: positive and at least 1/AXIS_LIMIT, so the ends stay finite.
+                let floor = 1.0 / super::AXIS_LIMIT;
+                let (a, b) = if a > 0.0 {
+                    let a = a.max(floor);
+                    (a, if b > a { b } else { 10.0 * a })
+                } else {
+                    (1.0, 10.0)
+                };
                 (a / 1.5, b * 1.5)
             } else {
                 let d = 0.05 * (b - a);

@@ -23,10 +23,12 @@ use anyhow::Context;
 
 use crate::scene::{GrowthMode, Scene};
 
-/// Runs a validated scene into `out_dir`: solve, reference errors, outputs.
+/// Runs a validated scene into `out_dir`: size budget ([`crate::setup::estimate`]), solve,
+/// reference errors, a check that every reported number is finite, outputs.
 /// On error nothing is left in `out_dir` (and a folder this run created is removed).
 pub fn run_scene(scene: &Scene, out_dir: &Path, quiet: bool) -> anyhow::Result<RunSummary> {
     let mode = mode_of(scene);
+    crate::setup::estimate::check(scene)?;
     let ctx = RunContext::new(out_dir, quiet)
         .with_context(|| format!("cannot create the run folder {}", out_dir.display()))?;
     let start = Instant::now();
@@ -44,6 +46,17 @@ pub fn run_scene(scene: &Scene, out_dir: &Path, quiet: bool) -> anyhow::Result<R
         summary.mode = mode.as_str().to_string();
     }
     reference::apply(scene, &mut summary);
+    if let Some(field) = summary.non_finite() {
+        let hint = if field.contains("_ref") || field.contains("_err") {
+            "the analytic reference overflows double precision: check `reference` (its sigma and sizes)"
+        } else {
+            "the loading or the geometry is out of the range double precision can carry: check the boundary values, load factors and sizes"
+        };
+        anyhow::bail!(
+            "{}: the run gave a non-finite result, {field}: {hint}",
+            scene.file_label().display()
+        );
+    }
     report::write_all(scene, &ctx, &mut summary)?;
     ctx.writer
         .commit()

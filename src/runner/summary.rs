@@ -95,3 +95,50 @@ pub struct CrackResult {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cmod_err: Option<f64>,
 }
+
+impl RunSummary {
+    /// The first reported number of the tips and cracks that is not finite, as a dotted
+    /// path with its value (`tips.0.k1 = inf`); `None` when all are finite. A run must not
+    /// report NaN or infinity (`summary.json` would write `null`).
+    pub fn non_finite(&self) -> Option<String> {
+        let walk = |section: &str, i: usize, v: serde_json::Value, raw: &[(&str, f64)]| {
+            for (name, x) in raw {
+                if !x.is_finite() {
+                    return Some(format!("{section}.{i}.{name} = {x}"));
+                }
+            }
+            let obj = v.as_object()?;
+            obj.iter()
+                .find(|(k, v)| v.is_null() && k.as_str() != "cmod")
+                .map(|(k, _)| format!("{section}.{i}.{k} = NaN or infinite"))
+        };
+        for (i, t) in self.tips.iter().enumerate() {
+            let raw = [
+                ("position.0", t.position[0]),
+                ("position.1", t.position[1]),
+                ("k1", t.k1),
+                ("k2", t.k2),
+                ("kink_deg", t.kink_deg),
+            ];
+            let v = serde_json::to_value(t).unwrap_or(serde_json::Value::Null);
+            if let Some(f) = walk("tips", i, v, &raw) {
+                return Some(f);
+            }
+        }
+        for (i, c) in self.cracks.iter().enumerate() {
+            let raw: Vec<(&str, f64)> = [
+                ("cmod", c.cmod),
+                ("cmod_ref", c.cmod_ref),
+                ("cmod_err", c.cmod_err),
+            ]
+            .into_iter()
+            .filter_map(|(k, v)| v.map(|v| (k, v)))
+            .collect();
+            let v = serde_json::to_value(c).unwrap_or(serde_json::Value::Null);
+            if let Some(f) = walk("cracks", i, v, &raw) {
+                return Some(f);
+            }
+        }
+        None
+    }
+}

@@ -68,7 +68,7 @@ pub struct Load {
     pub initial: f64,
     /// Factor increment per step (-). Default 0.
     pub step: f64,
-    /// Number of steps, >= 1. Default 1 (a single step at factor `initial`).
+    /// Number of steps, 1 to 100000. Default 1 (a single step at factor `initial`).
     pub count: usize,
 }
 
@@ -83,9 +83,13 @@ impl Default for Load {
 }
 
 impl Load {
-    /// The load factor of every step.
+    /// The load factor of every step (at most
+    /// [`MAX_LOAD_STEPS`](crate::scene::validate::limits::MAX_LOAD_STEPS) of them: validation
+    /// rejects more, and an unvalidated count must not allocate without bound).
     pub fn factors(&self) -> Vec<f64> {
-        (0..self.count)
+        (0..self
+            .count
+            .min(crate::scene::validate::limits::MAX_LOAD_STEPS))
             .map(|k| self.initial + k as f64 * self.step)
             .collect()
     }

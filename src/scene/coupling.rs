@@ -11,7 +11,8 @@ use super::body::Pt;
 pub struct Coupling {
     /// Side L_w of the square window (m), > 0 (for `Region`: its width).
     pub side: f64,
-    /// Real PD nodes per window side (dx = side / n), >= 2.
+    /// Real PD nodes per window side (dx = side / n): at least 2 m (two horizons, m =
+    /// `pd.horizon_factor`; 7 at the default), at most 5000, even with `AtTips`.
     pub n: usize,
     /// Where the windows go. Default `AtTips`.
     #[serde(default)]
@@ -19,7 +20,8 @@ pub struct Coupling {
     /// Interface relaxation. Default `Aitken(0.3)` (seed 002 section 3.1.3 uses w = 0.3).
     #[serde(default)]
     pub relaxation: Relaxation,
-    /// Convergence: relative change of interface displacements below psi, > 0. Default 1e-4.
+    /// Convergence: relative change of interface displacements below psi, in (0, 0.1].
+    /// Default 1e-4.
     #[serde(default = "default_psi")]
     pub psi: f64,
     /// Coupling iteration cap, >= 1. Default 50.

@@ -64,7 +64,7 @@ pub struct Grid {
     pub to: Pt,
     /// Points along x, >= 1.
     pub nx: usize,
-    /// Points along y, >= 1.
+    /// Points along y, >= 1 (nx * ny at most 1000000).
     pub ny: usize,
 }
 
@@ -78,6 +78,6 @@ pub struct Line {
     pub from: Pt,
     /// End (m).
     pub to: Pt,
-    /// Number of points, >= 2.
+    /// Number of points, 2 to 1000000.
     pub n: usize,
 }

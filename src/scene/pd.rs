@@ -16,10 +16,12 @@ pub struct PdSettings {
     /// Grid spacing dx (m), > 0. Give `dx` or `nx`.
     #[serde(default)]
     pub dx: Option<f64>,
-    /// Nodes across the body's bounding-box width (dx = width / nx). Give `dx` or `nx`.
+    /// Nodes across the body's bounding-box width (dx = width / nx), at most 100000. Give
+    /// `dx` or `nx`.
     #[serde(default)]
     pub nx: Option<usize>,
-    /// Horizon factor m, delta = m dx, >= 1. Default 3.015 (seed 000 section 3.2).
+    /// Horizon factor m, delta = m dx, in [2, 6] (where the PD calibration holds). Default
+    /// 3.015 (seed 000 section 3.2).
     #[serde(default = "default_horizon_factor")]
     pub horizon_factor: f64,
     /// Solver and its parameters. Default `Switching` with default parameters.

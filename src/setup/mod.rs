@@ -10,6 +10,8 @@
 //! - [`coupled`]: the coupled model (windows, macro body, PD settings, Algorithm 1
 //!   parameters; [`coupled::prepare`]);
 //! - [`growth`]: the PD-BEM growth driver's input ([`growth::input`]);
+//! - [`estimate`]: the size budget: a cheap estimate of the sizes from the scene alone,
+//!   checked against the memory budget before anything is built ([`estimate::check`]);
 //! - [`footprint`]: what a run will allocate (elements, unknowns, matrix bytes, PD nodes
 //!   and bonds), computed from the same models before any solve ([`footprint::of`]).
 //!
@@ -18,6 +20,7 @@
 
 pub mod bem;
 pub mod coupled;
+pub mod estimate;
 pub mod footprint;
 pub mod growth;
 pub mod pd;

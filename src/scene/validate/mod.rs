@@ -4,11 +4,13 @@
 //!
 //! Rules by section: `material`, `body` (outline, holes, patches),
 //! `cracks`, `boundary` (conditions, load, "nothing to solve"),
-//! `sections` (bem, reference, outputs), `pd` (pd, coupling, growth).
+//! `sections` (bem, reference, outputs), `pd` (pd, coupling, growth), `limits`
+//! (upper bounds of counts and sampling coordinates, safe output names).
 
 mod body;
 mod boundary;
 mod cracks;
+pub mod limits;
 mod material;
 mod pd;
 mod sections;
@@ -91,6 +93,7 @@ pub fn check(scene: &Scene) -> Vec<Issue> {
     boundary::check(&mut c, scene);
     sections::check(&mut c, scene, body_ok);
     pd::check(&mut c, scene);
+    limits::check(&mut c, scene);
     c.issues
 }
 

@@ -5,6 +5,13 @@ use crate::geometry::{bounding_box, direction, p2, point_in_polygon, P2};
 use crate::scene::shapes::outline_loop;
 use crate::scene::{Failure, GrowthMode, PdSolver, Placement, Relaxation, Scene};
 
+/// Smallest horizon factor m = delta / dx where the PD calibration holds.
+pub const MIN_HORIZON_FACTOR: f64 = 2.0;
+/// Largest horizon factor m = delta / dx accepted.
+pub const MAX_HORIZON_FACTOR: f64 = 6.0;
+/// Largest coupling tolerance psi (a relative change of the interface displacements).
+pub const MAX_PSI: f64 = 0.1;
+
 /// Checks the PD, coupling and growth sections.
 pub fn check(c: &mut Checker, scene: &Scene) {
     if let Some(pd) = &scene.pd {
@@ -34,11 +41,11 @@ fn check_pd(c: &mut Checker, scene: &Scene, pd: &crate::scene::PdSettings) {
         (None, None) => {}
     }
     let m = pd.horizon_factor;
-    if c.finite("pd.horizon_factor", m) && m < 1.0 {
+    if c.finite("pd.horizon_factor", m) && !(MIN_HORIZON_FACTOR..=MAX_HORIZON_FACTOR).contains(&m) {
         c.fail(
             "pd.horizon_factor",
             m,
-            "horizon smaller than dx: the horizon factor m = delta/dx must be >= 1 (default 3.015)",
+            format!("the horizon factor m = delta/dx must lie in [{MIN_HORIZON_FACTOR}, {MAX_HORIZON_FACTOR}] (default 3.015): the PD micromodulus calibration and the surface and crack-face corrections hold there (m = 1 gives K about 23 % high; beyond 6 the boundary layers and bond counts grow as m^2 for no accuracy)"),
         );
     }
     if scene.coupling.is_none() && scene.body.outline.remote_stress().is_some() {
@@ -141,8 +148,15 @@ fn check_coupling(c: &mut Checker, scene: &Scene, co: &crate::scene::Coupling) {
     if !c.positive("coupling.side", co.side, "window side") {
         return;
     }
-    c.at_least("coupling.n", co.n, 2, "PD nodes per window side");
-    c.positive("coupling.psi", co.psi, "convergence tolerance psi");
+    // Full-PD growth takes only its grid spacing from the coupling section: no window.
+    let windows = scene
+        .growth
+        .as_ref()
+        .is_none_or(|g| g.mode != GrowthMode::FullPd);
+    if windows {
+        check_window_nodes(c, scene, co);
+    }
+    check_psi(c, co.psi);
     c.at_least("coupling.max_iter", co.max_iter, 1, "iteration cap");
     check_relaxation(c, &co.relaxation);
     let Some(outline) = outline_loop(&scene.body.outline) else {
@@ -157,6 +171,7 @@ fn check_coupling(c: &mut Checker, scene: &Scene, co: &crate::scene::Coupling) {
         return;
     }
     let corners = match &co.placement {
+        Placement::AtTips if windows => return check_tip_windows(c, scene, co, &outline.points),
         Placement::AtTips => return,
         Placement::Centered { center, angle_deg } => {
             square_corners(p2(*center), co.side, *angle_deg)
@@ -382,6 +397,100 @@ fn check_ligaments(c: &mut Checker, scene: &Scene, co: &crate::scene::Coupling) 
                     ),
                 );
             }
+        }
+    }
+}
+
+/// `coupling.n`: a window is at least two horizons wide (the coupling crate's
+/// `TooFewNodes`: n >= 2 m, m = `pd.horizon_factor`, 7 at the default 3.015), and even
+/// with `AtTips` windows (with an odd n every coupled run stopped at run time with
+/// "interface mismatch"; the cause is not fixed here, the scene is refused), and a
+/// `Region` at least two horizons high.
+fn check_window_nodes(c: &mut Checker, scene: &Scene, co: &crate::scene::Coupling) {
+    let m = scene
+        .pd
+        .as_ref()
+        .map(|p| p.horizon_factor)
+        .filter(|m| m.is_finite() && *m >= 1.0 && *m <= MAX_HORIZON_FACTOR)
+        .unwrap_or(crate::scene::pd::default_horizon_factor());
+    let needed = (2.0 * m).ceil() as usize;
+    if co.n < needed {
+        c.fail(
+            "coupling.n",
+            co.n,
+            format!("PD nodes per window side must be at least {needed}: a window must be at least 2 horizons wide (n >= 2 m, m = pd.horizon_factor = {m})"),
+        );
+    } else if let Placement::Region { height, .. } = co.placement {
+        let ny = (height / co.dx()).round();
+        if ny.is_finite() && ny < needed as f64 {
+            c.fail(
+                "coupling.placement.height",
+                height,
+                format!("the region is {ny} nodes high at dx = side / n = {}: it must be at least {needed} (2 horizons, as coupling.n)", co.dx()),
+            );
+        }
+    } else if co.placement == Placement::AtTips && co.n % 2 == 1 {
+        c.fail(
+            "coupling.n",
+            co.n,
+            format!("AtTips windows need an even number of nodes per side (with an odd n the coupled solve ends in an interface mismatch): use {} or {}", co.n - 1, co.n.saturating_add(1)),
+        );
+    }
+}
+
+/// `coupling.psi`: a relative tolerance in (0, [`MAX_PSI`]].
+fn check_psi(c: &mut Checker, psi: f64) {
+    if c.finite("coupling.psi", psi) && !(psi > 0.0 && psi <= MAX_PSI) {
+        c.fail(
+            "coupling.psi",
+            psi,
+            format!("convergence tolerance psi is a relative change of the interface displacements: it must lie in (0, {MAX_PSI}] (default 1e-4; psi = 1 stops after one iteration with K off by +148 %)"),
+        );
+    }
+}
+
+/// `AtTips` windows: the scene has a crack tip inside the body, and the square of side
+/// `coupling.side` centred on each tip, axes along the crack, lies inside the outline.
+fn check_tip_windows(c: &mut Checker, scene: &Scene, co: &crate::scene::Coupling, outline: &[P2]) {
+    use crate::scene::shapes::SceneGeometry;
+    let geo = SceneGeometry::of(scene);
+    let mut tips = Vec::new();
+    for cr in &geo.cracks {
+        let n = cr.points.len();
+        if n < 2 {
+            continue;
+        }
+        tips.push((
+            format!("{}.end", cr.name),
+            cr.points[n - 1],
+            cr.points[n - 1] - cr.points[n - 2],
+        ));
+        if !cr.mouth {
+            tips.push((
+                format!("{}.start", cr.name),
+                cr.points[0],
+                cr.points[0] - cr.points[1],
+            ));
+        }
+    }
+    if tips.is_empty() {
+        c.fail_at("coupling.placement", "AtTips places one window on each crack tip, but the scene has no crack: add a crack or use Centered / Region");
+        return;
+    }
+    let (lo, hi) = bounding_box(outline);
+    let tol = 1e-9 * (hi - lo).norm();
+    for (name, tip, d) in tips {
+        let angle = d.y.atan2(d.x).to_degrees();
+        let corners = square_corners(tip, co.side, angle);
+        let inside = |p: &P2| {
+            point_in_polygon(p, outline) || crate::geometry::polygon_distance(p, outline) <= tol
+        };
+        if !corners.iter().all(inside) {
+            c.fail(
+                "coupling.side",
+                co.side,
+                format!("the window on tip {name} reaches outside the body: use a smaller side or move the crack"),
+            );
         }
     }
 }
