@@ -1,6 +1,8 @@
 //! Shared helpers of the scene-level verification tests.
 #![allow(dead_code)]
 
+use std::path::PathBuf;
+
 use pdbem::run_bem;
 use pdbem::runner::RunSummary;
 use pdbem::scene::path::{parse_value, with_overrides};
@@ -26,4 +28,16 @@ pub fn solve_bem(scene: &Scene) -> RunSummary {
 /// Relative error in percent.
 pub fn pct(v: f64, r: f64) -> f64 {
     100.0 * (v / r - 1.0)
+}
+
+/// Every scene file of `cases/`, sorted.
+pub fn case_files() -> Vec<PathBuf> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("cases");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .expect("cases/ exists")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "ron"))
+        .collect();
+    files.sort();
+    files
 }

@@ -5,15 +5,10 @@ use std::path::PathBuf;
 
 use pdbem::scene::Scene;
 
+mod common_scene;
+
 fn cases() -> Vec<PathBuf> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("cases");
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .expect("cases/ exists")
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "ron"))
-        .collect();
-    files.sort();
-    files
+    common_scene::case_files()
 }
 
 #[test]

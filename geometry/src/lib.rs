@@ -8,7 +8,7 @@
 //!
 //! Map (everything is re-exported at the crate root):
 //! - this file: [`P2`], [`p2`], [`cross`], [`direction`], [`rotate`], [`scale_of`],
-//!   [`EPS_REL`];
+//!   [`grid_centres`], [`EPS_REL`];
 //! - [`polygon`]: signed area and orientation, bounding box, scale, containment,
 //!   distance to the boundary, self-intersection;
 //! - [`segment`]: projection of a point and distance to a segment, "on the segment",
@@ -68,6 +68,20 @@ pub fn scale_of(pts: &[P2]) -> f64 {
         .fold(1e-300, f64::max)
 }
 
+/// The centres of an `n` x `n` grid of equal cells over the box `lo`-`hi`, row by row
+/// from `lo` (sampling points for field snapshots).
+pub fn grid_centres(lo: &P2, hi: &P2, n: usize) -> Vec<P2> {
+    (0..n * n)
+        .map(|k| {
+            let (i, j) = ((k % n) as f64 + 0.5, (k / n) as f64 + 0.5);
+            P2::new(
+                lo.x + (hi.x - lo.x) * i / n as f64,
+                lo.y + (hi.y - lo.y) * j / n as f64,
+            )
+        })
+        .collect()
+}
+
 /// 2-D cross product `a.x b.y - a.y b.x`.
 pub fn cross(a: &P2, b: &P2) -> f64 {
     a.x * b.y - a.y * b.x
@@ -99,5 +113,19 @@ mod tests {
         assert!((direction(90.0) - y).norm() < 1e-15);
         assert!((rotate(&x, std::f64::consts::FRAC_PI_2) - y).norm() < 1e-15);
         assert_eq!(p2((1.0, 2.0)), P2::new(1.0, 2.0));
+    }
+
+    #[test]
+    fn grid_centres_are_cell_centres_row_by_row() {
+        let g = grid_centres(&P2::new(0.0, 0.0), &P2::new(2.0, 4.0), 2);
+        assert_eq!(
+            g,
+            vec![
+                P2::new(0.5, 1.0),
+                P2::new(1.5, 1.0),
+                P2::new(0.5, 3.0),
+                P2::new(1.5, 3.0)
+            ]
+        );
     }
 }

@@ -160,14 +160,8 @@ fn displacement_snapshot(
     let geo = SceneGeometry::of(scene);
     let (lo, hi) = geo.bounds();
     let n = 60;
-    let pts: Vec<V2> = (0..n * n)
-        .map(|k| {
-            let (i, j) = ((k % n) as f64 + 0.5, (k / n) as f64 + 0.5);
-            V2::new(
-                lo.x + (hi.x - lo.x) * i / n as f64,
-                lo.y + (hi.y - lo.y) * j / n as f64,
-            )
-        })
+    let pts: Vec<V2> = crate::geometry::grid_centres(&lo, &hi, n)
+        .into_iter()
         .filter(|x| {
             geo.contains(&P2::new(x.x, x.y))
                 && !pb.windows.iter().any(|w| w.window.contains(*x, 0.0))

@@ -372,14 +372,8 @@ fn displacement_snapshot(
             .iter()
             .all(|e| point_segment_projection(p, &e.a, &e.b).0 > 0.25 * e.h)
     };
-    let pts: Vec<P2> = (0..n * n)
-        .map(|k| {
-            let (i, j) = ((k % n) as f64 + 0.5, (k / n) as f64 + 0.5);
-            P2::new(
-                lo.x + (hi.x - lo.x) * i / n as f64,
-                lo.y + (hi.y - lo.y) * j / n as f64,
-            )
-        })
+    let pts: Vec<P2> = pdbem_geometry::grid_centres(&lo, &hi, n)
+        .into_iter()
         .filter(|p| front.contains(p) && clear(p))
         .collect();
     let u = ev.displacements(&pts);
