@@ -1,7 +1,12 @@
-//! From a growth scene to the inputs of the PD-BEM growth driver (seed 002 Algorithm 2):
-//! the macro layout exactly as a static coupled solve has it ([`super::coupled`]), one
-//! window per crack tip, the load steps and growth settings, and the [`Scenario`] that
-//! gives the driver the scene's conditions on every rebuilt mesh (all at load factor 1).
+//! From a growth scene to the inputs of the three growth engines:
+//! - PD-BEM (seed 002 Algorithm 2, [`input`]): the macro layout exactly as a static
+//!   coupled solve has it ([`super::coupled`]), one window per crack tip, the load steps
+//!   and growth settings, and the [`Scenario`] that gives the driver the scene's
+//!   conditions on every rebuilt mesh (all at load factor 1);
+//! - BEM-only ([`bem_only_input`]): the static BEM model's loops and cracks, K_c, the
+//!   conditions with every group meshed;
+//! - BEM-only and full PD: the crack [`Front`] of the scene ([`front`]); full PD's model
+//!   is [`super::pd::full_pd_problem`].
 
 use anyhow::{bail, Context, Result};
 use pdbem_bem::mesh::LoopSpec;
