@@ -43,6 +43,28 @@ impl CrackLine {
         }
         t
     }
+
+    /// Crack tips with their growth directions: `(tip name, position, unit vector along
+    /// the last segment, pointing out of the crack)`, the start first unless it is a
+    /// mouth; none for a polyline of fewer than two points.
+    pub fn tip_directions(&self) -> Vec<(String, P2, P2)> {
+        let p = &self.points;
+        let n = p.len();
+        if n < 2 {
+            return Vec::new();
+        }
+        let unit = |d: P2| d / d.norm().max(1e-300);
+        let mut t = Vec::new();
+        if !self.mouth {
+            t.push((format!("{}.start", self.name), p[0], unit(p[0] - p[1])));
+        }
+        t.push((
+            format!("{}.end", self.name),
+            p[n - 1],
+            unit(p[n - 1] - p[n - 2]),
+        ));
+        t
+    }
 }
 
 /// The whole scene geometry.

@@ -111,27 +111,8 @@ pub fn window_specs(
         ny: co.n,
         horizon_factor: m,
     };
-    let all_tips: Vec<(String, V2, V2)> = geo
-        .cracks
-        .iter()
-        .flat_map(|c| {
-            let n = c.points.len();
-            let mut t = Vec::new();
-            if !c.mouth {
-                t.push((
-                    format!("{}.start", c.name),
-                    c.points[0],
-                    (c.points[0] - c.points[1]).normalize(),
-                ));
-            }
-            t.push((
-                format!("{}.end", c.name),
-                c.points[n - 1],
-                (c.points[n - 1] - c.points[n - 2]).normalize(),
-            ));
-            t
-        })
-        .collect();
+    let all_tips: Vec<(String, V2, V2)> =
+        geo.cracks.iter().flat_map(|c| c.tip_directions()).collect();
     let specs = match &co.placement {
         Placement::AtTips => {
             if all_tips.is_empty() {

@@ -185,11 +185,7 @@ pub fn at_most(c: &mut Checker, path: &str, v: usize, max: usize, what: &str) ->
 /// A name that becomes part of an output file name (`pattern`): letters, digits, '_'
 /// and '-' (cracks also may not use '.', faces are `<crack>.upper`), not empty.
 fn file_name(c: &mut Checker, path: &str, name: &str, pattern: &str) {
-    let ok = !name.is_empty()
-        && name
-            .chars()
-            .all(|ch| ch.is_ascii_alphanumeric() || matches!(ch, '_' | '-' | '.'))
-        && !name.starts_with('.');
+    let ok = super::safe_file_name(name);
     if !ok {
         c.fail(
             path,

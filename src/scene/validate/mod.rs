@@ -99,11 +99,7 @@ pub fn check(scene: &Scene) -> Vec<Issue> {
 
 /// The name must be usable as a folder name.
 fn check_name(c: &mut Checker, name: &str) {
-    let ok = !name.is_empty()
-        && name
-            .chars()
-            .all(|ch| ch.is_ascii_alphanumeric() || matches!(ch, '_' | '-' | '.'))
-        && !name.starts_with('.');
+    let ok = safe_file_name(name);
     if !ok {
         c.fail(
             "name",
@@ -116,4 +112,14 @@ fn check_name(c: &mut Checker, name: &str) {
 /// Quotes a point for messages.
 pub fn fmt_pt(p: &crate::geometry::P2) -> String {
     format!("({}, {})", p.x, p.y)
+}
+
+/// A name usable as (part of) a file or folder name: letters, digits, '_', '-' and '.',
+/// not empty, not starting with '.'.
+pub(super) fn safe_file_name(name: &str) -> bool {
+    !name.is_empty()
+        && name
+            .chars()
+            .all(|ch| ch.is_ascii_alphanumeric() || matches!(ch, '_' | '-' | '.'))
+        && !name.starts_with('.')
 }

@@ -361,24 +361,7 @@ fn check_ligaments(c: &mut Checker, scene: &Scene, co: &crate::scene::Coupling) 
     let geo = SceneGeometry::of(scene);
     let Some(outline) = &geo.outline else { return };
     for cr in &geo.cracks {
-        let n = cr.points.len();
-        if n < 2 {
-            continue;
-        }
-        let mut tips = vec![(
-            format!("{}.end", cr.name),
-            cr.points[n - 1],
-            cr.points[n - 1] - cr.points[n - 2],
-        )];
-        if !cr.mouth {
-            tips.push((
-                format!("{}.start", cr.name),
-                cr.points[0],
-                cr.points[0] - cr.points[1],
-            ));
-        }
-        for (name, tip, d) in tips {
-            let d = d / d.norm().max(1e-300);
+        for (name, tip, d) in cr.tip_directions() {
             let ahead = geo
                 .holes
                 .iter()
@@ -454,25 +437,11 @@ fn check_psi(c: &mut Checker, psi: f64) {
 fn check_tip_windows(c: &mut Checker, scene: &Scene, co: &crate::scene::Coupling, outline: &[P2]) {
     use crate::scene::shapes::SceneGeometry;
     let geo = SceneGeometry::of(scene);
-    let mut tips = Vec::new();
-    for cr in &geo.cracks {
-        let n = cr.points.len();
-        if n < 2 {
-            continue;
-        }
-        tips.push((
-            format!("{}.end", cr.name),
-            cr.points[n - 1],
-            cr.points[n - 1] - cr.points[n - 2],
-        ));
-        if !cr.mouth {
-            tips.push((
-                format!("{}.start", cr.name),
-                cr.points[0],
-                cr.points[0] - cr.points[1],
-            ));
-        }
-    }
+    let tips: Vec<(String, P2, P2)> = geo
+        .cracks
+        .iter()
+        .flat_map(|cr| cr.tip_directions())
+        .collect();
     if tips.is_empty() {
         c.fail_at("coupling.placement", "AtTips places one window on each crack tip, but the scene has no crack: add a crack or use Centered / Region");
         return;
