@@ -20,6 +20,7 @@ pub use pdbem_geometry as geometry;
 pub mod growth;
 pub mod output;
 pub mod plot;
+pub mod refine;
 pub mod run_bem;
 pub mod run_coupled;
 pub mod run_pd;

@@ -154,37 +154,68 @@ fn extrapolate(coarse: &Level, fine: &Level) -> (Vec<TipResult>, Vec<CrackResult
     (tips, cracks)
 }
 
-/// Solves the scene (with Richardson if asked) without writing anything.
+/// Solves the scene without writing anything: the primary level with the level below it
+/// for the error estimates, finer levels while `bem.tolerance` asks ([`crate::refine`]),
+/// Richardson-extrapolated values if asked.
 pub fn solve(scene: &Scene) -> Result<(RunSummary, Level)> {
     let t0 = Instant::now();
     let factor = final_factor(scene);
-    let coarse = solve_level(scene, factor, 1.0)?;
+    let start = if scene.bem.richardson { 2.0 } else { 1.0 };
+    let refined = crate::refine::solve(scene, factor, start)?;
+    let level = refined.fine;
     let mut summary = RunSummary {
         scene: scene.name.clone(),
         mode: "bem".into(),
-        elements: Some(coarse.setup.mesh.len()),
-        tips: coarse.tips.clone(),
-        cracks: coarse.cracks.clone(),
+        elements: Some(level.setup.mesh.len()),
+        tips: level.tips.clone(),
+        cracks: level.cracks.clone(),
         ..Default::default()
     };
-    let level = if scene.bem.richardson {
-        let fine = solve_level(scene, factor, 2.0)?;
-        let (tips, cracks) = extrapolate(&coarse, &fine);
-        summary.extra.insert(
-            "richardson".into(),
-            json!({
-                "elements": [coarse.setup.mesh.len(), fine.setup.mesh.len()],
-                "tips_h": coarse.tips, "tips_h2": fine.tips,
-                "cracks_h": coarse.cracks, "cracks_h2": fine.cracks,
-            }),
-        );
-        summary.elements = Some(fine.setup.mesh.len());
-        summary.tips = tips;
-        summary.cracks = cracks;
-        fine
-    } else {
-        coarse
-    };
+    if let Some(coarse) = &refined.coarse {
+        if scene.bem.richardson {
+            let (tips, cracks) = extrapolate(coarse, &level);
+            summary.extra.insert(
+                "richardson".into(),
+                json!({
+                    "elements": [coarse.setup.mesh.len(), level.setup.mesh.len()],
+                    "tips_h": coarse.tips, "tips_h2": level.tips,
+                    "cracks_h": coarse.cracks, "cracks_h2": level.cracks,
+                }),
+            );
+            summary.tips = tips;
+            summary.cracks = cracks;
+        }
+        let est = crate::refine::Estimates::of(&level, coarse);
+        for (t, (e1, e2)) in summary.tips.iter_mut().zip(&est.tips) {
+            t.k1_err_est = Some(*e1);
+            t.k2_err_est = Some(*e2);
+        }
+        for (c, e) in summary.cracks.iter_mut().zip(&est.cracks) {
+            c.cmod_err_est = *e;
+        }
+    } else if let Some(why) = &refined.coarse_failure {
+        summary.notes.push(format!(
+            "no error estimate: the level with twice the element sizes could not be solved ({why})"
+        ));
+        if scene.bem.richardson {
+            anyhow::bail!(
+                "{}: bem.richardson: the coarse level failed: {why}",
+                scene.file_label().display()
+            );
+        }
+    }
+    if let Some(why) = &refined.stop_reason {
+        summary.notes.push(why.clone());
+    }
+    summary.extra.insert(
+        "error_estimate".into(),
+        json!({
+            "method": "max(|q(h) - q(2h)|, |K_cod - K_J|, 2e-4 |q|)",
+            "tolerance": scene.bem.tolerance,
+            "reached": refined.reached,
+            "levels": refined.levels,
+        }),
+    );
     let info = &level.info;
     summary.extra.insert("load_factor".into(), json!(factor));
     summary

@@ -30,8 +30,9 @@ fn plate(width: f64, height: f64, traction: &str, extra: &str) -> Scene {
 
 #[test]
 fn a_run_over_the_budget_fails_before_building() {
-    // A 1000:1 strip at the default element size: about 2e5 elements, 1.2 TiB.
-    let scene = plate(1000.0, 1.0, "1", "");
+    // A 1000:1 strip at element size 0.01: about 2e5 elements, 1.2 TiB (at the default
+    // sizes the local-feature mesh needs about 3000).
+    let scene = plate(1000.0, 1.0, "1", "bem: (element_size: 0.01)");
     let out = temp("budget");
     pdbem::setup::estimate::set_budget(1 << 30);
     let start = std::time::Instant::now();
@@ -39,7 +40,7 @@ fn a_run_over_the_budget_fails_before_building() {
     pdbem::setup::estimate::set_budget(0);
     let msg = format!("{err:#}");
     assert!(
-        msg.contains("cases/x.ron: the default element size"),
+        msg.contains("cases/x.ron: bem.element_size = 0.01 gives about"),
         "{msg}"
     );
     assert!(msg.contains("> budget 1.000 GiB"), "{msg}");

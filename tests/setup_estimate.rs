@@ -72,7 +72,7 @@ fn the_estimate_is_close_to_the_exact_footprint_of_every_case() {
 #[test]
 fn a_long_strip_with_default_sizes_is_over_budget_naming_the_default_size() {
     let scene = load(&strip(1000.0, 1.0, 0.5, ""));
-    let e = estimate::of(&scene);
+    let e = estimate::of(&scene).unwrap();
     assert!(e.bem_bytes > 1e12, "{} bytes", e.bem_bytes);
     let msg = format!("{:#}", e.within(&scene, 12 * GIB).expect_err("over budget"));
     assert!(msg.contains("cases/x.ron"), "{msg}");
@@ -86,7 +86,10 @@ fn a_tiny_element_size_is_over_budget_naming_bem_element_size() {
     let scene = load(&strip(20.0, 10.0, 5.0, "bem: (element_size: 0.0005)"));
     let msg = format!(
         "{:#}",
-        estimate::of(&scene).within(&scene, 12 * GIB).unwrap_err()
+        estimate::of(&scene)
+            .unwrap()
+            .within(&scene, 12 * GIB)
+            .unwrap_err()
     );
     assert!(
         msg.contains("bem.element_size = 0.0005 gives about"),
@@ -101,7 +104,10 @@ fn a_deep_crack_is_over_budget_naming_the_crack() {
     let scene = load(&strip(20.0, 10.0, 9.99, "bem: (element_size: 0.1)"));
     let msg = format!(
         "{:#}",
-        estimate::of(&scene).within(&scene, GIB).unwrap_err()
+        estimate::of(&scene)
+            .unwrap()
+            .within(&scene, GIB)
+            .unwrap_err()
     );
     assert!(msg.contains("cracks.0 ('c')"), "{msg}");
     assert!(msg.contains("bem.group_sizes.c"), "{msg}");
@@ -117,7 +123,10 @@ fn a_tiny_tip_element_is_over_budget_naming_the_tip_refinement() {
     ));
     let msg = format!(
         "{:#}",
-        estimate::of(&scene).within(&scene, GIB).unwrap_err()
+        estimate::of(&scene)
+            .unwrap()
+            .within(&scene, GIB)
+            .unwrap_err()
     );
     assert!(
         msg.contains("bem.tip_refinement (element_size = 0.0000001)"),
@@ -134,7 +143,10 @@ fn a_fine_pd_grid_is_over_budget_naming_pd_nx() {
     let scene = load(&strip(20.0, 10.0, 5.0, "pd: (nx: 100000)"));
     let msg = format!(
         "{:#}",
-        estimate::of(&scene).within(&scene, 12 * GIB).unwrap_err()
+        estimate::of(&scene)
+            .unwrap()
+            .within(&scene, 12 * GIB)
+            .unwrap_err()
     );
     assert!(msg.contains("pd.nx = 100000 gives about"), "{msg}");
     assert!(msg.contains("lower pd.nx"), "{msg}");
@@ -150,7 +162,10 @@ fn fine_windows_are_over_budget_naming_coupling_n() {
     ));
     let msg = format!(
         "{:#}",
-        estimate::of(&scene).within(&scene, GIB).unwrap_err()
+        estimate::of(&scene)
+            .unwrap()
+            .within(&scene, GIB)
+            .unwrap_err()
     );
     assert!(msg.contains("coupling.n = 5000"), "{msg}");
 }

@@ -79,6 +79,12 @@ pub struct TipResult {
     /// Relative error of `k1` against the FEM table.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub k1_err_fem: Option<f64>,
+    /// Error estimate of `k1` (Pa m^0.5): |K_I(h) - K_I(2h)| ([`crate::refine`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k1_err_est: Option<f64>,
+    /// Error estimate of `k2` (Pa m^0.5).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k2_err_est: Option<f64>,
 }
 
 /// Results of one crack.
@@ -94,6 +100,9 @@ pub struct CrackResult {
     /// Relative CMOD error.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cmod_err: Option<f64>,
+    /// Error estimate of `cmod` (m): |CMOD(h) - CMOD(2h)| ([`crate::refine`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cmod_err_est: Option<f64>,
 }
 
 impl RunSummary {

@@ -27,6 +27,10 @@ pub struct BemSettings {
     /// Solve on h and h/2 and Richardson-extrapolate SIF and CMOD (O(h)
     /// convergence of constant elements). Default false.
     pub richardson: bool,
+    /// Relative tolerance on every K (against K_eq) and CMOD, in [1e-8, 0.5]: the solver
+    /// halves every element size until the error estimate meets it, within the memory
+    /// budget ([`crate::refine`]). Default: none (one level and its estimate).
+    pub tolerance: Option<f64>,
     /// Fit range of the crack-opening SIF fit, as a fraction of L = a (or
     /// min(a, W - a) for edge cracks), in (0, 1]. Default 0.3 (REFERENCES.md).
     pub cod_fit_fraction: f64,
@@ -79,6 +83,7 @@ impl Default for BemSettings {
             tip_refinement: None,
             elements_per_circle: None,
             richardson: false,
+            tolerance: None,
             cod_fit_fraction: 0.3,
             j_contour: JContour::default(),
             condition_estimate: false,

@@ -5,7 +5,7 @@
 //! Infinite bodies are solved by superposition (DESIGN.md): holes and crack faces carry
 //! minus the remote traction, and the remote field is added back in post-processing.
 
-use super::sizing::{circle_elements, Sizing};
+use super::sizing::{circle_elements, LocalSizes, Sizing};
 use crate::geometry::{circle_polygon, on_segment, P2};
 use crate::scene::shapes::{HoleShape, SceneGeometry};
 use crate::scene::{Component, Faces, Plane, Scene};
@@ -42,16 +42,9 @@ pub fn material(scene: &Scene) -> Result<Material> {
 pub fn build(scene: &Scene, factor: f64, refine: f64) -> Result<BemSetup> {
     let geo = SceneGeometry::of(scene);
     let mat = material(scene)?;
-    let loops = loops(scene, &geo, refine);
-    let sizing = Sizing::of(scene, &geo, &loops, refine)?;
-    let mut b = MeshBuilder::new();
-    for l in loops {
-        b.add_loop(l);
-    }
-    for spec in crack_specs(scene, &geo, &sizing, refine) {
-        b.add_crack(spec);
-    }
-    let mesh = b.build().context("meshing")?;
+    let mesh = mesh_builder(scene, &geo, refine)?
+        .build()
+        .with_context(|| format!("{}: meshing", scene.file_label().display()))?;
     let remote = geo.remote.map(|s| s.map(|v| v * factor));
     let bcs = conditions(scene, &mesh, factor, remote, MissingGroup::Error)?;
     let params = SolveParams {
@@ -68,6 +61,43 @@ pub fn build(scene: &Scene, factor: f64, refine: f64) -> Result<BemSetup> {
         },
         material: mat,
     })
+}
+
+/// The mesh builder of the static BEM model at refinement `refine`: loops and cracks with
+/// the local-feature sizes of [`LocalSizes`] (tip zones, and default-size outline edges
+/// coarsened far from every feature).
+pub fn mesh_builder(scene: &Scene, geo: &SceneGeometry, refine: f64) -> Result<MeshBuilder> {
+    let mut loops = loops(scene, geo, refine);
+    let sizing = Sizing::of(scene, geo, &loops, refine)?;
+    let local = LocalSizes::of(scene, geo, &loops, refine)?;
+    if let (Some(far), Some(outline)) = (local.far, loops.first_mut().filter(|l| !l.is_hole)) {
+        for (g, size) in outline
+            .edge_groups
+            .iter()
+            .zip(outline.edge_sizes.iter_mut())
+        {
+            if !scene.bem.group_sizes.contains_key(g) {
+                *size = far;
+            }
+        }
+    }
+    let mut b = MeshBuilder::new();
+    for l in loops {
+        b.add_loop(l);
+    }
+    for (i, mut spec) in crack_specs(scene, geo, &sizing, refine)
+        .into_iter()
+        .enumerate()
+    {
+        let c = &scene.cracks[i];
+        if !scene.bem.group_sizes.contains_key(&c.name) && scene.bem.tip_refinement.is_none() {
+            // The tip zones are sources of the field; the faces grow to the base size.
+            spec.element_size = sizing.base;
+        }
+        b.add_crack(spec);
+    }
+    b.set_size_field(local.field);
+    Ok(b)
 }
 
 /// The outline (split at the patches) and hole loops of `scene` at refinement `refine`.

@@ -164,13 +164,19 @@ impl Estimate {
 
 /// Estimates a validated scene and checks it against [`budget`].
 pub fn check(scene: &Scene) -> Result<Estimate> {
-    let e = of(scene);
+    let e = of(scene)?;
     e.within(scene, budget())?;
     Ok(e)
 }
 
-/// The estimate of a validated scene (never builds a mesh or a PD model).
-pub fn of(scene: &Scene) -> Estimate {
+/// Most elements the static BEM count walks before it calls the mesh too large (the
+/// dense matrix of 1e6 elements is 29 TiB).
+pub const COUNT_LIMIT: usize = 1_000_000;
+
+/// The estimate of a validated scene (never builds a mesh or a PD model). Static BEM
+/// scenes are counted exactly by walking the local-size mesh without building it
+/// ([`pdbem_bem::MeshBuilder::count`]); an error is a feature too small to mesh.
+pub fn of(scene: &Scene) -> Result<Estimate> {
     let geo = SceneGeometry::of(scene);
     let mut e = Estimate::default();
     let growth = scene.growth.as_ref().map(|g| g.mode);
@@ -186,6 +192,9 @@ pub fn of(scene: &Scene) -> Estimate {
             1.0
         };
         bem_elements(scene, &geo, refine, &mut e);
+        if mode_of(scene) == Mode::Bem {
+            static_bem_elements(scene, &geo, refine, &mut e)?;
+        }
     }
     let m = scene.pd.as_ref().map(|p| p.horizon_factor).unwrap_or(3.015);
     let layers = 2.0 * m.ceil();
@@ -232,7 +241,65 @@ pub fn of(scene: &Scene) -> Estimate {
         }
         _ => {}
     }
-    e
+    Ok(e)
+}
+
+/// Dense-matrix bytes of the static BEM mesh of `scene` at refinement `refine`, by the
+/// exact element count (the tolerance loop of [`crate::refine`] asks before each level).
+pub fn level(scene: &Scene, refine: f64) -> Result<f64> {
+    let geo = SceneGeometry::of(scene);
+    let groups = super::bem::mesh_builder(scene, &geo, refine)?
+        .count(COUNT_LIMIT)
+        .map_err(|e| anyhow::anyhow!("{e}"))?;
+    let n: usize = groups.iter().map(|(_, n)| n).sum();
+    Ok(8.0 * (2.0 * n as f64).powi(2))
+}
+
+/// Exact element count of the static BEM mesh at `refine` (its local sizes), replacing
+/// the uniform-size estimate when the count stays under [`COUNT_LIMIT`]; the largest
+/// group is named as the driver.
+fn static_bem_elements(
+    scene: &Scene,
+    geo: &SceneGeometry,
+    refine: f64,
+    e: &mut Estimate,
+) -> Result<()> {
+    let builder = super::bem::mesh_builder(scene, geo, refine)?;
+    let Ok(groups) = builder.count(COUNT_LIMIT) else {
+        // Over the limit: the uniform-size estimate (larger still) names the driver.
+        e.bem_elements = e.bem_elements.max(COUNT_LIMIT as f64);
+        e.bem_bytes = 8.0 * (2.0 * e.bem_elements).powi(2);
+        return Ok(());
+    };
+    let total: usize = groups.iter().map(|(_, n)| n).sum();
+    e.bem_elements = total as f64;
+    e.bem_bytes = 8.0 * (2.0 * e.bem_elements).powi(2);
+    if let Some((g, n)) = groups.iter().max_by_key(|(_, n)| *n) {
+        let crack = scene.cracks.iter().position(|c| &c.name == g);
+        let (setting, advice) = match (crack, scene.bem.group_sizes.get(g)) {
+            (Some(i), None) => (
+                format!("cracks.{i} ('{g}'): its tip zones (1/80 of the tip length scale) and faces"),
+                format!("move the tip of '{g}' away from the nearest boundary, or set bem.group_sizes.{g}"),
+            ),
+            (_, Some(h)) => (
+                format!("bem.group_sizes.{g} = {h}"),
+                format!("raise bem.group_sizes.{g}"),
+            ),
+            (None, None) => match scene.bem.element_size {
+                Some(h) => (format!("bem.element_size = {h}"), "raise bem.element_size".into()),
+                None => (
+                    format!("the default element size on '{g}'"),
+                    "give a larger bem.element_size".into(),
+                ),
+            },
+        };
+        e.bem_driver = Some(Driver {
+            setting,
+            advice,
+            count: *n as f64,
+        });
+    }
+    Ok(())
 }
 
 fn add_pd(e: &mut Estimate, nodes: f64, m: f64, setting: String, advice: &str) {

@@ -2,6 +2,7 @@
 
 use pdbem_geometry::{point_segment_projection, signed_area};
 
+use super::size_field::{march, SizeField, SizeSource};
 use super::{subdivide, Crack, Element, Mesh, V2};
 use crate::BemError;
 
@@ -76,7 +77,12 @@ pub struct CrackSpec {
 pub struct MeshBuilder {
     loops: Vec<LoopSpec>,
     cracks: Vec<CrackSpec>,
+    field: Option<SizeField>,
 }
+
+/// Most elements [`MeshBuilder::build`] makes before it gives up (a size field or an element
+/// size that asks for more is a scene error found by [`MeshBuilder::count`] first).
+pub const MAX_ELEMENTS: usize = 10_000_000;
 
 impl MeshBuilder {
     /// Empty builder.
@@ -96,9 +102,59 @@ impl MeshBuilder {
         self
     }
 
-    /// Builds the mesh.
-    pub fn build(&self) -> Result<Mesh, BemError> {
-        let mut mesh = Mesh::default();
+    /// Meshes every edge and crack by the local size field `f` (sizes capped by the edge
+    /// and crack sizes; [`super::size_field`]). Crack mouths and `CrackSpec::tip` become
+    /// sources of the field. Without a field, edges and cracks are uniform with the
+    /// refinements of [`subdivide`].
+    pub fn set_size_field(&mut self, f: SizeField) -> &mut Self {
+        self.field = Some(f);
+        self
+    }
+
+    /// Elements per group name (crack faces counted under the crack's name), without
+    /// building anything; an error when the total would pass `limit`.
+    pub fn count(&self, limit: usize) -> Result<Vec<(String, usize)>, BemError> {
+        let mut out: Vec<(String, usize)> = Vec::new();
+        let mut total = 0usize;
+        let mut add = |name: &str, n: usize| -> Result<(), BemError> {
+            total = total.saturating_add(n);
+            if total > limit {
+                return Err(BemError::Mesh(format!(
+                    "more than {limit} elements (at '{name}')"
+                )));
+            }
+            match out.iter_mut().find(|(g, _)| g == name) {
+                Some(e) => e.1 += n,
+                None => out.push((name.to_string(), n)),
+            }
+            Ok(())
+        };
+        let Layout {
+            loops,
+            cuts,
+            ends,
+            field,
+        } = self.layout()?;
+        for (li, l) in loops.iter().enumerate() {
+            for ei in 0..l.points.len() {
+                let (a, b) = edge(l, ei);
+                let (size, cut) = (l.edge_sizes[ei], &cuts[li][ei]);
+                let n = edge_breaks(a, b, size, cut, field.as_ref(), limit, |_, _| ())
+                    .ok_or_else(|| too_many(&l.edge_groups[ei], limit))?;
+                add(&l.edge_groups[ei], n)?;
+            }
+        }
+        for (c, on) in self.cracks.iter().zip(ends) {
+            let n = crack_breaks(c, on, field.as_ref(), limit, |_, _, _| ())
+                .ok_or_else(|| too_many(&c.name, limit))?;
+            add(&c.name, 2 * n)?;
+        }
+        Ok(out)
+    }
+
+    /// Oriented loops, mouth cuts per loop edge, which crack ends sit on a loop, and the
+    /// size field with the mouth and tip sources.
+    fn layout(&self) -> Result<Layout, BemError> {
         let loops: Vec<LoopSpec> = self.loops.iter().map(oriented).collect::<Result<_, _>>()?;
         let tol = self.tolerance();
         // Mouths: (loop, edge, parameter interval removed) per crack end on a loop.
@@ -125,19 +181,53 @@ impl MeshBuilder {
             }
             ends.push(on);
         }
+        let field = self.field.as_ref().map(|f| {
+            let mut extra = Vec::new();
+            for (c, on) in self.cracks.iter().zip(&ends) {
+                let ps = [c.points[0], *c.points.last().unwrap()];
+                for k in 0..2 {
+                    if on[k] {
+                        let h = c.element_size;
+                        extra.push(SizeSource::point(ps[k], h, 3.0 * h));
+                    } else if let Some(t) = c.tip {
+                        extra.push(SizeSource::point(ps[k], t.size, t.radius));
+                    }
+                }
+            }
+            f.with(extra)
+        });
+        Ok(Layout {
+            loops,
+            cuts,
+            ends,
+            field,
+        })
+    }
+
+    /// Builds the mesh.
+    pub fn build(&self) -> Result<Mesh, BemError> {
+        let mut mesh = Mesh::default();
+        let Layout {
+            loops,
+            cuts,
+            ends,
+            field,
+        } = self.layout()?;
         for (li, l) in loops.iter().enumerate() {
             let start = mesh.elements.len();
             for ei in 0..l.points.len() {
                 let g = group_index(&mut mesh.groups, &l.edge_groups[ei]);
                 let (a, b) = edge(l, ei);
-                for (p, q) in edge_pieces(a, b, l.edge_sizes[ei], &cuts[li][ei]) {
+                let pieces = edge_pieces(a, b, l.edge_sizes[ei], &cuts[li][ei], field.as_ref())
+                    .ok_or_else(|| too_many(&l.edge_groups[ei], MAX_ELEMENTS))?;
+                for (p, q) in pieces {
                     mesh.elements.push(Element::new(p, q, g));
                 }
             }
             mesh.loops.push(start..mesh.elements.len());
         }
         for (c, on) in self.cracks.iter().zip(ends) {
-            add_crack_faces(&mut mesh, c, on);
+            add_crack_faces(&mut mesh, c, on, field.as_ref())?;
         }
         Ok(mesh)
     }
@@ -157,6 +247,29 @@ impl MeshBuilder {
         }
         1e-9 * ext.max(1e-300)
     }
+}
+
+/// What [`MeshBuilder::build`] and [`MeshBuilder::count`] share.
+struct Layout {
+    /// Loops in the orientation DESIGN.md requires.
+    loops: Vec<LoopSpec>,
+    /// Per loop and edge: (start, end, crack element size) of each mouth cut.
+    cuts: Vec<Vec<Vec<(f64, f64, f64)>>>,
+    /// Per crack: whether its start and its end sit on a loop (mouths).
+    ends: Vec<[bool; 2]>,
+    /// The builder's size field with the mouth and tip sources added.
+    field: Option<SizeField>,
+}
+
+/// True when `count` elements (a ratio that may be NaN or infinite) fit in `left`.
+fn fits(count: f64, left: usize) -> bool {
+    count.partial_cmp(&(left as f64)).is_some_and(|o| o.is_le())
+}
+
+fn too_many(name: &str, limit: usize) -> BemError {
+    BemError::Mesh(format!(
+        "'{name}' would need more than {limit} elements (an element size that is not positive or far too small)"
+    ))
 }
 
 fn edge(l: &LoopSpec, i: usize) -> (V2, V2) {
@@ -260,8 +373,32 @@ fn find_on_loop(loops: &[LoopSpec], p: V2, tol: f64) -> Option<(usize, usize, f6
 }
 
 /// Elements of one loop edge, split at crack mouths (the gap interval left out) and
-/// refined towards each mouth to the crack's element size.
-fn edge_pieces(a: V2, b: V2, size: f64, cuts: &[(f64, f64, f64)]) -> Vec<(V2, V2)> {
+/// refined towards each mouth to the crack's element size; `None` past [`MAX_ELEMENTS`].
+fn edge_pieces(
+    a: V2,
+    b: V2,
+    size: f64,
+    cuts: &[(f64, f64, f64)],
+    field: Option<&SizeField>,
+) -> Option<Vec<(V2, V2)>> {
+    let mut out = Vec::new();
+    edge_breaks(a, b, size, cuts, field, MAX_ELEMENTS, |p, q| {
+        out.push((p, q))
+    })?;
+    Some(out)
+}
+
+/// Walks the elements of one loop edge (as [`edge_pieces`]), calling `push` with each;
+/// returns their count, `None` past `limit`.
+fn edge_breaks(
+    a: V2,
+    b: V2,
+    size: f64,
+    cuts: &[(f64, f64, f64)],
+    field: Option<&SizeField>,
+    limit: usize,
+    mut push: impl FnMut(V2, V2),
+) -> Option<usize> {
     let len = (b - a).norm();
     let mut cuts = cuts.to_vec();
     cuts.sort_by(|x, y| x.0.total_cmp(&y.0));
@@ -275,20 +412,39 @@ fn edge_pieces(a: V2, b: V2, size: f64, cuts: &[(f64, f64, f64)]) -> Vec<(V2, V2
         h0 = Some(hc);
     }
     spans.push((t0, 1.0, h0, None));
-    let mut out = Vec::new();
+    let mut count = 0usize;
     for (s, e, hs, he) in spans {
         let l = (e - s) * len;
         if l <= 1e-12 * len {
             continue;
         }
-        let pts = span_points(l, size, hs, he);
-        for w in pts.windows(2) {
-            let p = a + (b - a) * (s + w[0] / len);
-            let q = a + (b - a) * (s + w[1] / len);
-            out.push((p, q));
-        }
+        let (p0, p1) = (a + (b - a) * s, a + (b - a) * e);
+        let left = limit.saturating_sub(count);
+        let n = match field {
+            Some(f) => {
+                let mut prev: Option<V2> = None;
+                march(p0, p1, size, f, left, |t| {
+                    let p = p0 + (p1 - p0) * (t / l);
+                    if let Some(q) = prev {
+                        push(q, p);
+                    }
+                    prev = Some(p);
+                })?
+            }
+            None => {
+                if !fits(l / size, left) {
+                    return None;
+                }
+                let pts = span_points(l, size, hs, he);
+                for w in pts.windows(2) {
+                    push(p0 + (p1 - p0) * (w[0] / l), p0 + (p1 - p0) * (w[1] / l));
+                }
+                pts.len() - 1
+            }
+        };
+        count += n;
     }
-    out
+    Some(count)
 }
 
 /// Break points of a span refined towards a mouth at its start and/or end.
@@ -308,8 +464,14 @@ fn span_points(l: f64, size: f64, hs: Option<f64>, he: Option<f64>) -> Vec<f64> 
     }
 }
 
-/// Break points along the crack polyline: arc parameters of every vertex.
-fn crack_stations(c: &CrackSpec, on: [bool; 2]) -> Vec<(V2, f64, usize)> {
+/// Break points along the crack polyline: (point, arc length, segment) of every element
+/// end, vertices included once; `None` past `limit` elements.
+fn crack_stations(
+    c: &CrackSpec,
+    on: [bool; 2],
+    field: Option<&SizeField>,
+    limit: usize,
+) -> Option<Vec<(V2, f64, usize)>> {
     let nseg = c.points.len() - 1;
     let mut out = Vec::new();
     let mut s0 = 0.0;
@@ -318,18 +480,15 @@ fn crack_stations(c: &CrackSpec, on: [bool; 2]) -> Vec<(V2, f64, usize)> {
         let len = (b - a).norm();
         let tip_end = k == nseg - 1 && !on[1];
         let tip_start = k == 0 && !on[0];
-        let tip = c.tip.map(|t| (t.size, t.radius));
-        let pts = match (tip_start, tip_end) {
-            (true, true) => {
-                let mut p = subdivide(0.5 * len, c.element_size, tip, false);
-                let q = subdivide(0.5 * len, c.element_size, tip, true);
-                p.pop();
-                p.extend(q.iter().map(|x| x + 0.5 * len));
-                p
+        let left = limit.saturating_sub(out.len());
+        let pts = match field {
+            Some(f) => segment_breaks_field(a, b, c.element_size, f, (tip_start, tip_end), left)?,
+            None => {
+                if !fits(len / c.element_size, left) {
+                    return None;
+                }
+                segment_breaks_uniform(c, len, (tip_start, tip_end))
             }
-            (true, false) => subdivide(len, c.element_size, tip, false),
-            (false, true) => subdivide(len, c.element_size, tip, true),
-            (false, false) => subdivide(len, c.element_size, None, false),
         };
         for (i, t) in pts.iter().enumerate() {
             if k > 0 && i == 0 {
@@ -339,15 +498,88 @@ fn crack_stations(c: &CrackSpec, on: [bool; 2]) -> Vec<(V2, f64, usize)> {
         }
         s0 += len;
     }
-    out
+    (out.len() <= limit.saturating_add(1)).then_some(out)
 }
 
-fn add_crack_faces(mesh: &mut Mesh, c: &CrackSpec, on: [bool; 2]) {
+/// Break parameters of one crack segment with the uniform sizes and tip refinement of
+/// [`subdivide`].
+fn segment_breaks_uniform(c: &CrackSpec, len: f64, tips: (bool, bool)) -> Vec<f64> {
+    let tip = c.tip.map(|t| (t.size, t.radius));
+    match tips {
+        (true, true) => {
+            let mut p = subdivide(0.5 * len, c.element_size, tip, false);
+            let q = subdivide(0.5 * len, c.element_size, tip, true);
+            p.pop();
+            p.extend(q.iter().map(|x| x + 0.5 * len));
+            p
+        }
+        (true, false) => subdivide(len, c.element_size, tip, false),
+        (false, true) => subdivide(len, c.element_size, tip, true),
+        (false, false) => subdivide(len, c.element_size, None, false),
+    }
+}
+
+/// Break parameters of one crack segment by the size field, marched from each tip so the
+/// tip zones are exactly uniform ([`super::size_field`]).
+fn segment_breaks_field(
+    a: V2,
+    b: V2,
+    cap: f64,
+    f: &SizeField,
+    tips: (bool, bool),
+    limit: usize,
+) -> Option<Vec<f64>> {
+    let len = (b - a).norm();
+    let forward = |p: V2, q: V2, limit: usize| -> Option<Vec<f64>> {
+        let mut v = Vec::new();
+        march(p, q, cap, f, limit, |t| v.push(t))?;
+        Some(v)
+    };
+    Some(match tips {
+        (true, true) => {
+            let mid = 0.5 * (a + b);
+            let mut p = forward(a, mid, limit)?;
+            let q = forward(b, mid, limit)?;
+            p.pop();
+            p.extend(q.iter().rev().map(|t| len - t));
+            p
+        }
+        (false, true) => {
+            let q = forward(b, a, limit)?;
+            q.iter().rev().map(|t| len - t).collect()
+        }
+        _ => forward(a, b, limit)?,
+    })
+}
+
+/// Elements per face of a crack, calling `push` with each break point (as
+/// [`crack_stations`]); `None` past `limit`.
+fn crack_breaks(
+    c: &CrackSpec,
+    on: [bool; 2],
+    field: Option<&SizeField>,
+    limit: usize,
+    mut push: impl FnMut(V2, f64, usize),
+) -> Option<usize> {
+    let pts = crack_stations(c, on, field, limit)?;
+    for (p, s, k) in &pts {
+        push(*p, *s, *k);
+    }
+    Some(pts.len() - 1)
+}
+
+fn add_crack_faces(
+    mesh: &mut Mesh,
+    c: &CrackSpec,
+    on: [bool; 2],
+    field: Option<&SizeField>,
+) -> Result<(), BemError> {
     let gap = match c.faces {
         FaceMode::Coincident => 0.0,
         FaceMode::Gap(g) => g,
     };
-    let pts = crack_stations(c, on);
+    let pts = crack_stations(c, on, field, MAX_ELEMENTS)
+        .ok_or_else(|| too_many(&c.name, MAX_ELEMENTS))?;
     let np = pts.len();
     let nseg = c.points.len() - 1;
     // Left normal at each break point (averaged at polyline vertices).
@@ -390,6 +622,7 @@ fn add_crack_faces(mesh: &mut Mesh, c: &CrackSpec, on: [bool; 2]) {
         crack.stations.push(0.5 * (pts[i].1 + pts[i + 1].1));
     }
     mesh.cracks.push(crack);
+    Ok(())
 }
 
 #[cfg(test)]

@@ -12,11 +12,13 @@
 
 mod builder;
 mod pieces;
+mod size_field;
 mod spacing;
 pub mod stencil;
 
-pub use builder::{CrackSpec, FaceMode, LoopSpec, MeshBuilder, TipRefinement};
+pub use builder::{CrackSpec, FaceMode, LoopSpec, MeshBuilder, TipRefinement, MAX_ELEMENTS};
 pub use pieces::pieces;
+pub use size_field::{march, SizeField, SizeSource, SourceShape, DEFAULT_GRADING};
 pub use spacing::subdivide;
 
 use nalgebra::Vector2;

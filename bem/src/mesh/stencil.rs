@@ -90,8 +90,19 @@ pub fn tangential_stencil(mesh: &Mesh) -> Stencil {
             };
             match (prev[j], next[j]) {
                 (Some(p), Some(q)) => {
-                    let d = sj(q) - sj(p);
-                    vec![(q, 1.0 / d), (p, -1.0 / d)]
+                    // Three-point derivative, exact for quadratics on graded elements;
+                    // the central difference (u_q - u_p)/(s_q - s_p) on uniform ones.
+                    let (hm, hp) = (-sj(p), sj(q));
+                    if ((hp - hm) / (hp + hm)).abs() < 1e-9 {
+                        let d = hp + hm;
+                        vec![(q, 1.0 / d), (p, -1.0 / d)]
+                    } else {
+                        vec![
+                            (q, hm / (hp * (hm + hp))),
+                            (j, (hp - hm) / (hm * hp)),
+                            (p, -hp / (hm * (hm + hp))),
+                        ]
+                    }
                 }
                 (None, Some(q)) => {
                     let d = sj(q);

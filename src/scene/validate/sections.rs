@@ -53,6 +53,15 @@ fn check_bem(c: &mut Checker, scene: &Scene, body_ok: bool) {
             "elements per circle (zero elements otherwise)",
         );
     }
+    if let Some(t) = b.tolerance {
+        if c.finite("bem.tolerance", t) && !(1e-8..=0.5).contains(&t) {
+            c.fail(
+                "bem.tolerance",
+                t,
+                "a relative tolerance on K and CMOD must lie in [1e-8, 0.5]",
+            );
+        }
+    }
     let f = b.cod_fit_fraction;
     if c.finite("bem.cod_fit_fraction", f) && !(f > 0.0 && f <= 1.0) {
         c.fail(
