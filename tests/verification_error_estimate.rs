@@ -133,11 +133,11 @@ fn griffith_estimates_are_honest() {
 }
 
 /// A scene at element size h.
-type Maker = dyn Fn(f64) -> Scene;
+type Maker<'a> = dyn Fn(f64) -> Scene + 'a;
 
 /// The converged K of a scene built by `make(h)`: Richardson of h/2 and h/4, with the
 /// difference of the two as its uncertainty.
-fn converged(make: &Maker, h: f64) -> (f64, f64) {
+fn converged(make: &Maker<'_>, h: f64) -> (f64, f64) {
     let (k2, _) = k_and_estimate(&make(0.5 * h));
     let (k4, _) = k_and_estimate(&make(0.25 * h));
     let k = 2.0 * k4 - k2;
@@ -154,7 +154,7 @@ fn cct_and_dent_estimates_are_honest() {
     let f_cct = (1.0 - 0.025 * l * l + 0.06 * l.powi(4)) * (1.0 / (PI * l / 2.0).cos()).sqrt();
     let f_dent = (1.122 - 0.561 * l - 0.205 * l * l + 0.471 * l.powi(3) - 0.190 * l.powi(4))
         / (1.0 - l).sqrt();
-    let cases: [(&str, &Maker, f64, f64); 2] = [
+    let cases: [(&str, &Maker<'_>, f64, f64); 2] = [
         ("CCT", &|h| cct(a, h), f_cct, 1e-3),
         // Not asserted: the converged BEM DENT K is 1.5 % below this formula, more than
         // its stated 0.5 % (an open question, see the issue notes).
