@@ -51,12 +51,15 @@ pub struct CoupledSetup {
     pub factor: f64,
 }
 
-/// Builds the coupled problem of `scene` (validated, with `pd` and `coupling`).
+/// Builds the coupled problem of `scene` (validated, with `pd` and `coupling`); a body
+/// whose tractions nothing balances is an error ([`super::balance::check_scene`]).
 pub fn prepare(scene: &Scene) -> Result<CoupledSetup> {
     let file = scene.file_label();
     let (Some(co), Some(pd)) = (&scene.coupling, &scene.pd) else {
         bail!("{}: coupled mode needs `pd` and `coupling`", file.display());
     };
+    // The whole body (BEM and windows) must be held or in balance.
+    super::balance::check_scene(scene)?;
     let geo = SceneGeometry::of(scene);
     let factor = final_factor(scene);
     let (specs, tips) = window_specs(scene, &geo, co, pd)?;
