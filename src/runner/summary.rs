@@ -79,6 +79,11 @@ pub struct TipResult {
     /// Relative error of `k1` against the FEM table.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub k1_err_fem: Option<f64>,
+    /// Messages about this tip (how its K was obtained when not the usual way); the
+    /// runner moves them into the summary's `notes`
+    /// ([`super::plausibility::review`]). Not serialised.
+    #[serde(skip)]
+    pub notes: Vec<String>,
 }
 
 /// Results of one crack.
