@@ -1,7 +1,7 @@
 //! Results that are not what they seem come with a note (issue 17): the crack-opening
 //! fit without stations falls back to the interaction integral, overlapping crack faces
-//! (K_I < 0, CMOD < 0) and the two SIF estimates disagreeing. The shipped BEM cases pass
-//! the review without a note.
+//! (K_I < 0, CMOD < 0), the two SIF estimates disagreeing, and a windowed tip that no
+//! contour fits around. The shipped BEM cases pass the review without a note.
 
 mod common_scene;
 
@@ -144,4 +144,40 @@ fn shipped_bem_cases_pass_the_review_without_a_note() {
         solved += 1;
     }
     assert!(solved >= 5, "only {solved} BEM cases");
+}
+
+#[test]
+fn a_window_too_large_for_a_contour_is_noted_by_check_and_run() {
+    // a/W = 0.8: the tip is 2 m from the bottom edge. A 2.4 m window puts its corners
+    // 1.70 m from the tip; a contour must be at least 1.1 x that (1.87 m) but at most
+    // 0.9 x 2 m = 1.8 m: none fits.
+    let big = case(
+        "coupled_sent_a8",
+        &[
+            ("coupling.side", "2.4"),
+            ("coupling.n", "24"),
+            ("bem.element_size", "0.1"),
+        ],
+    );
+    let expect = ["tip crack.end: no K reported: window 0", "side 2.3142e0 m"];
+    let f = pdbem::setup::footprint::of(&big).unwrap();
+    assert!(
+        f.describe()
+            .iter()
+            .any(|l| expect.iter().all(|p| l.contains(p))),
+        "{:?}",
+        f.describe()
+    );
+    let (s, _) = pdbem::run_coupled::solve(&big).expect("solves");
+    assert!(s.tips.is_empty());
+    assert!(has_note(&s, &expect), "{:?}", s.notes);
+    // The shipped 2 m window leaves a contour: K reported, no note.
+    let fits = case(
+        "coupled_sent_a8",
+        &[("coupling.n", "20"), ("bem.element_size", "0.1")],
+    );
+    assert!(pdbem::setup::footprint::of(&fits).unwrap().notes.is_empty());
+    let (s, _) = pdbem::run_coupled::solve(&fits).expect("solves");
+    assert_eq!(s.tips.len(), 1);
+    assert!(s.notes.is_empty(), "{:?}", s.notes);
 }
