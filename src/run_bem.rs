@@ -100,11 +100,16 @@ pub fn solve_level_with(
 }
 
 /// The runner's tip record of a BEM tip analysis (name `<crack>.end` / `<crack>.start`;
-/// primary K from the crack-opening fit).
+/// primary K from the crack-opening fit, or from the interaction integral with a note
+/// when the fit had no station, [`interaction_fallback`]).
 pub fn tip_result(mesh: &pdbem_bem::Mesh, t: &pdbem_bem::post::TipResult) -> TipResult {
     let end = if t.at_end { "end" } else { "start" };
+    let name = format!("{}.{end}", mesh.cracks[t.crack].name);
+    if t.cod_points == 0 || !(t.k1_cod.is_finite() && t.k2_cod.is_finite()) {
+        return interaction_fallback(name, t);
+    }
     TipResult {
-        name: format!("{}.{end}", mesh.cracks[t.crack].name),
+        name,
         position: t.position,
         k1: t.k1_cod,
         k2: t.k2_cod,
@@ -113,6 +118,31 @@ pub fn tip_result(mesh: &pdbem_bem::Mesh, t: &pdbem_bem::post::TipResult) -> Tip
         k2_cod: Some(t.k2_cod),
         k1_j: Some(t.k1_m),
         k2_j: Some(t.k2_m),
+        ..Default::default()
+    }
+}
+
+/// The tip record when the crack-opening fit has no station (the tip's length scale, the
+/// crack or the ligament ahead, is so short that `bem.cod_fit_fraction` of it holds no
+/// crack-face collocation point): K from the interaction integral, no `k1_cod`, and a
+/// note that says so.
+fn interaction_fallback(name: String, t: &pdbem_bem::post::TipResult) -> TipResult {
+    let note = format!(
+        "tip {name}: k1, k2 are the interaction-integral values (contour radius {:.3e} m): \
+         the crack-opening fit has no crack-face station within its fit length \
+         (bem.cod_fit_fraction of the crack length or of the ligament ahead of the tip, \
+         whichever is shorter)",
+        t.contour_radius
+    );
+    TipResult {
+        name,
+        position: t.position,
+        k1: t.k1_m,
+        k2: t.k2_m,
+        kink_deg: pdbem_bem::post::kink_angle(t.k1_m, t.k2_m).to_degrees(),
+        k1_j: Some(t.k1_m),
+        k2_j: Some(t.k2_m),
+        notes: vec![note],
         ..Default::default()
     }
 }

@@ -7,7 +7,8 @@
 //! ([`pdbem_coupling::solve`]). Returns a [`RunSummary`] with `mode: "coupled"`,
 //! `pd_nodes`, `coupling` (iterations, residual, converged, relaxation history, time per
 //! phase), CMOD of edge cracks and, for a tip inside a window, K_I / K_II / J from the
-//! interaction integral on a circle of BEM interior points around the window.
+//! interaction integral on a circle of BEM interior points around the window, or a note
+//! saying why no such circle fits (the window reaches too close to the boundary).
 //!
 //! Outputs: `interface.csv` (PD input and BEM output at every coupled virtual node),
 //! `coupling_history.csv`, `pd_nodes.csv`, plots `displacement` (BEM interior points and
@@ -86,20 +87,13 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
 
 /// Interaction-integral SIFs of a windowed tip on a circle around its window, clear of
 /// the scene's outline and holes ([`pdbem_coupling::post::window_tip_sif`] with the
-/// default contour).
+/// default contour); an error that says why when no such circle exists.
 pub fn window_tip_sif(
     out: &CoupledOutcome,
     scene: &Scene,
     tip: &WindowTip,
-) -> Option<WindowTipSif> {
-    let geo = SceneGeometry::of(scene);
-    let mut boundaries: Vec<Vec<V2>> = Vec::new();
-    if let Some(o) = &geo.outline {
-        boundaries.push(o.points.to_vec());
-    }
-    for (_, h) in &geo.holes {
-        boundaries.push(h.polygon().to_vec());
-    }
+) -> Result<WindowTipSif, pdbem_coupling::CouplingError> {
+    let boundaries = crate::setup::coupled::contour_boundaries(scene);
     pdbem_coupling::post::window_tip_sif(
         &out.setup.problem,
         &out.solution,
@@ -116,9 +110,14 @@ pub fn summarize(scene: &Scene, out: &CoupledOutcome) -> Result<RunSummary> {
     let pb = &out.setup.problem;
     let sol = &out.solution.solution;
     let mut tips = Vec::new();
+    let mut notes = Vec::new();
     for t in &out.setup.tips {
-        let Some(WindowTipSif { k1, k2, .. }) = window_tip_sif(out, scene, t) else {
-            continue;
+        let WindowTipSif { k1, k2, .. } = match window_tip_sif(out, scene, t) {
+            Ok(sif) => sif,
+            Err(e) => {
+                notes.push(format!("tip {}: no K reported: {e}", t.name));
+                continue;
+            }
         };
         tips.push(TipResult {
             name: t.name.clone(),
@@ -159,6 +158,7 @@ pub fn summarize(scene: &Scene, out: &CoupledOutcome) -> Result<RunSummary> {
         elements: Some(pb.mesh.len()),
         tips,
         cracks,
+        notes,
         ..Default::default()
     };
     summary.extra.insert("pd_nodes".into(), json!(pd_nodes));

@@ -152,6 +152,29 @@ pub enum CouplingError {
         /// Why (different orientation or spacing, merged rectangle outside the body, ...).
         reason: String,
     },
+    /// No interaction-integral contour fits around a windowed tip: a circle that encloses
+    /// the window would cross the outline or a hole ([`crate::post::window_tip_sif`]).
+    #[error("window {window}: no interaction-integral contour: a circle around the tip must enclose the window (radius >= {min_radius:.4e} m, {min_factor} x the tip-to-corner distance {corner_distance:.4e} m) and keep clear of the outline and holes (radius <= {max_radius:.4e} m, {clearance_factor} x the tip's distance {clearance:.4e} m to them); shrink the window until its tip-to-corner distance is below {corner_limit:.4e} m (side {side_limit:.4e} m for a square centred on the tip) or keep the tip farther from the boundary")]
+    NoSifContour {
+        /// Window index.
+        window: usize,
+        /// Largest tip-to-corner distance of the window (m).
+        corner_distance: f64,
+        /// Smallest admissible radius (m).
+        min_radius: f64,
+        /// Largest admissible radius (m).
+        max_radius: f64,
+        /// The tip's distance to the outline and holes (m).
+        clearance: f64,
+        /// Smallest radius over the tip-to-corner distance.
+        min_factor: f64,
+        /// Largest radius over the clearance.
+        clearance_factor: f64,
+        /// Largest tip-to-corner distance that leaves a contour (m).
+        corner_limit: f64,
+        /// The side of a square window centred on the tip with that corner distance (m).
+        side_limit: f64,
+    },
     /// A window cannot be moved on along its crack.
     #[error("tip {tip}: cannot relocate its window: {reason}")]
     Relocation {

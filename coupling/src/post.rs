@@ -13,6 +13,7 @@ use pdbem_bem::post::FieldEvaluator;
 use pdbem_bem::V2;
 use pdbem_geometry::polygon_distance;
 
+use crate::error::CouplingError;
 use crate::iteration::{CoupledProblem, CoupledSolution};
 
 /// The contour of [`window_tip_sif`].
@@ -57,8 +58,10 @@ pub struct WindowTipSif {
 /// Interaction-integral SIFs of the tip at `tip` (unit crack direction `direction`,
 /// pointing out of the crack) inside window `window` of `pb`, on a circle around the
 /// window of BEM interior points of `solution`. `boundaries` are the closed polygons of
-/// the body's outline and holes the circle keeps clear of. None when no circle encloses
-/// the window within the clearance.
+/// the body's outline and holes the circle keeps clear of. An error
+/// ([`CouplingError::NoSifContour`], with the radii and the largest window that fits)
+/// when no circle encloses the window within the clearance, as when a window over a deep
+/// edge crack reaches most of the way across the ligament.
 pub fn window_tip_sif(
     pb: &CoupledProblem,
     solution: &CoupledSolution,
@@ -67,9 +70,25 @@ pub fn window_tip_sif(
     direction: V2,
     boundaries: &[Vec<V2>],
     contour: &WindowContour,
-) -> Option<WindowTipSif> {
-    let w = &pb.windows[window].window;
-    let half_diag = w
+) -> Result<WindowTipSif, CouplingError> {
+    let radius = contour_radius(pb, window, tip, boundaries, contour)?;
+    let ev = FieldEvaluator::new(&pb.mesh, &pb.material, &solution.solution, pb.background);
+    let h = pb.windows[window].window.spec.dx;
+    let (k1, k2, j) = interaction_integral(&ev, tip, direction, radius, contour.points, h);
+    Ok(WindowTipSif { k1, k2, j, radius })
+}
+
+/// The radius of the contour of [`window_tip_sif`] (see the module docs), or why there
+/// is none.
+pub fn contour_radius(
+    pb: &CoupledProblem,
+    window: usize,
+    tip: V2,
+    boundaries: &[Vec<V2>],
+    contour: &WindowContour,
+) -> Result<f64, CouplingError> {
+    let half_diag = pb.windows[window]
+        .window
         .corners()
         .iter()
         .map(|c| (c - tip).norm())
@@ -81,11 +100,18 @@ pub fn window_tip_sif(
     let r_min = contour.min_factor * half_diag;
     let r_max = contour.clearance_factor * clearance;
     if r_min >= r_max {
-        return None;
+        let corner_limit = r_max / contour.min_factor;
+        return Err(CouplingError::NoSifContour {
+            window,
+            corner_distance: half_diag,
+            min_radius: r_min,
+            max_radius: r_max,
+            clearance,
+            min_factor: contour.min_factor,
+            clearance_factor: contour.clearance_factor,
+            corner_limit,
+            side_limit: std::f64::consts::SQRT_2 * corner_limit,
+        });
     }
-    let radius = (contour.radius_factor * half_diag).min(0.5 * (r_min + r_max).max(r_min));
-    let ev = FieldEvaluator::new(&pb.mesh, &pb.material, &solution.solution, pb.background);
-    let h = w.spec.dx;
-    let (k1, k2, j) = interaction_integral(&ev, tip, direction, radius, contour.points, h);
-    Some(WindowTipSif { k1, k2, j, radius })
+    Ok((contour.radius_factor * half_diag).min(0.5 * (r_min + r_max).max(r_min)))
 }

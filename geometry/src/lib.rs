@@ -9,7 +9,7 @@
 //! Map (everything is re-exported at the crate root):
 //! - this file: [`P2`], [`p2`], [`cross`], [`direction`], [`rotate`], [`scale_of`],
 //!   [`grid_centres`], [`EPS_REL`];
-//! - [`polygon`]: signed area and orientation, bounding box, scale, containment,
+//! - [`polygon`]: signed area, centroid and orientation, bounding box, scale, containment,
 //!   distance to the boundary, self-intersection;
 //! - [`segment`]: projection of a point and distance to a segment, "on the segment",
 //!   segment-segment intersection (tolerant, and exact for bond cutting);
@@ -33,8 +33,8 @@ pub mod shape;
 
 pub use circle::circle_polygon;
 pub use polygon::{
-    bounding_box, is_ccw, on_polygon_boundary, point_in_polygon, polygon_distance,
-    polygon_distance_hypot, polygon_self_intersection, signed_area,
+    bounding_box, is_ccw, on_polygon_boundary, point_in_polygon, polygon_centroid,
+    polygon_distance, polygon_distance_hypot, polygon_self_intersection, signed_area,
 };
 pub use polyline::{
     point_at, polyline_distance_hypot, polyline_length, polyline_length_hypot,

@@ -13,6 +13,24 @@ pub fn signed_area(pts: &[P2]) -> f64 {
         * 0.5
 }
 
+/// Area centroid of a simple closed polygon of non-zero area,
+/// $c = \frac{1}{6A}\sum_i (p_i + p_{i+1})\,(p_i \times p_{i+1})$; `None` for a
+/// polygon of (numerically) zero area.
+pub fn polygon_centroid(pts: &[P2]) -> Option<P2> {
+    let a = signed_area(pts);
+    let n = pts.len();
+    let scale = bounding_box(pts);
+    if n < 3 || a.abs() <= 1e-14 * (scale.1 - scale.0).norm_squared() {
+        return None;
+    }
+    let mut c = P2::zeros();
+    for i in 0..n {
+        let (p, q) = (pts[i], pts[(i + 1) % n]);
+        c += (p + q) * cross(&p, &q);
+    }
+    Some(c / (6.0 * a))
+}
+
 /// True when the polygon runs counter-clockwise (positive signed area).
 pub fn is_ccw(pts: &[P2]) -> bool {
     signed_area(pts) > 0.0
@@ -115,6 +133,24 @@ mod tests {
         assert!((signed_area(&r) + 1.0).abs() < 1e-15);
         assert!(!is_ccw(&r));
         assert_eq!(signed_area(&[]), 0.0);
+    }
+
+    #[test]
+    fn centroid_of_an_l_shape() {
+        // Unit squares at (0,0), (1,0), (0,1): centroid (5/6, 5/6), either orientation.
+        let l = vec![
+            P2::new(0.0, 0.0),
+            P2::new(2.0, 0.0),
+            P2::new(2.0, 1.0),
+            P2::new(1.0, 1.0),
+            P2::new(1.0, 2.0),
+            P2::new(0.0, 2.0),
+        ];
+        let c = polygon_centroid(&l).unwrap();
+        assert!((c - P2::new(5.0 / 6.0, 5.0 / 6.0)).norm() < 1e-15);
+        let r: Vec<P2> = l.iter().rev().copied().collect();
+        assert!((polygon_centroid(&r).unwrap() - c).norm() < 1e-15);
+        assert!(polygon_centroid(&[P2::new(0.0, 0.0), P2::new(1.0, 0.0)]).is_none());
     }
 
     #[test]

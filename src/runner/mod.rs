@@ -4,10 +4,12 @@
 //!
 //! Entry points: [`run_scene`], [`mode_of`]; types [`RunContext`] (what a
 //! solver gets), [`RunSummary`] (what it returns), [`TipResult`], [`CrackResult`].
-//! Reference values: [`reference`](mod@reference); tables and plots: [`report`].
+//! Reference values: [`reference`](mod@reference); notes on results that are not what
+//! they seem: [`plausibility`]; tables and plots: [`report`].
 
 pub mod context;
 pub mod mode;
+pub mod plausibility;
 pub mod reference;
 pub mod report;
 pub mod summary;
@@ -24,7 +26,8 @@ use anyhow::Context;
 use crate::scene::{GrowthMode, Scene};
 
 /// Runs a validated scene into `out_dir`: size budget ([`crate::setup::estimate`]), solve,
-/// reference errors, a check that every reported number is finite, outputs.
+/// plausibility notes ([`plausibility::review`]), reference errors, a check that every
+/// reported number is finite, outputs.
 /// On error nothing is left in `out_dir` (and a folder this run created is removed).
 pub fn run_scene(scene: &Scene, out_dir: &Path, quiet: bool) -> anyhow::Result<RunSummary> {
     let mode = mode_of(scene);
@@ -45,6 +48,7 @@ pub fn run_scene(scene: &Scene, out_dir: &Path, quiet: bool) -> anyhow::Result<R
     if summary.mode.is_empty() {
         summary.mode = mode.as_str().to_string();
     }
+    plausibility::review(scene, &mut summary);
     reference::apply(scene, &mut summary);
     if let Some(field) = summary.non_finite() {
         let hint = if field.contains("_ref") || field.contains("_err") {

@@ -85,6 +85,11 @@ pub struct TipResult {
     /// Error estimate of `k2` (Pa m^0.5).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub k2_err_est: Option<f64>,
+    /// Messages about this tip (how its K was obtained when not the usual way); the
+    /// runner moves them into the summary's `notes`
+    /// ([`super::plausibility::review`]). Not serialised.
+    #[serde(skip)]
+    pub notes: Vec<String>,
 }
 
 /// Results of one crack.

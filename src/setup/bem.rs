@@ -38,7 +38,8 @@ pub fn material(scene: &Scene) -> Result<Material> {
 }
 
 /// Builds the model at load `factor`, with every element size divided by `refine`
-/// (2 for the fine level of a Richardson pair).
+/// (2 for the fine level of a Richardson pair). A finite body whose tractions nothing
+/// balances is an error ([`super::balance`]).
 pub fn build(scene: &Scene, factor: f64, refine: f64) -> Result<BemSetup> {
     let geo = SceneGeometry::of(scene);
     let mat = material(scene)?;
@@ -52,6 +53,9 @@ pub fn build(scene: &Scene, factor: f64, refine: f64) -> Result<BemSetup> {
         estimate_condition: scene.bem.condition_estimate,
         ..Default::default()
     };
+    if !params.infinite {
+        super::balance::check(scene, &mesh, &bcs)?;
+    }
     Ok(BemSetup {
         mesh,
         bcs,

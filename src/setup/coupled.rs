@@ -51,12 +51,15 @@ pub struct CoupledSetup {
     pub factor: f64,
 }
 
-/// Builds the coupled problem of `scene` (validated, with `pd` and `coupling`).
+/// Builds the coupled problem of `scene` (validated, with `pd` and `coupling`); a body
+/// whose tractions nothing balances is an error ([`super::balance::check_scene`]).
 pub fn prepare(scene: &Scene) -> Result<CoupledSetup> {
     let file = scene.file_label();
     let (Some(co), Some(pd)) = (&scene.coupling, &scene.pd) else {
         bail!("{}: coupled mode needs `pd` and `coupling`", file.display());
     };
+    // The whole body (BEM and windows) must be held or in balance.
+    super::balance::check_scene(scene)?;
     let geo = SceneGeometry::of(scene);
     let factor = final_factor(scene);
     let (specs, tips) = window_specs(scene, &geo, co, pd)?;
@@ -92,6 +95,43 @@ pub fn prepare(scene: &Scene) -> Result<CoupledSetup> {
         tips,
         factor,
     })
+}
+
+/// The closed polygons (outline and holes) a windowed tip's interaction-integral contour
+/// keeps clear of ([`pdbem_coupling::post::window_tip_sif`]).
+pub fn contour_boundaries(scene: &Scene) -> Vec<Vec<V2>> {
+    let geo = SceneGeometry::of(scene);
+    let mut out: Vec<Vec<V2>> = Vec::new();
+    if let Some(o) = &geo.outline {
+        out.push(o.points.to_vec());
+    }
+    for (_, h) in &geo.holes {
+        out.push(h.polygon().to_vec());
+    }
+    out
+}
+
+/// One line per windowed tip that will get no K because no interaction-integral contour
+/// fits around its window ([`pdbem_coupling::post::contour_radius`]): the window and the
+/// body alone decide it, so `pdbem check` reports what the run will note.
+pub fn tips_without_contour(scene: &Scene, setup: &CoupledSetup) -> Vec<String> {
+    let boundaries = contour_boundaries(scene);
+    let contour = pdbem_coupling::post::WindowContour::default();
+    setup
+        .tips
+        .iter()
+        .filter_map(|t| {
+            pdbem_coupling::post::contour_radius(
+                &setup.problem,
+                t.window,
+                t.position,
+                &boundaries,
+                &contour,
+            )
+            .err()
+            .map(|e| format!("tip {}: no K reported: {e}", t.name))
+        })
+        .collect()
 }
 
 /// Window specifications and the tips they hold.

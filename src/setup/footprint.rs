@@ -28,6 +28,9 @@ pub struct Footprint {
     pub pd_real: usize,
     /// PD bonds, directed (each pair twice), as `summary.json` counts them.
     pub pd_bonds: usize,
+    /// What the run will note about the model before solving it (windowed tips that no
+    /// interaction-integral contour fits around).
+    pub notes: Vec<String>,
 }
 
 impl Footprint {
@@ -60,6 +63,7 @@ impl Footprint {
                 self.pd_nodes, self.pd_real, self.pd_bonds
             ));
         }
+        out.extend(self.notes.iter().map(|n| format!("  note: {n}")));
         out
     }
 }
@@ -98,6 +102,7 @@ pub fn of(scene: &Scene) -> Result<Footprint> {
             for w in &p.windows {
                 add_pd(&mut f, &w.model);
             }
+            f.notes = super::coupled::tips_without_contour(scene, &setup);
         }
         Mode::Growth => match scene.growth.as_ref().map(|g| g.mode).unwrap_or_default() {
             GrowthMode::BemOnly => {

@@ -26,6 +26,7 @@
 //! scaled matrix.
 
 mod assemble;
+pub mod balance;
 mod cache;
 mod condition;
 mod rigid;

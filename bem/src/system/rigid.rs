@@ -40,50 +40,45 @@ pub(super) fn free_modes(mesh: &Mesh, bcs: &[[Bc; 2]]) -> FreeModes {
     }
 }
 
-/// Free rigid modes of piece `p` (see the module docs).
-fn piece_modes(mesh: &Mesh, bcs: &[[Bc; 2]], labels: &[usize], p: usize) -> Vec<Vec<f64>> {
-    let nel = mesh.len();
-    let mine: Vec<usize> = (0..nel).filter(|&e| labels[e] == p).collect();
-    let c = mine
+/// The rigid frame of one piece: its elements, centroid (mean of the collocation points),
+/// size (largest collocation-point distance from the centroid) and the free rigid motions
+/// as unit coefficient vectors over (x translation, y translation, rotation about the
+/// centroid scaled by `scale`).
+pub(super) struct PieceFrame {
+    /// Elements of the piece.
+    pub elements: Vec<usize>,
+    /// Mean collocation point.
+    pub centroid: crate::V2,
+    /// Largest collocation-point distance from the centroid.
+    pub scale: f64,
+    /// Free motions: eigenvectors of the Gram matrix of the three rigid motions on the
+    /// displacement-prescribed components with (relatively) zero eigenvalue.
+    pub free: Vec<nalgebra::Vector3<f64>>,
+}
+
+/// The rigid frame of piece `p` (see the module docs).
+pub(super) fn piece_frame(mesh: &Mesh, bcs: &[[Bc; 2]], labels: &[usize], p: usize) -> PieceFrame {
+    let elements: Vec<usize> = (0..mesh.len()).filter(|&e| labels[e] == p).collect();
+    let c = elements
         .iter()
         .map(|&e| mesh.elements[e].mid)
         .sum::<crate::V2>()
-        / mine.len() as f64;
-    let scale = mine
+        / elements.len() as f64;
+    let scale = elements
         .iter()
         .map(|&e| (mesh.elements[e].mid - c).norm())
         .fold(0.0, f64::max)
         .max(1e-300);
-    let on = |d: usize| labels[d / 2] == p;
-    let basis: [Vec<f64>; 3] = [
-        (0..2 * nel)
-            .map(|d| if on(d) && d % 2 == 0 { 1.0 } else { 0.0 })
-            .collect(),
-        (0..2 * nel)
-            .map(|d| if on(d) && d % 2 == 1 { 1.0 } else { 0.0 })
-            .collect(),
-        (0..2 * nel)
-            .map(|d| {
-                if !on(d) {
-                    return 0.0;
-                }
-                let q = (mesh.elements[d / 2].mid - c) / scale;
-                if d % 2 == 0 {
-                    -q.y
-                } else {
-                    q.x
-                }
-            })
-            .collect(),
-    ];
     let mut g = Matrix3::<f64>::zeros();
     let mut full = Matrix3::<f64>::zeros();
-    for &e in &mine {
-        for comp in 0..2 {
-            let d = 2 * e + comp;
+    for &e in &elements {
+        let q = (mesh.elements[e].mid - c) / scale;
+        // Rows: the three unit motions at this collocation point, per component.
+        let rows = [[1.0, 0.0, -q.y], [0.0, 1.0, q.x]];
+        for (comp, row) in rows.iter().enumerate() {
             for k in 0..3 {
                 for l in 0..3 {
-                    let v = basis[k][d] * basis[l][d];
+                    let v = row[k] * row[l];
                     full[(k, l)] += v;
                     if bcs[e][comp].is_displacement() {
                         g[(k, l)] += v;
@@ -94,15 +89,30 @@ fn piece_modes(mesh: &Mesh, bcs: &[[Bc; 2]], labels: &[usize], p: usize) -> Vec<
     }
     let eig = SymmetricEigen::new(g);
     let tol = 1e-10 * full.trace();
+    let free = (0..3)
+        .filter(|&k| eig.eigenvalues[k] <= tol)
+        .map(|k| eig.eigenvectors.column(k).into_owned())
+        .collect();
+    PieceFrame {
+        elements,
+        centroid: c,
+        scale,
+        free,
+    }
+}
+
+/// Free rigid modes of piece `p` over all degrees of freedom (see the module docs).
+fn piece_modes(mesh: &Mesh, bcs: &[[Bc; 2]], labels: &[usize], p: usize) -> Vec<Vec<f64>> {
+    let nel = mesh.len();
+    let frame = piece_frame(mesh, bcs, labels, p);
     let mut modes: Vec<Vec<f64>> = Vec::new();
-    for k in 0..3 {
-        if eig.eigenvalues[k] > tol {
-            continue;
+    for v in &frame.free {
+        let mut m = vec![0.0; 2 * nel];
+        for &e in &frame.elements {
+            let q = (mesh.elements[e].mid - frame.centroid) / frame.scale;
+            m[2 * e] = v[0] - v[2] * q.y;
+            m[2 * e + 1] = v[1] + v[2] * q.x;
         }
-        let v = eig.eigenvectors.column(k);
-        let mut m: Vec<f64> = (0..2 * nel)
-            .map(|d| (0..3).map(|l| v[l] * basis[l][d]).sum())
-            .collect();
         for prev in &modes {
             let dot: f64 = prev.iter().zip(&m).map(|(a, b)| a * b).sum();
             for (x, p) in m.iter_mut().zip(prev) {

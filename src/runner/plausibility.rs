@@ -1,0 +1,255 @@
+//! Plausibility review of a run's results (issue 17): a result is either right within
+//! the error it reports or comes with a note that says why not. [`review`] runs on every
+//! summary before the reference values are added, and:
+//!
+//! 1. moves the tips' own notes ([`TipResult::notes`], e.g. the crack-opening fit that
+//!    had no station and fell back to the interaction integral) into `notes`;
+//! 2. with `bem.richardson`, when either level's crack-opening fit had no station at a
+//!    tip, reports that tip's extrapolated interaction-integral K instead of an
+//!    extrapolation that would mix the two estimates;
+//! 3. notes crack faces that overlap: the linear solution has no contact, so
+//!    $K_I < 0$ or CMOD $< 0$ is not physical ([`OVERLAP_TOLERANCE`]);
+//! 4. notes tips where the crack-opening fit and the interaction integral disagree,
+//!    $\sqrt{(K_I^{cod} - K_I^{J})^2 + (K_{II}^{cod} - K_{II}^{J})^2} >
+//!    \epsilon\,K_{eq}$ with $K_{eq} = \max(\sqrt{K_I^2 + K_{II}^2})$ over the two
+//!    estimates and $\epsilon$ = [`COD_J_DISAGREEMENT`];
+//! 5. notes a BEM condition estimate above [`CONDITION_LIMIT`].
+
+use serde_json::Value;
+
+use super::summary::{RunSummary, TipResult};
+use crate::scene::shapes::SceneGeometry;
+use crate::scene::Scene;
+
+/// Largest relative disagreement between the crack-opening and the interaction-integral
+/// SIFs (as a fraction of K_eq) that passes without a note. Measured on every BEM-only
+/// case of `cases/` and on the static BEM solve of every coupled and growth case (their
+/// windows and growth removed): at most 0.57 % (`growth_colinear_edge_cracks`; SENT
+/// cases 0.007 to 0.03 %, inclined cracks 0.04 to 0.5 %). The same scenes with elements
+/// twice as long reach 4.6 to 5.3 % on the central and inclined cracks, where the
+/// interaction integral has moved by up to 4 % from its fine value: 2 % separates the two.
+pub const COD_J_DISAGREEMENT: f64 = 0.02;
+
+/// Largest 1-norm condition estimate of the scaled BEM system that passes without a
+/// note. Measured on every case of `cases/` solved by the BEM alone: 11 (Kirsch hole) to
+/// 4.9e6 (`sent_bem_a8`, 1844 elements), growing about as N^1.7 with the element count N;
+/// a wrong-signed hypersingular weight shows as a jump of two to three orders
+/// (REFERENCES.md). At 1e10 rounding can cost 2e-6 of the solution (cond times the
+/// machine epsilon): far above every sound case and still harmless in itself, so a note
+/// means something is nearly singular.
+pub const CONDITION_LIMIT: f64 = 1e10;
+
+/// K_I or CMOD below minus this fraction of its scale (K_eq of the tip; for CMOD,
+/// K_eq sqrt(crack length) / E' over the crack's tips) counts as overlapping faces.
+/// Symmetric pure-shear meshes give K_I and CMOD of 1e-14 of their scale; any physical
+/// overlap is far larger.
+pub const OVERLAP_TOLERANCE: f64 = 1e-6;
+
+/// Adds the plausibility notes of `summary` (see the module docs) and applies the
+/// Richardson fallback.
+pub fn review(scene: &Scene, summary: &mut RunSummary) {
+    let mut notes = Vec::new();
+    for t in &mut summary.tips {
+        notes.append(&mut t.notes);
+    }
+    notes.extend(richardson_fallback(summary));
+    notes.extend(summary.tips.iter().filter_map(tip_overlap));
+    notes.extend(crack_overlap(scene, summary));
+    notes.extend(summary.tips.iter().filter_map(disagreement));
+    notes.extend(condition(summary));
+    summary.notes.extend(notes);
+}
+
+/// K_eq = sqrt(K_I^2 + K_II^2).
+fn k_eq(k1: f64, k2: f64) -> f64 {
+    k1.hypot(k2)
+}
+
+/// The note of a tip with K_I < 0.
+fn tip_overlap(t: &TipResult) -> Option<String> {
+    let scale = k_eq(t.k1, t.k2);
+    (t.k1 < -OVERLAP_TOLERANCE * scale).then(|| {
+        format!(
+            "tip {}: K_I = {:.6e} Pa m^0.5 < 0: crack faces overlap: the linear solution has \
+             no contact; K_I < 0 is not a physical SIF (the faces would close and carry load)",
+            t.name, t.k1
+        )
+    })
+}
+
+/// The notes of cracks with a negative CMOD.
+fn crack_overlap(scene: &Scene, summary: &RunSummary) -> Vec<String> {
+    let geo = SceneGeometry::of(scene);
+    let e_prime = pdbem_bem::analytic::e_prime(
+        scene.material.e,
+        scene.material.nu,
+        match scene.material.plane {
+            crate::scene::Plane::Stress => pdbem_bem::analytic::PlaneKind::Stress,
+            crate::scene::Plane::Strain => pdbem_bem::analytic::PlaneKind::Strain,
+        },
+    );
+    let mut out = Vec::new();
+    for c in &summary.cracks {
+        let Some(cmod) = c.cmod.filter(|v| *v < 0.0) else {
+            continue;
+        };
+        let length = geo
+            .cracks
+            .iter()
+            .find(|g| g.name == c.name)
+            .map_or(0.0, |g| crate::geometry::polyline_length(&g.points));
+        let k = summary
+            .tips
+            .iter()
+            .filter(|t| t.name.rsplit_once('.').is_some_and(|(n, _)| n == c.name))
+            .map(|t| k_eq(t.k1, t.k2))
+            .fold(0.0, f64::max);
+        let scale = k * length.sqrt() / e_prime;
+        if cmod < -OVERLAP_TOLERANCE * scale {
+            out.push(format!(
+                "crack {}: CMOD = {cmod:.6e} m < 0: crack faces overlap: the linear solution \
+                 has no contact, a negative opening is not physical",
+                c.name
+            ));
+        }
+    }
+    out
+}
+
+/// The note of a tip whose two SIF estimates disagree by more than
+/// [`COD_J_DISAGREEMENT`] of K_eq.
+fn disagreement(t: &TipResult) -> Option<String> {
+    let (k1c, k2c, k1j, k2j) = (t.k1_cod?, t.k2_cod?, t.k1_j?, t.k2_j?);
+    let scale = k_eq(k1c, k2c).max(k_eq(k1j, k2j));
+    let diff = (k1c - k1j).hypot(k2c - k2j);
+    (diff > COD_J_DISAGREEMENT * scale).then(|| {
+        format!(
+            "tip {}: the crack-opening fit (K_I {k1c:.6e}, K_II {k2c:.6e}) and the interaction \
+             integral (K_I {k1j:.6e}, K_II {k2j:.6e} Pa m^0.5) differ by {:.2} % of K_eq, more \
+             than {:.0} %: the SIF is not resolved; refine the crack mesh or move the contour \
+             (bem.j_contour) off other boundaries",
+            t.name,
+            100.0 * diff / scale,
+            100.0 * COD_J_DISAGREEMENT
+        )
+    })
+}
+
+/// The note of a condition estimate above [`CONDITION_LIMIT`].
+fn condition(summary: &RunSummary) -> Option<String> {
+    let c = summary.extra.get("condition_estimate")?.as_f64()?;
+    (c > CONDITION_LIMIT).then(|| {
+        format!(
+            "BEM condition estimate {c:.3e} exceeds {CONDITION_LIMIT:.0e}: the system is \
+             nearly singular (rounding may cost {:.1e} of the solution); look for elements \
+             much smaller than their neighbours, nearly touching boundaries or a support that \
+             barely holds the body",
+            c * f64::EPSILON
+        )
+    })
+}
+
+/// Tips of the Richardson levels in `summary.extra.richardson` whose crack-opening fit
+/// had no station (`k1_cod` absent): their reported K becomes the extrapolated
+/// interaction integral. Returns the notes.
+fn richardson_fallback(summary: &mut RunSummary) -> Vec<String> {
+    let Some(levels) = summary.extra.get("richardson") else {
+        return Vec::new();
+    };
+    let missing = |key: &str| -> Vec<String> {
+        levels
+            .get(key)
+            .and_then(Value::as_array)
+            .map(|tips| {
+                tips.iter()
+                    .filter(|t| t.get("k1_cod").is_none_or(Value::is_null))
+                    .filter_map(|t| t.get("name")?.as_str().map(String::from))
+                    .collect()
+            })
+            .unwrap_or_default()
+    };
+    let mut names = missing("tips_h");
+    names.extend(missing("tips_h2"));
+    let mut notes = Vec::new();
+    for t in &mut summary.tips {
+        if !names.contains(&t.name) {
+            continue;
+        }
+        let (Some(k1), Some(k2)) = (t.k1_j, t.k2_j) else {
+            continue;
+        };
+        t.k1 = k1;
+        t.k2 = k2;
+        t.kink_deg = pdbem_bem::post::kink_angle(k1, k2).to_degrees();
+        t.k1_cod = None;
+        t.k2_cod = None;
+        notes.push(format!(
+            "tip {}: k1, k2 are the extrapolated interaction-integral values: the \
+             crack-opening fit had no crack-face station within its fit length on a \
+             Richardson level",
+            t.name
+        ));
+    }
+    notes
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tip(k1c: f64, k1j: f64) -> TipResult {
+        TipResult {
+            name: "c.end".into(),
+            k1: k1c,
+            k1_cod: Some(k1c),
+            k2_cod: Some(0.0),
+            k1_j: Some(k1j),
+            k2_j: Some(0.0),
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn disagreement_notes_only_above_the_threshold() {
+        assert!(disagreement(&tip(1.0, 1.0 + 0.5 * COD_J_DISAGREEMENT)).is_none());
+        let n = disagreement(&tip(1.0, 1.0 + 2.0 * COD_J_DISAGREEMENT)).unwrap();
+        assert!(n.contains("c.end") && n.contains("1.000000e0") && n.contains("1.040000e0"));
+    }
+
+    #[test]
+    fn negative_k1_is_an_overlap() {
+        assert!(tip_overlap(&tip(1.0, 1.0)).is_none());
+        assert!(tip_overlap(&tip(-1e-15, 1.0)).is_none());
+        let n = tip_overlap(&tip(-2.0, -2.0)).unwrap();
+        assert!(n.contains("c.end") && n.contains("-2.000000e0") && n.contains("overlap"));
+    }
+
+    #[test]
+    fn a_large_condition_estimate_is_noted() {
+        let mut s = RunSummary::default();
+        s.extra
+            .insert("condition_estimate".into(), serde_json::json!(1e6));
+        assert!(condition(&s).is_none());
+        s.extra.insert(
+            "condition_estimate".into(),
+            serde_json::json!(10.0 * CONDITION_LIMIT),
+        );
+        assert!(condition(&s).unwrap().contains("1.000e11"));
+    }
+
+    #[test]
+    fn richardson_levels_without_cod_fall_back_to_the_integral() {
+        let mut s = RunSummary {
+            tips: vec![tip(3.0, 2.0)],
+            ..Default::default()
+        };
+        s.extra.insert(
+            "richardson".into(),
+            serde_json::json!({"tips_h": [{"name": "c.end", "k1": 2.0}], "tips_h2": [{"name": "c.end", "k1_cod": 2.5}]}),
+        );
+        let notes = richardson_fallback(&mut s);
+        assert_eq!(notes.len(), 1);
+        assert_eq!(s.tips[0].k1, 2.0);
+        assert!(s.tips[0].k1_cod.is_none());
+    }
+}

@@ -1,0 +1,183 @@
+//! Results that are not what they seem come with a note (issue 17): the crack-opening
+//! fit without stations falls back to the interaction integral, overlapping crack faces
+//! (K_I < 0, CMOD < 0), the two SIF estimates disagreeing, and a windowed tip that no
+//! contour fits around. The shipped BEM cases pass the review without a note.
+
+mod common_scene;
+
+use common_scene::{case, case_files};
+use pdbem::runner::mode::{mode_of, Mode};
+use pdbem::runner::plausibility::{review, CONDITION_LIMIT};
+use pdbem::runner::RunSummary;
+use pdbem::scene::Scene;
+
+/// BEM solve and the runner's review, as `run_scene` does them.
+fn reviewed(scene: &Scene) -> RunSummary {
+    let (mut s, _) = pdbem::run_bem::solve(scene).expect("solves");
+    review(scene, &mut s);
+    s
+}
+
+fn has_note(s: &RunSummary, parts: &[&str]) -> bool {
+    s.notes.iter().any(|n| parts.iter().all(|p| n.contains(p)))
+}
+
+#[test]
+fn cod_fit_without_stations_falls_back_to_the_interaction_integral() {
+    // One 5 m element per crack face: the only station is 2.5 m behind the tip, beyond
+    // the fit length 0.3 x 5 m.
+    let mut scene = case("sent_bem_a5", &[("bem.element_size", "0.25")]);
+    scene.bem.group_sizes.insert("crack".into(), 5.0);
+    let dir = std::env::temp_dir().join(format!("pdbem-plaus-cod-{}", std::process::id()));
+    let s = pdbem::runner::run_scene(&scene, &dir, true).expect("runs");
+    let t = &s.tips[0];
+    assert!(t.k1_cod.is_none() && t.k1.is_finite());
+    assert_eq!(Some(t.k1), t.k1_j);
+    assert!(
+        has_note(
+            &s,
+            &[
+                "tip crack.end: k1, k2 are the interaction-integral values",
+                "no crack-face station"
+            ]
+        ),
+        "{:?}",
+        s.notes
+    );
+    let json = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    assert!(json.contains("no crack-face station"));
+    let _ = std::fs::remove_dir_all(&dir);
+    // Richardson: the coarse level has no station, the fine one a single one; the
+    // reported K is the extrapolated integral, not a mix of the two estimates.
+    let mut rich = scene.clone();
+    rich.bem.richardson = true;
+    let s = reviewed(&rich);
+    let t = &s.tips[0];
+    assert!(t.k1_cod.is_none());
+    assert_eq!(Some(t.k1), t.k1_j);
+    assert!(
+        has_note(&s, &["tip crack.end", "Richardson level"]),
+        "{:?}",
+        s.notes
+    );
+}
+
+#[test]
+fn a_plate_in_compression_notes_overlapping_faces() {
+    let pulled = case("sent_bem_a5", &[("bem.element_size", "0.2")]);
+    let s = reviewed(&pulled);
+    assert!(
+        s.tips[0].k1 > 0.0 && !has_note(&s, &["overlap"]),
+        "{:?}",
+        s.notes
+    );
+    let pushed = case(
+        "sent_bem_a5",
+        &[
+            ("bem.element_size", "0.2"),
+            ("boundary.0.x.Traction", "0.5"),
+            ("boundary.1.x.Traction", "-0.5"),
+        ],
+    );
+    let s = reviewed(&pushed);
+    assert!(s.tips[0].k1 < 0.0 && s.cracks[0].cmod.unwrap() < 0.0);
+    assert!(
+        has_note(
+            &s,
+            &[
+                "tip crack.end: K_I = -",
+                "crack faces overlap",
+                "no contact"
+            ]
+        ),
+        "{:?}",
+        s.notes
+    );
+    assert!(
+        has_note(&s, &["crack crack: CMOD = -", "crack faces overlap"]),
+        "{:?}",
+        s.notes
+    );
+}
+
+#[test]
+fn disagreeing_sif_estimates_are_noted() {
+    // Crack elements twice the shipped 0.025 m: the interaction integral moves by 4 %
+    // (measured 4.6 % of K_eq between the two estimates; 0.49 % at the shipped size).
+    let coarse = case(
+        "inclined_crack_45_finite",
+        &[
+            ("bem.element_size", "0.5"),
+            ("bem.group_sizes.crack", "0.05"),
+        ],
+    );
+    let s = reviewed(&coarse);
+    assert!(
+        has_note(
+            &s,
+            &[
+                "tip crack.end: the crack-opening fit (K_I",
+                "interaction integral (K_I",
+                "more than 2 %"
+            ]
+        ),
+        "{:?}",
+        s.notes
+    );
+}
+
+#[test]
+fn shipped_bem_cases_pass_the_review_without_a_note() {
+    let mut solved = 0;
+    for f in case_files() {
+        let mut scene = Scene::load(&f).unwrap();
+        if mode_of(&scene) != Mode::Bem {
+            continue;
+        }
+        scene.bem.condition_estimate = true;
+        let s = reviewed(&scene);
+        let cond = s.extra["condition_estimate"].as_f64().unwrap();
+        println!("{}: condition {cond:.3e}", f.display());
+        // Measured at most 4.9e6 (sent_bem_a8): three orders below the limit.
+        assert!(cond < 1e-3 * CONDITION_LIMIT, "{}: {cond}", f.display());
+        assert!(s.notes.is_empty(), "{}: {:?}", f.display(), s.notes);
+        solved += 1;
+    }
+    assert!(solved >= 5, "only {solved} BEM cases");
+}
+
+#[test]
+fn a_window_too_large_for_a_contour_is_noted_by_check_and_run() {
+    // a/W = 0.8: the tip is 2 m from the bottom edge. A 2.4 m window puts its corners
+    // 1.70 m from the tip; a contour must be at least 1.1 x that (1.87 m) but at most
+    // 0.9 x 2 m = 1.8 m: none fits.
+    let big = case(
+        "coupled_sent_a8",
+        &[
+            ("coupling.side", "2.4"),
+            ("coupling.n", "24"),
+            ("bem.element_size", "0.1"),
+        ],
+    );
+    let expect = ["tip crack.end: no K reported: window 0", "side 2.3142e0 m"];
+    let f = pdbem::setup::footprint::of(&big).unwrap();
+    assert!(
+        f.describe()
+            .iter()
+            .any(|l| expect.iter().all(|p| l.contains(p))),
+        "{:?}",
+        f.describe()
+    );
+    let (s, _) = pdbem::run_coupled::solve(&big).expect("solves");
+    assert!(s.tips.is_empty());
+    assert!(has_note(&s, &expect), "{:?}", s.notes);
+    // The shipped 2 m window leaves a contour: K reported, no note.
+    let fits = case(
+        "coupled_sent_a8",
+        &[("coupling.n", "20"), ("bem.element_size", "0.1")],
+    );
+    assert!(pdbem::setup::footprint::of(&fits).unwrap().notes.is_empty());
+    let (s, _) = pdbem::run_coupled::solve(&fits).expect("solves");
+    assert_eq!(s.tips.len(), 1);
+    assert!(s.notes.is_empty(), "{:?}", s.notes);
+}
