@@ -101,7 +101,7 @@ pub fn solve_level_with(
 
 /// The runner's tip record of a BEM tip analysis (name `<crack>.end` / `<crack>.start`;
 /// primary K from the crack-opening fit, or from the interaction integral with a note
-/// when the fit had no station, [`interaction_fallback`]).
+/// when the fit had no station).
 pub fn tip_result(mesh: &pdbem_bem::Mesh, t: &pdbem_bem::post::TipResult) -> TipResult {
     let end = if t.at_end { "end" } else { "start" };
     let name = format!("{}.{end}", mesh.cracks[t.crack].name);

@@ -6,6 +6,8 @@
 //!   [`sent_f_polynomial`], [`sent_f_fem`] (converged FEM table), [`sent_k1`],
 //!   [`sent_cmod_v`], [`sent_cmod`];
 //! - inclined central crack in an infinite plate: [`inclined_crack_k`];
+//! - two equal colinear cracks in an infinite plate: [`colinear_cracks_k1`], with the
+//!   complete elliptic integrals [`complete_elliptic`];
 //! - kink angle by maximum circumferential stress: [`kink_angle_deg`];
 //! - Kirsch hole: [`kirsch_hoop_on_hole`], [`kirsch_hoop`];
 //! - uniform tension field: [`uniform_tension_displacement`];
@@ -131,6 +133,62 @@ pub fn inclined_crack_k(sigma: f64, a: f64, beta_deg: f64) -> (f64, f64) {
     (k0 * b.sin().powi(2), k0 * b.sin() * b.cos())
 }
 
+/// Complete elliptic integrals of the first and second kind, `(K(k), E(k))`, of modulus
+/// $k = \sqrt{1 - k'^2}$ given by its complement `k_comp` $= k' \in (0, 1]$, by the
+/// arithmetic-geometric mean (Abramowitz & Stegun 17.6.3-4): $a_0 = 1$, $b_0 = k'$,
+/// $c_0 = k$; $a_{n+1} = (a_n + b_n)/2$, $b_{n+1} = \sqrt{a_n b_n}$,
+/// $c_{n+1} = (a_n - b_n)/2$; $K = \pi / (2 a_N)$,
+/// $E = K\,(1 - \sum_{n \ge 0} 2^{n-1} c_n^2)$. Quadratic convergence: a handful of
+/// steps to machine precision. Taking $k'$ rather than $k$ keeps both accurate as
+/// $k \to 1$, where $K \approx \ln(4/k')$. `k_comp = 0` gives `(inf, 1)`.
+pub fn complete_elliptic(k_comp: f64) -> (f64, f64) {
+    if k_comp <= 0.0 {
+        return (f64::INFINITY, 1.0);
+    }
+    let (mut a, mut b) = (1.0_f64, k_comp);
+    // 2^{-1} c_0^2 with c_0^2 = 1 - k'^2 = (1 - k')(1 + k') (no cancellation).
+    let mut sum = 0.5 * (1.0 - k_comp) * (1.0 + k_comp);
+    let mut weight = 0.5;
+    for _ in 0..64 {
+        let c = 0.5 * (a - b);
+        if c.abs() <= f64::EPSILON * a {
+            break;
+        }
+        (a, b) = (0.5 * (a + b), (a * b).sqrt());
+        weight *= 2.0;
+        sum += weight * c * c;
+    }
+    let k = PI / (2.0 * a);
+    (k, k * (1.0 - sum))
+}
+
+/// K_I at the inner tips ($|x| = b$) and the outer tips ($|x| = c$) of two equal colinear
+/// cracks $b < |x| < c$ on the x axis of an infinite plate under remote tension `sigma`
+/// normal to them (Tada, Paris & Irwin, *The Stress Analysis of Cracks Handbook*, two
+/// equal collinear cracks). With $k' = b/c$, $k = \sqrt{1 - k'^2}$ and the complete
+/// elliptic integrals $K(k)$, $E(k)$ ([`complete_elliptic`]):
+/// $$K_{inner} = \sigma\sqrt{\pi c}\,\sqrt{c/b}\,\frac{E/K - k'^2}{k}, \qquad
+///   K_{outer} = \sigma\sqrt{\pi c}\,\frac{1 - E/K}{k}.$$
+/// They follow from Westergaard's $Z = \sigma (z^2 - d^2)/\sqrt{(z^2 - b^2)(z^2 - c^2)}$
+/// with $d^2 = c^2 E/K$ (each crack's net opening dislocation vanishes,
+/// $\int_b^c Z\,dx = 0$) and $K = \lim \sqrt{2\pi r}\,Z$ at each tip. Limits: $b \to 0$,
+/// one crack of half-length $c$, $K_{outer} \to \sigma\sqrt{\pi c}\,(1 - 1/\ln(4c/b))$
+/// (logarithmically slowly) while $K_{inner} \approx \sigma\sqrt{\pi c}\,\sqrt{c/b} /
+/// \ln(4c/b)$ diverges (the ligament $2b$ carries a finite force); $c - b \ll b$, both
+/// tips tend to the isolated crack's $\sigma\sqrt{\pi a}$, $a = (c - b)/2$.
+/// Returns `(K_inner, K_outer)` in Pa sqrt(m); needs $0 < b < c$.
+pub fn colinear_cracks_k1(sigma: f64, b: f64, c: f64) -> (f64, f64) {
+    let kp = b / c;
+    let k = ((1.0 - kp) * (1.0 + kp)).sqrt();
+    let (ek, ee) = complete_elliptic(kp);
+    let ratio = ee / ek;
+    let k0 = sigma * (PI * c).sqrt();
+    (
+        k0 * (c / b).sqrt() * (ratio - kp * kp) / k,
+        k0 * (1.0 - ratio) / k,
+    )
+}
+
 /// Kink angle (degrees, from the crack line, counter-clockwise positive) by
 /// maximum circumferential stress (Erdogan & Sih):
 /// theta = 2 atan[(K_I - sqrt(K_I^2 + 8 K_II^2)) / (4 K_II)], 0 when K_II = 0.
@@ -228,6 +286,104 @@ mod tests {
 
     fn rel(a: f64, b: f64) -> f64 {
         (a - b).abs() / b.abs()
+    }
+
+    #[test]
+    fn elliptic_integrals_by_agm() {
+        // k = 1/sqrt(2): K = 1.8540746773013719, E = 1.3506438810476755 (A&S table 17.1).
+        let (k, e) = complete_elliptic(std::f64::consts::FRAC_1_SQRT_2);
+        assert!((k - 1.854_074_677_301_371_9).abs() < 1e-15);
+        assert!((e - 1.350_643_881_047_675_5).abs() < 1e-15);
+        // k = 0: K = E = pi/2.
+        let (k, e) = complete_elliptic(1.0);
+        assert!((k - PI / 2.0).abs() < 1e-15 && (e - PI / 2.0).abs() < 1e-15);
+        // Legendre's relation E K' + E' K - K K' = pi/2 for k from 1e-4 to 1 - 1e-8.
+        for kp in [1e-8_f64, 1e-4, 0.1, 0.3, 0.5, 0.9, 0.99] {
+            let k = (1.0 - kp * kp).sqrt();
+            let (kk, ek) = complete_elliptic(kp);
+            let (kk2, ek2) = complete_elliptic(k);
+            let legendre = ek * kk2 + ek2 * kk - kk * kk2;
+            assert!((legendre - PI / 2.0).abs() < 1e-13, "k' = {kp}: {legendre}");
+        }
+        // k -> 1: K = ln(4/k') + (k'^2/4)(ln(4/k') - 1) + O(k'^4 ln k').
+        let kp = 1e-4_f64;
+        let l = (4.0 / kp).ln();
+        let (kk, ek) = complete_elliptic(kp);
+        assert!((kk - (l + 0.25 * kp * kp * (l - 1.0))).abs() < 1e-14);
+        assert!((ek - (1.0 + 0.5 * kp * kp * (l - 0.5))).abs() < 1e-14);
+    }
+
+    #[test]
+    fn colinear_cracks_zero_net_opening_by_quadrature() {
+        // d^2 = c^2 E/K makes int_b^c Z dx vanish: with x^2 = t(theta) =
+        // (b^2 + c^2)/2 + (c^2 - b^2)/2 cos(theta) the condition is
+        // int_0^pi (t - d^2) / sqrt(t) dtheta = 0, a smooth periodic integrand
+        // (the trapezoidal rule converges exponentially).
+        for (b, c) in [(0.2, 1.2), (0.01, 1.0), (0.9, 1.0)] {
+            let n = 2000;
+            let (mut num, mut den) = (0.0, 0.0);
+            for i in 0..=n {
+                let th = PI * i as f64 / n as f64;
+                let w = if i == 0 || i == n { 0.5 } else { 1.0 };
+                let t = 0.5 * (b * b + c * c) + 0.5 * (c * c - b * b) * th.cos();
+                num += w * t.sqrt();
+                den += w / t.sqrt();
+            }
+            let (kk, ek) = complete_elliptic(b / c);
+            assert!(rel(num / den, c * c * ek / kk) < 1e-12, "b {b} c {c}");
+        }
+    }
+
+    #[test]
+    fn colinear_cracks_limits() {
+        let s = 2.0;
+        // Far apart relative to their length (c - b = 1e-4 b): each is an isolated crack
+        // of half-length a = (c - b)/2; the interaction is of order (a / b)^2.
+        let (b, c) = (1.0, 1.0001);
+        let iso = s * (PI * 0.5 * (c - b)).sqrt();
+        let (ki, ko) = colinear_cracks_k1(s, b, c);
+        assert!(rel(ki, iso) < 1e-8 && rel(ko, iso) < 1e-8);
+        // Closer, the cracks amplify each other, the inner tips most.
+        let (ki, ko) = colinear_cracks_k1(s, 0.2, 1.2);
+        let iso = s * (PI * 0.5_f64).sqrt();
+        assert!(ki > ko && ko > iso);
+        // b -> 0: one crack of half-length c; the outer tip approaches sigma sqrt(pi c)
+        // as 1 - 1/ln(4c/b), the inner tip diverges as sqrt(c/b) / ln(4c/b).
+        let c = 1.5;
+        let k_one = s * (PI * c).sqrt();
+        let mut last = 0.0;
+        for b in [1e-2_f64, 1e-4, 1e-8, 1e-16, 1e-300] {
+            let (ki, ko) = colinear_cracks_k1(s, b * c, c);
+            let l = (4.0 / b).ln();
+            assert!(ko > last && ko < k_one);
+            last = ko;
+            if b <= 1e-4 {
+                assert!(rel(ko, k_one * (1.0 - 1.0 / l)) < 1e-6, "b {b}");
+                assert!(rel(ki, k_one / (b.sqrt() * l)) < 1e-6, "b {b}");
+            }
+        }
+        assert!(rel(last, k_one) < 2e-3);
+    }
+
+    #[test]
+    fn colinear_cracks_nearly_touching() {
+        // Gap 2b = 1e-3 c. With k' = b/c: E/K = [1 + (k'^2/2)(L - 1/2)] /
+        // [L + (k'^2/4)(L - 1)] + O(k'^4 L), L = ln(4/k') (A&S 17.3.26, 17.3.36).
+        let (s, c) = (1.0_f64, 1.0_f64);
+        let b = 5e-4_f64;
+        let kp = b / c;
+        let l = (4.0 / kp).ln();
+        let ratio = (1.0 + 0.5 * kp * kp * (l - 0.5)) / (l + 0.25 * kp * kp * (l - 1.0));
+        let k = (1.0 - kp * kp).sqrt();
+        let k0 = s * (PI * c).sqrt();
+        let (ki, ko) = colinear_cracks_k1(s, b, c);
+        assert!(rel(ki, k0 * (c / b).sqrt() * (ratio - kp * kp) / k) < 1e-12);
+        assert!(rel(ko, k0 * (1.0 - ratio) / k) < 1e-12);
+        // Leading order: the inner tips as a ligament 2b carrying P = pi sigma c E/K,
+        // K_inner = P / sqrt(pi b) (Tada: semi-infinite cracks loaded through a
+        // ligament); relative corrections O(k'^2 ln k') ~ 2e-6.
+        let p = PI * s * c * ratio;
+        assert!(rel(ki, p / (PI * b).sqrt()) < 1e-5);
     }
 
     #[test]

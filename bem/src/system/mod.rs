@@ -19,7 +19,9 @@
 //! solutions and $\lambda$ absorbs the discretization's small load imbalance. REFERENCES.md
 //! records that least squares, truncated SVD or projection give -80 to -96 % errors on deep
 //! edge cracks while this bordering does not. Gauge-free results (SIF, CMOD, stress) do not
-//! depend on the chosen member. Infinite bodies have no rigid modes.
+//! depend on the chosen member. Infinite bodies have no rigid modes. The bordering
+//! returns a solution even for loads that do work on a free mode (an unbalanced body):
+//! [`balance::load_imbalance`] finds them before a solve.
 //!
 //! **Scaling.** Columns of A are scaled to unit max-norm before factorization (traction and
 //! displacement unknowns have different units); the condition estimate refers to that
