@@ -67,7 +67,10 @@ fn k_eq(k1: f64, k2: f64) -> f64 {
 
 /// The note of a tip with K_I < 0.
 fn tip_overlap(t: &TipResult) -> Option<String> {
-    let scale = k_eq(t.k1, t.k2);
+    // The scale is the larger of the two extractions' K_eq: a K_I of round-off size
+    // (-1e-15 next to an integral of 1) is not an overlap.
+    let j = k_eq(t.k1_j.unwrap_or(0.0), t.k2_j.unwrap_or(0.0));
+    let scale = k_eq(t.k1, t.k2).max(if j.is_finite() { j } else { 0.0 });
     (t.k1 < -OVERLAP_TOLERANCE * scale).then(|| {
         format!(
             "tip {}: K_I = {:.6e} Pa m^0.5 < 0: crack faces overlap: the linear solution has \

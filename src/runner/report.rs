@@ -127,6 +127,8 @@ pub fn tips_table(summary: &RunSummary) -> CsvTable {
         "kink_err_deg",
         "k1_ref_fem",
         "k1_err_fem",
+        "k1_err_est",
+        "k2_err_est",
     ]);
     for tip in &summary.tips {
         t.push(vec![
@@ -148,6 +150,8 @@ pub fn tips_table(summary: &RunSummary) -> CsvTable {
             opt(tip.kink_err_deg),
             opt(tip.k1_ref_fem),
             opt(tip.k1_err_fem),
+            opt(tip.k1_err_est),
+            opt(tip.k2_err_est),
         ]);
     }
     t
