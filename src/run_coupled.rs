@@ -159,6 +159,7 @@ pub fn summarize(scene: &Scene, out: &CoupledOutcome) -> Result<RunSummary> {
         elements: Some(pb.mesh.len()),
         tips,
         cracks,
+        notes: info.notes.clone(),
         ..Default::default()
     };
     summary.extra.insert("pd_nodes".into(), json!(pd_nodes));

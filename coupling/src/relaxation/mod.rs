@@ -3,25 +3,53 @@
 //! One fixed-point map H takes the interface displacements given to PD, $x_k$, to those
 //! the BEM returns, $\tilde x_k = H(x_k)$; the residual is $r_k = \tilde x_k - x_k$.
 //! Every scheme implements [`Relaxation`]: given $(x_k, \tilde x_k)$ it proposes
-//! $x_{k+1}$. Files: `aitken.rs`, `iqn_ils.rs`, `qr_filter.rs` (the filtered QR of
-//! IQN-ILS), `test_maps.rs` (synthetic maps for the unit tests).
+//! $x_{k+1}$, and reports what the person running the solve should know as
+//! [`RelaxationEvent`]s (Algorithm 1 turns them into
+//! [`CouplingInfo::notes`](crate::CouplingInfo::notes), which reach `summary.json`'s
+//! `notes` and the growth log). Files: `aitken.rs`, `iqn_ils.rs`, `qr_filter.rs` (the
+//! filtered QR of IQN-ILS), `test_maps.rs` (synthetic maps for the unit tests).
 //!
 //! ## Constant
 //! $x_{k+1} = x_k + w\,r_k$ (seed 002 Eq. 25 with a fixed w).
 //!
-//! ## Aitken ([`Aitken`]), seed 002 Eqs. 25-28
+//! ## Aitken ([`Aitken`]), seed 002 Eqs. 25-28, safeguarded
 //! The secant-optimal weight
 //! $$w_k = \frac{e_{PD}\cdot(e_{PD} - e_{BEM})}{\|e_{PD} - e_{BEM}\|^2},\qquad
 //!   e_{PD} = x_k - x_{k-1},\quad e_{BEM} = \tilde x_k - \tilde x_{k-1},$$
-//! capped at w_max (the seed's 0 < w <= 1 by default). For a linear scalar map
-//! $H(x) = a x + b$ it returns the exact $1/(1-a)$. A secant weight below w_min
-//! (zero or negative: the last step mixed modes of the interface operator so that no
-//! positive weight reduces the residual along it) keeps the previous weight instead of
-//! being clamped to w_min. Clamping stalls: on `coupled_sent_a8` the iteration sat
-//! ten iterations at e = 0.011 with w = 0.001, then the next secant from those tiny
-//! steps gave w = 0.6 and e jumped to 0.12; with the previous weight kept it converges
-//! in 25 iterations instead of 38 (psi = 1e-3) and in 35 instead of not in 50
-//! (psi = 1e-4), and every other case is unchanged.
+//! i.e. $w_k = -w_{k-1}\, r_{k-1}\cdot(r_k - r_{k-1}) / \|r_k - r_{k-1}\|^2$, then
+//! $x_{k+1} = x_k + w_k r_k$. For a scalar affine map $H(x) = a x + b$ it is the exact
+//! $1/(1-a)$. The safeguards, in order:
+//! 1. **Bounds** $[w_{min}, w_{max}] = [10^{-3}, 1]$ (the seed's $0 < w \le 1$; `w_max`
+//!    is halved with every back-off of Algorithm 1). A secant weight above $w_{max}$ is
+//!    clamped to it; one below $w_{min}$ (zero or negative: the last step mixed modes
+//!    of the interface operator so that no positive weight reduces the residual along
+//!    it) or not finite keeps the previous weight instead of being clamped to $w_{min}$:
+//!    clamping stalled `coupled_sent_a8` ten iterations at e = 0.011 with w = 0.001.
+//! 2. **Restart on a jump.** With $b$ the iterate of smallest $\|r\|$ so far, a residual
+//!    $\|r_k\| > \rho\,\|r_b\|$, $\rho$ = `jump_factor` = 4 ([`AITKEN_JUMP_FACTOR`]
+//!    says why 4), restarts: $x_{k+1} = x_b + w_0 r_b$ and the next secant is taken
+//!    against $(x_b, \tilde x_b)$; the jumped iterate's secant information is dropped.
+//! 3. **Hand-over to IQN-ILS.** A jump after `max_restarts` = 1 restarts, or right after
+//!    a step of $w_0$ from the best iterate (the first step, or a restart: restarting
+//!    would repeat it), hands the rest of the solve to [`IqnIls`], whose model starts
+//!    from every iterate so far. For an affine map every relaxed iterate lies in
+//!    $x_0$ + the Krylov space of the Jacobian, so the seeded model is as rich as
+//!    IQN-ILS's own after as many evaluations.
+//!
+//! Why: on `coupled_sent_a8` the interface operator has two stiff modes (Ritz values
+//! -38.4 and -19.5, `tests/verification_coupled_sent.rs`) above a bulk in [-5.4, 0]. A
+//! weight good for the bulk (0.2 ... 1) multiplies the stiff modes by up to
+//! $|1 - w(1 - \lambda)| \approx 38$, a weight good for them (1/40) barely moves the bulk,
+//! and the secant weight alternates between the two: the residual jumped back from 0.36
+//! to 1.21 at iteration 9 and Aitken needed 35 iterations from w0 = 0.3 and did not
+//! converge in 50 from 0.05, 0.5, 0.7 or 1 (psi = 1e-4). Safeguarded, measured at psi =
+//! 1e-4 from w0 = 0.05 / 0.1 / 0.3 / 0.5 / 0.7 / 1: 21 / 18 / 12 / 12 / 12 / 12
+//! iterations (from 0.05: restart after iteration 8, hand-over after 12; from 0.1: after
+//! 7 and 9; from 0.3 up the first step jumps and IQN-ILS takes over after iteration 2),
+//! K_I within 5e-5 of IQN-ILS. The cases where plain Aitken works (`coupled_sent_a2`,
+//! `_a5`, the plate windows, the beams) never jump by 4 and are unchanged. With
+//! `max_restarts = 0` (hand over at the first jump) a8 takes 17 / 15 / 12 / 12 / 12 /
+//! 12; the restart is kept so that a single bad secant weight does not end Aitken.
 //!
 //! ## IQN-ILS ([`IqnIls`]): interface quasi-Newton, inverse least squares
 //! Degroote et al. (2009), as in preCICE. With the columns (differences against the
@@ -61,9 +89,57 @@ mod aitken;
 mod iqn_ils;
 mod qr_filter;
 
-pub use aitken::Aitken;
+pub use aitken::{Aitken, AITKEN_JUMP_FACTOR, AITKEN_MAX_RESTARTS, AITKEN_W_MIN};
 pub use iqn_ils::{IqnIls, IQN_BETA, IQN_FILTER};
 pub use qr_filter::{filtered_qr, FilteredQr};
+
+/// Something an accelerator did that the person running the solve should know about
+/// (reported by [`Relaxation::take_events`], collected by Algorithm 1 into
+/// [`CouplingInfo::notes`](crate::CouplingInfo::notes)).
+#[derive(Debug, Clone, PartialEq)]
+pub enum RelaxationEvent {
+    /// Aitken's residual norm jumped to `ratio` times its best (more than its
+    /// `jump_factor`): it restarted from the best iterate with its first weight.
+    Restart {
+        /// |r_k| over the smallest |r| so far.
+        ratio: f64,
+        /// Restarts so far in this solve.
+        count: usize,
+    },
+    /// Aitken's residual norm jumped to `ratio` times its best with no restart left (or
+    /// right after a step of its first weight, which a restart would repeat): IQN-ILS
+    /// takes the rest of the solve, its model built from the `pairs` iterates so far.
+    Fallback {
+        /// |r_k| over the smallest |r| so far.
+        ratio: f64,
+        /// Restarts before the hand-over.
+        restarts: usize,
+        /// Iterates handed over as secant data.
+        pairs: usize,
+    },
+}
+
+impl std::fmt::Display for RelaxationEvent {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            RelaxationEvent::Restart { ratio, count } => write!(
+                f,
+                "Aitken restart {count}: interface residual at {ratio:.1} times its best; \
+                 back to the best iterate with the first weight"
+            ),
+            RelaxationEvent::Fallback {
+                ratio,
+                restarts,
+                pairs,
+            } => write!(
+                f,
+                "Aitken handed over to IQN-ILS for the rest of the solve: interface residual \
+                 at {ratio:.1} times its best after {restarts} restart(s); the {pairs} \
+                 iterates so far seed the quasi-Newton model"
+            ),
+        }
+    }
+}
 
 /// An interface acceleration scheme.
 pub trait Relaxation: Send {
@@ -75,6 +151,10 @@ pub trait Relaxation: Send {
     fn last_weight(&self) -> Option<f64>;
     /// Short name for reports.
     fn name(&self) -> &'static str;
+    /// Events since the last call (restarts, fallbacks); none by default.
+    fn take_events(&mut self) -> Vec<RelaxationEvent> {
+        Vec::new()
+    }
 }
 
 /// $x + w (\tilde x - x)$.
@@ -84,6 +164,10 @@ pub(crate) fn relax(x: &[f64], xt: &[f64], w: f64) -> Vec<f64> {
 
 pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+pub(crate) fn norm(a: &[f64]) -> f64 {
+    dot(a, a).sqrt()
 }
 
 /// $a - b$.

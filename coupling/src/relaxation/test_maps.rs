@@ -2,11 +2,7 @@
 //! Q a Householder reflection (symmetric and orthogonal), so the eigenvalues of the
 //! Jacobian are the given $\lambda_i$ in a basis that mixes every component.
 
-use super::{dot, sub, Relaxation};
-
-fn norm(a: &[f64]) -> f64 {
-    dot(a, a).sqrt()
-}
+use super::{norm, sub, Relaxation};
 
 /// An affine map with known Jacobian eigenvalues.
 pub(crate) struct Rotated {
@@ -29,8 +25,17 @@ impl Rotated {
         Rotated::new(vec![-1.6, -0.9, 0.3, 0.7])
     }
 
+    /// The spectrum measured on `coupled_sent_a8` (tests/verification_coupled_sent.rs):
+    /// two stiff modes -38.4 and -19.5 above a bulk of `bulk` values spread over
+    /// [-5.4, 0].
+    pub(crate) fn stiff(bulk: usize) -> Self {
+        let mut lam = vec![-38.4, -19.5];
+        lam.extend((0..bulk).map(|i| -5.4 * i as f64 / (bulk - 1).max(1) as f64));
+        Rotated::new(lam)
+    }
+
     fn reflect(&self, x: &[f64]) -> Vec<f64> {
-        let s = 2.0 * dot(&self.u, x) / dot(&self.u, &self.u);
+        let s = 2.0 * super::dot(&self.u, x) / super::dot(&self.u, &self.u);
         x.iter().zip(&self.u).map(|(a, u)| a - s * u).collect()
     }
 
