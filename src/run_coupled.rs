@@ -158,7 +158,7 @@ pub fn summarize(scene: &Scene, out: &CoupledOutcome) -> Result<RunSummary> {
         elements: Some(pb.mesh.len()),
         tips,
         cracks,
-        notes,
+        notes: info.notes.iter().cloned().chain(notes).collect(),
         ..Default::default()
     };
     summary.extra.insert("pd_nodes".into(), json!(pd_nodes));

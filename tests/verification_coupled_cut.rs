@@ -59,7 +59,7 @@ fn cmod_gap(length: f64, window: (f64, f64)) -> (f64, usize) {
 #[test]
 fn a_part_held_only_by_a_window_carries_the_load_like_a_bem_ligament() {
     // Measured gaps to BEM alone: a = 8.55 m with a 0.5 m BEM strip under the window
-    // -5.7 % (26 iterations); a = 9.05 m, window on the bottom edge, right part floating
+    // -5.7 % (24 iterations); a = 9.05 m, window on the bottom edge, right part floating
     // -6.8 % (20 iterations). (a = 8.05 m: -2.7 %; the gap grows with the crack depth
     // alike with and without the cut: PD's crack tip and free faces in the window, not
     // the cut.) With E = 1e3 Pa (the growth scene's modulus) the window rotates by about

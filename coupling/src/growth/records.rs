@@ -220,4 +220,6 @@ pub struct SolveOutcome {
     pub bonds_broken: usize,
     /// PD wall time (s).
     pub pd_s: f64,
+    /// What the interface accelerator reported ([`crate::CouplingInfo::notes`]).
+    pub notes: Vec<String>,
 }

@@ -179,6 +179,10 @@ pub fn solve_prepared(
         }
         x = relax.next(&x, &xt);
         info.weights.push(relax.last_weight());
+        for event in relax.take_events() {
+            info.notes
+                .push(format!("iteration {}: {event}", info.iterations));
+        }
     }
 }
 

@@ -16,7 +16,10 @@
 //! consecutive iterations, or no 1 % improvement of the best residual in
 //! `stagnation_window` iterations) restarts from the best iterate with half the
 //! relaxation weight; after `max_backoffs` restarts [`CouplingError::Diverged`] carries
-//! the residual history.
+//! the residual history. What the accelerator reports (an Aitken restart, its hand-over
+//! to IQN-ILS, [`crate::relaxation::RelaxationEvent`]) goes into [`CouplingInfo::notes`]
+//! with its iteration; the runner copies them into `summary.json`'s `notes`, the growth
+//! driver to its observer's `note`.
 //!
 //! Load steps on one geometry (Algorithm 2, seed 002 section 2.3.2): [`PreparedBem`] keeps
 //! the assembled and factored BEM system, and [`solve_prepared`] runs Algorithm 1 on it at
@@ -105,6 +108,9 @@ pub struct CouplingInfo {
     pub bonds_broken: Vec<usize>,
     /// The monitor of [`solve_prepared`] stopped the iteration before convergence.
     pub interrupted: bool,
+    /// What the accelerator reported (Aitken restarts, the hand-over to IQN-ILS), each
+    /// with the iteration it happened after.
+    pub notes: Vec<String>,
 }
 
 /// The coupled problem: BEM body (mesh, material, scene conditions) and the windows.

@@ -116,6 +116,9 @@ impl<'s, S: Scenario> Growth<'s, S> {
             monitor: Some(&mut monitor),
         };
         let (sol, info) = solve_prepared(&mut self.problem, &self.bem, &params.coupling, opts)?;
+        for n in &info.notes {
+            observer.note(&format!("step {step} (load {load}): {n}"));
+        }
         if let Some(e) = trace_error {
             return Err(e);
         }
@@ -129,6 +132,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
             residual: info.residuals.last().copied().unwrap_or(f64::NAN),
             bonds_broken: info.bonds_broken.iter().sum(),
             pd_s: info.timings.pd_s,
+            notes: info.notes,
         })
     }
 
@@ -157,12 +161,14 @@ impl<'s, S: Scenario> Growth<'s, S> {
     /// Runs Algorithm 2 (see the module docs).
     pub fn run(&mut self, observer: &mut dyn Observer) -> Result<GrowthResult, CouplingError> {
         let mut out = GrowthResult::default();
+        let mut noted_steps = 0;
         self.record_progress(0, self.params.loads.initial);
         for k in 0..self.params.loads.count {
             let load = self.params.loads.factor(k);
             let t0 = Instant::now();
             let (mut iterations, mut pd_s, mut relocations) = (0, 0.0, 0);
             let mut gave_way = false;
+            let mut noted = false;
             let (converged, residual, cut) = loop {
                 let o = match self.solve_at(k, load, observer) {
                     Ok(o) => o,
@@ -181,6 +187,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
                 };
                 iterations += o.iterations;
                 pd_s += o.pd_s;
+                noted = noted || !o.notes.is_empty();
                 if o.bonds_broken > 0 && out.initiation_load.is_none() {
                     out.initiation_load = Some(load);
                 }
@@ -238,6 +245,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
                 out.relocations.extend(recs);
             };
             self.record_progress(k, load);
+            noted_steps += usize::from(noted);
             let rec = StepResult {
                 step: k,
                 load,
@@ -296,6 +304,12 @@ impl<'s, S: Scenario> Growth<'s, S> {
             }
         }
         out.notes.extend(self.damage_beyond_tips());
+        if noted_steps > 0 {
+            out.notes.push(format!(
+                "the interface accelerator restarted or handed over to IQN-ILS in \
+                 {noted_steps} load step(s) (the run log has each note)"
+            ));
+        }
         Ok(out)
     }
 }
