@@ -28,7 +28,7 @@ use anyhow::Result;
 use serde::Serialize;
 use std::time::Instant;
 
-use crate::run_bem::{solve_level, Level};
+use crate::run_bem::level::{solve_level, Level};
 use crate::scene::Scene;
 
 /// Largest refinement the tolerance loop tries (sizes / 64 of the scene's).

@@ -264,3 +264,23 @@ fn grid_and_line_names_and_counts() {
         "points on a line must be at most 1000000",
     );
 }
+
+#[test]
+fn bem_tolerance_is_a_relative_tolerance_of_static_runs() {
+    load(&scene("bem: (tolerance: 1e-3)")).expect("valid");
+    assert_invalid(
+        &scene("bem: (tolerance: 1.0)"),
+        "bem.tolerance",
+        "[1e-8, 0.5]",
+    );
+    assert_invalid(
+        &scene("bem: (tolerance: 0.0)"),
+        "bem.tolerance",
+        "[1e-8, 0.5]",
+    );
+    assert_invalid(
+        &scene("bem: (tolerance: 1e-3), pd: (), coupling: (side: 2, n: 20)"),
+        "bem.tolerance",
+        "static BEM runs only",
+    );
+}

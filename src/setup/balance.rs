@@ -16,8 +16,9 @@
 //! of faces vanishes), and a net force on a hole of an infinite plate is carried to
 //! infinity (Kelvin's solution), which is a valid problem.
 //!
-//! Entry points: [`check`] (a built mesh and its conditions), [`check_scene`] (the scene's
-//! whole body, for the coupled and growth modes whose BEM mesh has windows cut out).
+//! Entry points: [`check`] (a built mesh and its conditions), run by
+//! [`super::bem::build`]; [`super::bem::check_balance`] checks the scene's whole body for
+//! the coupled and growth modes whose BEM mesh has windows cut out.
 
 use anyhow::{bail, Result};
 use pdbem_bem::system::balance::{load_imbalance, Imbalance, BALANCE_TOLERANCE};
@@ -63,20 +64,6 @@ fn about(i: &Imbalance, p: V2) -> Imbalance {
     }
 }
 
-/// The scene's whole body (outline, holes, cracks, no PD window) at unit load, checked
-/// as in [`check`]; nothing to check for an infinite plate.
-pub fn check_scene(scene: &Scene) -> Result<()> {
-    if crate::scene::shapes::SceneGeometry::of(scene)
-        .outline
-        .is_none()
-    {
-        return Ok(());
-    }
-    // The BEM model's build runs `check` on its conditions.
-    super::bem::build(scene, 1.0, 1.0).map(|_| ())
-}
-
-/// The message of one out-of-balance piece.
 fn describe(mesh: &Mesh, i: &Imbalance, several: bool) -> String {
     let groups: Vec<&str> = i.groups.iter().map(|&g| mesh.groups[g].as_str()).collect();
     let body = if several {

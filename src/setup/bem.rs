@@ -67,6 +67,16 @@ pub fn build(scene: &Scene, factor: f64, refine: f64) -> Result<BemSetup> {
     })
 }
 
+/// The scene's whole body (outline, holes, cracks, no PD window) at unit load, checked
+/// as in [`super::balance::check`] (which [`build`] runs); nothing to check for an
+/// infinite plate.
+pub fn check_balance(scene: &Scene) -> Result<()> {
+    if SceneGeometry::of(scene).outline.is_none() {
+        return Ok(());
+    }
+    build(scene, 1.0, 1.0).map(|_| ())
+}
+
 /// The mesh builder of the static BEM model at refinement `refine`: loops and cracks with
 /// the local-feature sizes of [`LocalSizes`] (tip zones, and default-size outline edges
 /// coarsened far from every feature).

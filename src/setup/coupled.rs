@@ -52,14 +52,14 @@ pub struct CoupledSetup {
 }
 
 /// Builds the coupled problem of `scene` (validated, with `pd` and `coupling`); a body
-/// whose tractions nothing balances is an error ([`super::balance::check_scene`]).
+/// whose tractions nothing balances is an error ([`super::bem::check_balance`]).
 pub fn prepare(scene: &Scene) -> Result<CoupledSetup> {
     let file = scene.file_label();
     let (Some(co), Some(pd)) = (&scene.coupling, &scene.pd) else {
         bail!("{}: coupled mode needs `pd` and `coupling`", file.display());
     };
     // The whole body (BEM and windows) must be held or in balance.
-    super::balance::check_scene(scene)?;
+    super::bem::check_balance(scene)?;
     let geo = SceneGeometry::of(scene);
     let factor = final_factor(scene);
     let (specs, tips) = window_specs(scene, &geo, co, pd)?;

@@ -80,7 +80,7 @@ pub fn input(scene: &Scene) -> Result<PdBemInput<'_>> {
             gr.mode
         );
     }
-    super::balance::check_scene(scene)?;
+    super::bem::check_balance(scene)?;
     let geo = SceneGeometry::of(scene);
     let (windows, wtips) = window_specs(scene, &geo, co, pd)?;
     let body = macro_body(scene, &geo, &wtips, co.dx())?;
@@ -203,7 +203,7 @@ pub fn bem_only_input(scene: &Scene) -> Result<BemOnlyInput<'_>> {
             file.display()
         )
     })?;
-    super::balance::check_scene(scene)?;
+    super::bem::check_balance(scene)?;
     let geo = SceneGeometry::of(scene);
     let loops = super::bem::loops(scene, &geo, 1.0);
     let sizing = Sizing::of(scene, &geo, &loops, 1.0)?;

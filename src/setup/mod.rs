@@ -7,7 +7,7 @@
 //! - [`sizing`]: the one element-size rule (outline, holes, cracks and mouths, windows);
 //! - [`bem`](mod@bem): the BEM model of a scene ([`bem::build`]: mesh, conditions, material);
 //! - [`balance`]: refusal of finite bodies whose tractions nothing balances
-//!   ([`balance::check`], run by [`bem::build`]; [`balance::check_scene`] for the modes
+//!   ([`balance::check`], run by [`bem::build`]; [`bem::check_balance`] for the modes
 //!   with PD windows);
 //! - [`pd`](mod@pd): the stand-alone PD problem ([`pd::problem_from_scene`]);
 //! - [`coupled`]: the coupled model (windows, macro body, PD settings, Algorithm 1

@@ -10,6 +10,7 @@
 //! polyline direction; its elements run along that direction (normal pointing into the
 //! crack), the lower face's elements run against it.
 
+mod breaks;
 mod builder;
 mod pieces;
 mod size_field;

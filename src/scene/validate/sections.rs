@@ -61,6 +61,14 @@ fn check_bem(c: &mut Checker, scene: &Scene, body_ok: bool) {
                 "a relative tolerance on K and CMOD must lie in [1e-8, 0.5]",
             );
         }
+        if scene.pd.is_some() || scene.coupling.is_some() || scene.growth.is_some() {
+            c.fail(
+                "bem.tolerance",
+                t,
+                "applies to static BEM runs only (no pd, coupling or growth section): \
+                 coupled and growth K carry no error estimate yet",
+            );
+        }
     }
     let f = b.cod_fit_fraction;
     if c.finite("bem.cod_fit_fraction", f) && !(f > 0.0 && f <= 1.0) {

@@ -1,0 +1,135 @@
+//! One solved level of a static BEM run: mesh and conditions from [`crate::setup::bem`],
+//! the Burton-Miller system assembled and factored once, the solution, and the tip and
+//! crack results (crack-opening fit and interaction integral, CMOD).
+
+use crate::runner::summary::{CrackResult, TipResult};
+use crate::scene::Scene;
+use crate::setup::bem::{self as bem_setup, BemSetup};
+use anyhow::{Context, Result};
+use pdbem_bem::post::sif::{analyze_tips, cmod, SifOptions};
+use pdbem_bem::post::FieldEvaluator;
+use pdbem_bem::{BemSystem, PairCache, Solution};
+use std::time::Instant;
+
+/// One solved mesh level.
+pub struct Level {
+    /// Mesh, conditions and material.
+    pub setup: BemSetup,
+    /// Boundary solution.
+    pub solution: Solution,
+    /// Tip results (names `<crack>.end` / `<crack>.start`).
+    pub tips: Vec<TipResult>,
+    /// Per crack: name and CMOD (None without a mouth).
+    pub cracks: Vec<CrackResult>,
+    /// Assembly, factorization and solve timings, condition estimate.
+    pub info: pdbem_bem::SolveInfo,
+    /// Wall time of the substitution (s).
+    pub solve_s: f64,
+}
+
+/// Solves `scene` at load `factor` with element sizes divided by `refine`.
+pub fn solve_level(scene: &Scene, factor: f64, refine: f64) -> Result<Level> {
+    solve_level_with(scene, factor, refine, None)
+}
+
+/// The same, reusing the element-pair blocks of an earlier mesh held in `pairs` and
+/// leaving this mesh's there ([`PairCache`]: a sequence of related meshes, such as the
+/// geometries of BEM-only growth).
+pub fn solve_level_with(
+    scene: &Scene,
+    factor: f64,
+    refine: f64,
+    pairs: Option<&mut PairCache>,
+) -> Result<Level> {
+    let setup = bem_setup::build(scene, factor, refine)?;
+    let file = scene.file_label();
+    let sys = BemSystem::new_with_cache(
+        &setup.mesh,
+        &setup.material,
+        &setup.bcs,
+        &setup.params,
+        pairs,
+    )
+    .with_context(|| format!("{}: BEM assembly", file.display()))?;
+    let t0 = Instant::now();
+    let solution = sys
+        .solve()
+        .with_context(|| format!("{}: BEM solve", file.display()))?;
+    let solve_s = t0.elapsed().as_secs_f64();
+    let ev = FieldEvaluator::new(&setup.mesh, &setup.material, &solution, setup.background);
+    let opts = SifOptions {
+        fit_fraction: scene.bem.cod_fit_fraction,
+        contour_fraction: scene.bem.j_contour.radius_fraction,
+        contour_points: scene.bem.j_contour.points,
+    };
+    let raw = analyze_tips(&setup.mesh, &ev, &solution, &opts)
+        .with_context(|| format!("{}: crack-tip post-processing", file.display()))?;
+    let tips = raw.iter().map(|t| tip_result(&setup.mesh, t)).collect();
+    let cracks = setup
+        .mesh
+        .cracks
+        .iter()
+        .enumerate()
+        .map(|(i, c)| CrackResult {
+            name: c.name.clone(),
+            cmod: cmod(&setup.mesh, &solution, i),
+            ..Default::default()
+        })
+        .collect();
+    Ok(Level {
+        info: sys.info().clone(),
+        setup,
+        solution,
+        tips,
+        cracks,
+        solve_s,
+    })
+}
+
+/// The runner's tip record of a BEM tip analysis (name `<crack>.end` / `<crack>.start`;
+/// primary K from the crack-opening fit, or from the interaction integral with a note
+/// when the fit had no station).
+pub fn tip_result(mesh: &pdbem_bem::Mesh, t: &pdbem_bem::post::TipResult) -> TipResult {
+    let end = if t.at_end { "end" } else { "start" };
+    let name = format!("{}.{end}", mesh.cracks[t.crack].name);
+    if t.cod_points == 0 || !(t.k1_cod.is_finite() && t.k2_cod.is_finite()) {
+        return interaction_fallback(name, t);
+    }
+    TipResult {
+        name,
+        position: t.position,
+        k1: t.k1_cod,
+        k2: t.k2_cod,
+        kink_deg: pdbem_bem::post::kink_angle(t.k1_cod, t.k2_cod).to_degrees(),
+        k1_cod: Some(t.k1_cod),
+        k2_cod: Some(t.k2_cod),
+        k1_j: Some(t.k1_m),
+        k2_j: Some(t.k2_m),
+        ..Default::default()
+    }
+}
+
+/// The tip record when the crack-opening fit has no station (the tip's length scale, the
+/// crack or the ligament ahead, is so short that `bem.cod_fit_fraction` of it holds no
+/// crack-face collocation point): K from the interaction integral, no `k1_cod`, and a
+/// note that says so.
+fn interaction_fallback(name: String, t: &pdbem_bem::post::TipResult) -> TipResult {
+    let note = format!(
+        "tip {name}: k1, k2 are the interaction-integral values (contour radius {:.3e} m): \
+         the crack-opening fit has no crack-face station within its fit length \
+         (bem.cod_fit_fraction of the crack length or of the ligament ahead of the tip, \
+         whichever is shorter)",
+        t.contour_radius
+    );
+    TipResult {
+        name,
+        position: t.position,
+        k1: t.k1_m,
+        k2: t.k2_m,
+        kink_deg: pdbem_bem::post::kink_angle(t.k1_m, t.k2_m).to_degrees(),
+        k1_j: Some(t.k1_m),
+        k2_j: Some(t.k2_m),
+        notes: vec![note],
+        ..Default::default()
+    }
+}
