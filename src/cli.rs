@@ -54,6 +54,10 @@ pub enum Command {
         /// machine's memory.
         #[arg(long, value_parser = parse_max_memory)]
         max_memory: Option<u64>,
+        /// Relative tolerance on every K and CMOD of a static BEM scene: refine until the
+        /// error estimate meets it (sets `bem.tolerance`, in [4e-4, 0.5]).
+        #[arg(long)]
+        tol: Option<f64>,
     },
     /// Run a scene over a grid of values of dotted fields.
     Sweep {
@@ -151,9 +155,15 @@ pub fn execute(command: Command) -> anyhow::Result<()> {
             quiet,
             growth_mode,
             max_memory,
+            tol,
         } => {
             set_budget(max_memory);
-            run(&scene, out, quiet, growth_mode.map(GrowthMode::from))
+            let options = RunOptions {
+                quiet,
+                growth_mode: growth_mode.map(GrowthMode::from),
+                tol,
+            };
+            run(&scene, out, &options)
         }
         Command::Sweep {
             scene,
@@ -293,16 +303,39 @@ pub fn with_growth_mode(scene: &Scene, mode: GrowthMode) -> anyhow::Result<Scene
     Ok(s)
 }
 
-fn run(
-    path: &Path,
-    out: Option<PathBuf>,
-    quiet: bool,
-    growth_mode: Option<GrowthMode>,
-) -> anyhow::Result<()> {
+/// The scene with `bem.tolerance` set to `tol`, validated again (static BEM scenes
+/// only; the range is the field's).
+pub fn with_tolerance(scene: &Scene, tol: f64) -> anyhow::Result<Scene> {
+    if !tol.is_finite() {
+        anyhow::bail!("--tol {tol}: the tolerance must be a finite number in [4e-4, 0.5]");
+    }
+    let value = serde_json::json!(tol);
+    Ok(crate::scene::path::with_overrides(
+        scene,
+        &[("bem.tolerance".to_string(), value)],
+    )?)
+}
+
+/// Command-line settings of `run` beyond the scene and the folder.
+#[derive(Debug, Clone, Default)]
+pub struct RunOptions {
+    /// No progress output.
+    pub quiet: bool,
+    /// `--growth-mode`.
+    pub growth_mode: Option<GrowthMode>,
+    /// `--tol`.
+    pub tol: Option<f64>,
+}
+
+fn run(path: &Path, out: Option<PathBuf>, options: &RunOptions) -> anyhow::Result<()> {
     let mut scene = load(path)?;
-    if let Some(m) = growth_mode {
+    if let Some(m) = options.growth_mode {
         scene = with_growth_mode(&scene, m)?;
     }
+    if let Some(tol) = options.tol {
+        scene = with_tolerance(&scene, tol)?;
+    }
+    let quiet = options.quiet;
     let out = out.unwrap_or_else(|| default_out(&scene, ""));
     let summary = run_scene(&scene, &out, quiet)?;
     if !quiet {

@@ -271,12 +271,12 @@ fn bem_tolerance_is_a_relative_tolerance_of_static_runs() {
     assert_invalid(
         &scene("bem: (tolerance: 1.0)"),
         "bem.tolerance",
-        "[1e-8, 0.5]",
+        "[4e-4, 0.5]",
     );
     assert_invalid(
         &scene("bem: (tolerance: 0.0)"),
         "bem.tolerance",
-        "[1e-8, 0.5]",
+        "[4e-4, 0.5]",
     );
     assert_invalid(
         &scene("bem: (tolerance: 1e-3), pd: (), coupling: (side: 2, n: 20)"),

@@ -121,6 +121,7 @@ pub fn solve(scene: &Scene) -> Result<(RunSummary, Level)> {
         json!({
             "method": "max(|q(h) - q(2h)|, |K_cod - K_J|, 2e-4 |q|)",
             "tolerance": scene.bem.tolerance,
+            "criterion": scene.bem.tolerance.map(|_| crate::refine::CRITERION),
             "reached": refined.reached,
             "levels": refined.levels,
         }),

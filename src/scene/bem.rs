@@ -27,7 +27,8 @@ pub struct BemSettings {
     /// Solve on h and h/2 and Richardson-extrapolate SIF and CMOD (O(h)
     /// convergence of constant elements). Default false.
     pub richardson: bool,
-    /// Relative tolerance on every K (against K_eq) and CMOD, in [1e-8, 0.5]: the solver
+    /// Relative tolerance on every K (against K_eq) and CMOD, in [4e-4, 0.5]
+    /// ([`MIN_TOLERANCE`]): the solver
     /// halves every element size until the error estimate meets it, within the memory
     /// budget ([`crate::refine`]). Default: none (one level and its estimate).
     pub tolerance: Option<f64>,
@@ -41,6 +42,12 @@ pub struct BemSettings {
     /// Extra interior points (m) where displacement and stress are reported. Default: none.
     pub interior_points: Vec<Pt>,
 }
+
+/// Relative floor of every error estimate ([`crate::refine`]).
+pub const ESTIMATE_FLOOR: f64 = 2e-4;
+/// Smallest `bem.tolerance`: twice the floor (the tolerance test's safety factor 2,
+/// [`crate::refine`]); a tolerance below it could never be certified.
+pub const MIN_TOLERANCE: f64 = 4e-4;
 
 /// Default outline size as a fraction of the smaller body extent
 /// ([`crate::setup::sizing`]).

@@ -2,6 +2,7 @@
 
 use super::{fmt_pt, Checker};
 use crate::geometry::{p2, polyline_length};
+use crate::scene::bem::MIN_TOLERANCE;
 use crate::scene::shapes::SceneGeometry;
 use crate::scene::{elements_on, Hole, Reference, Scene};
 
@@ -54,11 +55,13 @@ fn check_bem(c: &mut Checker, scene: &Scene, body_ok: bool) {
         );
     }
     if let Some(t) = b.tolerance {
-        if c.finite("bem.tolerance", t) && !(1e-8..=0.5).contains(&t) {
+        if c.finite("bem.tolerance", t) && !(MIN_TOLERANCE..=0.5).contains(&t) {
             c.fail(
                 "bem.tolerance",
                 t,
-                "a relative tolerance on K and CMOD must lie in [1e-8, 0.5]",
+                "a relative tolerance on K and CMOD must lie in [4e-4, 0.5]: below it no \
+                 error estimate can certify it (twice the estimate's floor 2e-4, which \
+                 covers biases of constant elements that refinement does not remove)",
             );
         }
         if scene.pd.is_some() || scene.coupling.is_some() || scene.growth.is_some() {

@@ -6,7 +6,11 @@
 //! Each run writes its own folder `<out>/run_<k>/` all-or-nothing; a failed or
 //! invalid combination becomes a row with an `error` and the sweep goes on. A
 //! path that does not exist in the scene stops the sweep before any run.
-//! Outputs: `<out>/sweep.csv`, `<out>/sweep_k.{png,svg}`, `<out>/sweep_error_time.{png,svg}`.
+//! Outputs: `<out>/sweep.csv`, `<out>/sweep_k.{png,svg}`, `<out>/sweep_error_time.{png,svg}`,
+//! and for a sweep over `bem.tolerance` `<out>/sweep_tolerance.{png,svg}` and
+//! `<out>/sweep_tolerance_time.{png,svg}` ([`plots`]).
+
+pub mod plots;
 
 use std::path::Path;
 
@@ -15,10 +19,8 @@ use serde_json::Value;
 
 use crate::output::csv::{num, opt};
 use crate::output::{CsvTable, OutputWriter};
-use crate::plot::{Series, SeriesStyle, XyPlot};
-use crate::runner::reference::tip_references;
+use crate::runner::run_scene;
 use crate::runner::summary::RunSummary;
-use crate::runner::{report, run_scene};
 use crate::scene::path::{parse_value, with_overrides};
 use crate::scene::{Scene, SceneError};
 
@@ -156,7 +158,7 @@ pub fn run_sweep(
     }
     bar.finish_and_clear();
     writer.write_csv("sweep.csv", &table(varies, &rows))?;
-    write_plots(scene, varies, &rows, &writer)?;
+    plots::write_plots(scene, varies, &rows, &writer)?;
     writer.commit()?;
     Ok(rows)
 }
@@ -181,7 +183,7 @@ fn check_paths(scene: &Scene, varies: &[Vary]) -> anyhow::Result<()> {
 }
 
 /// Tip and crack names over all successful rows, in order of appearance.
-fn names(rows: &[SweepRow]) -> (Vec<String>, Vec<String>) {
+pub(crate) fn names(rows: &[SweepRow]) -> (Vec<String>, Vec<String>) {
     let mut tips: Vec<String> = Vec::new();
     let mut cracks: Vec<String> = Vec::new();
     for s in rows.iter().filter_map(|r| r.summary.as_ref()) {
@@ -199,21 +201,34 @@ fn names(rows: &[SweepRow]) -> (Vec<String>, Vec<String>) {
     (tips, cracks)
 }
 
-/// `sweep.csv`: parameters, status, wall time, elements, per-tip K and
-/// errors, per-crack CMOD and error, error message.
+/// Columns of `sweep.csv` per tip (prefixed `<tip>.`); `*_err` are relative errors
+/// against the reference, `*_err_est` absolute error estimates (Pa m^0.5).
+const TIP_COLUMNS: [&str; 9] = [
+    "k1",
+    "k2",
+    "kink_deg",
+    "k1_err",
+    "k1_err_fem",
+    "k2_err",
+    "kink_err_deg",
+    "k1_err_est",
+    "k2_err_est",
+];
+/// Columns per crack (prefixed `<crack>.`): CMOD (m), relative error, estimate (m).
+const CRACK_COLUMNS: [&str; 3] = ["cmod", "cmod_err", "cmod_err_est"];
+
+/// `sweep.csv`: parameters, status, wall time, elements, per-tip K, errors and
+/// estimates, per-crack CMOD, error and estimate, error message.
 pub fn table(varies: &[Vary], rows: &[SweepRow]) -> CsvTable {
     let (tips, cracks) = names(rows);
     let mut header: Vec<String> = vec!["run".into()];
     header.extend(varies.iter().map(|v| v.path.clone()));
     header.extend(["status", "wall_time_s", "elements"].map(String::from));
     for t in &tips {
-        header.extend(
-            ["k1", "k2", "kink_deg", "k1_err", "k2_err", "kink_err_deg"]
-                .map(|c| format!("{t}.{c}")),
-        );
+        header.extend(TIP_COLUMNS.map(|c| format!("{t}.{c}")));
     }
     for c in &cracks {
-        header.extend(["cmod", "cmod_err"].map(|k| format!("{c}.{k}")));
+        header.extend(CRACK_COLUMNS.map(|k| format!("{c}.{k}")));
     }
     header.push("error".into());
     let mut t = CsvTable::new(&header);
@@ -233,13 +248,17 @@ pub fn table(varies: &[Vary], rows: &[SweepRow]) -> CsvTable {
                     row.push(tip.map(|x| num(x.k2)).unwrap_or_default());
                     row.push(tip.map(|x| num(x.kink_deg)).unwrap_or_default());
                     row.push(opt(tip.and_then(|x| x.k1_err)));
+                    row.push(opt(tip.and_then(|x| x.k1_err_fem)));
                     row.push(opt(tip.and_then(|x| x.k2_err)));
                     row.push(opt(tip.and_then(|x| x.kink_err_deg)));
+                    row.push(opt(tip.and_then(|x| x.k1_err_est)));
+                    row.push(opt(tip.and_then(|x| x.k2_err_est)));
                 }
                 for name in &cracks {
                     let c = s.cracks.iter().find(|x| &x.name == name);
                     row.push(opt(c.and_then(|x| x.cmod)));
                     row.push(opt(c.and_then(|x| x.cmod_err)));
+                    row.push(opt(c.and_then(|x| x.cmod_err_est)));
                 }
                 row.push(String::new());
             }
@@ -247,7 +266,7 @@ pub fn table(varies: &[Vary], rows: &[SweepRow]) -> CsvTable {
                 row.extend(["failed".to_string(), String::new(), String::new()]);
                 row.extend(std::iter::repeat_n(
                     String::new(),
-                    6 * tips.len() + 2 * cracks.len(),
+                    TIP_COLUMNS.len() * tips.len() + CRACK_COLUMNS.len() * cracks.len(),
                 ));
                 row.push(r.error.clone().unwrap_or_default().replace('\n', " | "));
             }
@@ -258,151 +277,8 @@ pub fn table(varies: &[Vary], rows: &[SweepRow]) -> CsvTable {
 }
 
 /// x value of a row for plots: the first parameter as a number, else the row index.
-fn x_of(raw: &str, k: usize) -> f64 {
+pub(crate) fn x_of(raw: &str, k: usize) -> f64 {
     parse_value(raw).as_f64().unwrap_or(k as f64)
-}
-
-fn write_plots(
-    scene: &Scene,
-    varies: &[Vary],
-    rows: &[SweepRow],
-    w: &OutputWriter,
-) -> anyhow::Result<()> {
-    if !scene.outputs.plots {
-        return Ok(());
-    }
-    let formats = &scene.outputs.formats;
-    let mut dummy = RunSummary::default();
-    let k_plot = k_against_parameter(scene, &varies[0], rows);
-    report::save_plot(w, "sweep_k", &k_plot, formats, &mut dummy)?;
-    let e_plot = error_against_time(rows);
-    if e_plot.series.iter().any(|s| !s.points.is_empty()) {
-        report::save_plot(w, "sweep_error_time", &e_plot, formats, &mut dummy)?;
-    }
-    Ok(())
-}
-
-/// K_I (and K_II where non-zero) of every tip against the first parameter,
-/// with the reference evaluated densely along that parameter.
-pub fn k_against_parameter(scene: &Scene, v: &Vary, rows: &[SweepRow]) -> XyPlot {
-    let (tips, _) = names(rows);
-    let x_label = format!("{} {}", v.path, unit_of(&v.path));
-    let mut p = XyPlot::new(
-        format!("{}: K against {}", scene.name, v.path),
-        x_label,
-        "K (Pa m^0.5)",
-    );
-    for name in &tips {
-        let pts = |f: &dyn Fn(&crate::runner::summary::TipResult) -> f64| -> Vec<(f64, f64)> {
-            rows.iter()
-                .enumerate()
-                .filter_map(|(k, r)| {
-                    let t = r.summary.as_ref()?.tips.iter().find(|t| &t.name == name)?;
-                    Some((x_of(&r.params[0], k), f(t)))
-                })
-                .collect()
-        };
-        p.series.push(Series::new(
-            format!("{name} K_I"),
-            pts(&|t| t.k1),
-            SeriesStyle::LineMarkers,
-        ));
-        let k2 = pts(&|t| t.k2);
-        if k2.iter().any(|q| q.1.abs() > 1e-12 * q.1.abs().max(1.0)) {
-            p.series.push(Series::new(
-                format!("{name} K_II"),
-                k2,
-                SeriesStyle::LineMarkers,
-            ));
-        }
-    }
-    p.series.extend(reference_curves(scene, v));
-    p
-}
-
-/// Unit of a scene field for axis labels, from its last path segment.
-pub fn unit_of(path: &str) -> &'static str {
-    let last = path.rsplit('.').next().unwrap_or("");
-    match last {
-        "length" | "element_size" | "width" | "height" | "radius" | "x0" | "y0" | "dx" | "side"
-        | "move_distance" | "da" | "thickness" | "faces" | "Gap" => "(m)",
-        "angle_deg" | "beta_deg" => "(deg)",
-        "sigma" | "E" | "sxx" | "syy" | "sxy" => "(Pa)",
-        _ => "(-)",
-    }
-}
-
-/// Reference K along the first parameter, sampled at 60 points between its
-/// smallest and largest numeric value (other parameters at their scene values).
-fn reference_curves(scene: &Scene, v: &Vary) -> Vec<Series> {
-    let xs: Vec<f64> = v.values.iter().filter_map(|x| x.as_f64()).collect();
-    if xs.len() < v.values.len() || xs.is_empty() {
-        return Vec::new();
-    }
-    let (lo, hi) = xs
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
-            (a.min(*x), b.max(*x))
-        });
-    let n = if hi > lo { 60 } else { 1 };
-    let mut k1: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
-    for i in 0..n {
-        let x = if n == 1 {
-            lo
-        } else {
-            lo + (hi - lo) * i as f64 / (n - 1) as f64
-        };
-        let Ok(s) = with_overrides(scene, &[(v.path.clone(), serde_json::json!(x))]) else {
-            continue;
-        };
-        for (name, r) in tip_references(&s) {
-            match k1.iter_mut().find(|(n2, _)| *n2 == name) {
-                Some((_, pts)) => pts.push((x, r.k1)),
-                None => k1.push((name, vec![(x, r.k1)])),
-            }
-        }
-    }
-    k1.into_iter()
-        .take(1)
-        .map(|(name, pts)| Series::new(format!("{name} K_I reference"), pts, SeriesStyle::Line))
-        .collect()
-}
-
-/// |relative K_I error| of each tip (and |CMOD error|) against wall time, log-log.
-pub fn error_against_time(rows: &[SweepRow]) -> XyPlot {
-    let (tips, cracks) = names(rows);
-    let mut series = Vec::new();
-    for name in &tips {
-        let pts: Vec<(f64, f64)> = rows
-            .iter()
-            .filter_map(|r| {
-                let s = r.summary.as_ref()?;
-                let e = s.tips.iter().find(|t| &t.name == name)?.k1_err?;
-                Some((s.wall_time_s, e.abs()))
-            })
-            .collect();
-        series.push(Series::new(
-            format!("{name} |K_I error|"),
-            pts,
-            SeriesStyle::Markers,
-        ));
-    }
-    for name in &cracks {
-        let pts: Vec<(f64, f64)> = rows
-            .iter()
-            .filter_map(|r| {
-                let s = r.summary.as_ref()?;
-                let e = s.cracks.iter().find(|c| &c.name == name)?.cmod_err?;
-                Some((s.wall_time_s, e.abs()))
-            })
-            .collect();
-        series.push(Series::new(
-            format!("{name} |CMOD error|"),
-            pts,
-            SeriesStyle::Markers,
-        ));
-    }
-    XyPlot::error_vs_time("error against wall time", "relative error (-)", series)
 }
 
 #[cfg(test)]
