@@ -69,7 +69,8 @@ fn check_bem(c: &mut Checker, scene: &Scene, body_ok: bool) {
                 "bem.tolerance",
                 t,
                 "applies to static BEM runs only (no pd, coupling or growth section): \
-                 coupled and growth K carry no error estimate yet",
+                 coupled K carry an error estimate but are not refined to a tolerance, \
+                 and growth K carry no estimate yet",
             );
         }
     }

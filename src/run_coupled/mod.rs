@@ -8,11 +8,14 @@
 //! `pd_nodes`, `coupling` (iterations, residual, converged, relaxation history, time per
 //! phase), CMOD of edge cracks and, for a tip inside a window, K_I / K_II / J from the
 //! interaction integral on a circle of BEM interior points around the window, or a note
-//! saying why no such circle fits (the window reaches too close to the boundary).
+//! saying why no such circle fits (the window reaches too close to the boundary). Every
+//! K and CMOD carries an error estimate against the BEM alone ([`estimate`]).
 //!
 //! Outputs: `interface.csv` (PD input and BEM output at every coupled virtual node),
 //! `coupling_history.csv`, `pd_nodes.csv`, plots `displacement` (BEM interior points and
 //! PD nodes together), `interface_error`, `convergence`.
+
+pub mod estimate;
 
 use std::time::Instant;
 
@@ -61,6 +64,7 @@ pub fn solve(scene: &Scene) -> Result<(RunSummary, CoupledOutcome)> {
     let t0 = Instant::now();
     let out = solve_setup(prepare(scene)?)?;
     let mut summary = summarize(scene, &out)?;
+    estimate::attach(scene, &out, &mut summary);
     summary.wall_time_s = t0.elapsed().as_secs_f64();
     Ok((summary, out))
 }
