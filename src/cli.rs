@@ -8,8 +8,8 @@ use clap::{Parser, Subcommand};
 
 use crate::bench::BenchKind;
 use crate::runner::mode::mode_of;
-use crate::runner::run_scene;
 use crate::runner::summary::RunSummary;
+use crate::runner::{run_scene_with, RunOptions};
 use crate::scene::shapes::SceneGeometry;
 use crate::scene::{GrowthMode, Scene};
 
@@ -54,6 +54,10 @@ pub enum Command {
         /// machine's memory.
         #[arg(long, value_parser = parse_max_memory)]
         max_memory: Option<u64>,
+        /// Growth runs: continue an interrupted run from the checkpoint in the run folder
+        /// (the same scene and options; refused when the scene changed).
+        #[arg(long)]
+        resume: bool,
     },
     /// Run a scene over a grid of values of dotted fields.
     Sweep {
@@ -122,11 +126,45 @@ impl From<GrowthModeArg> for GrowthMode {
     }
 }
 
-/// Parses the command line, runs the command, prints errors; returns the exit code.
+/// Exit code of a growth run that ended early (`complete: false`): its outputs are
+/// written. 1 is any error (bad scene, failed setup, a folder in use, nothing written),
+/// 2 a command line clap refuses.
+pub const EXIT_INCOMPLETE: u8 = 3;
+
+/// The error of a growth run that ended early with its outputs written (exit code
+/// [`EXIT_INCOMPLETE`]).
+#[derive(Debug)]
+pub struct IncompleteRun {
+    /// The run folder.
+    pub out: PathBuf,
+    /// `failure_reason` of the summary.
+    pub reason: String,
+}
+
+impl std::fmt::Display for IncompleteRun {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "the run ended early (complete: false, outputs of the completed steps in {}): {}",
+            self.out.display(),
+            self.reason
+        )
+    }
+}
+
+impl std::error::Error for IncompleteRun {}
+
+/// Parses the command line, runs the command, prints errors; returns the exit code: 0
+/// done, 1 error, 2 bad command line (clap), [`EXIT_INCOMPLETE`] a growth run that ended
+/// early with its outputs written.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     match execute(cli.command) {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e) if e.downcast_ref::<IncompleteRun>().is_some() => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(EXIT_INCOMPLETE)
+        }
         Err(e) => {
             eprintln!("error: {e:#}");
             ExitCode::FAILURE
@@ -151,9 +189,15 @@ pub fn execute(command: Command) -> anyhow::Result<()> {
             quiet,
             growth_mode,
             max_memory,
+            resume,
         } => {
             set_budget(max_memory);
-            run(&scene, out, quiet, growth_mode.map(GrowthMode::from))
+            let options = RunOptions {
+                quiet,
+                resume,
+                ..Default::default()
+            };
+            run(&scene, out, options, growth_mode.map(GrowthMode::from))
         }
         Command::Sweep {
             scene,
@@ -296,7 +340,7 @@ pub fn with_growth_mode(scene: &Scene, mode: GrowthMode) -> anyhow::Result<Scene
 fn run(
     path: &Path,
     out: Option<PathBuf>,
-    quiet: bool,
+    options: RunOptions,
     growth_mode: Option<GrowthMode>,
 ) -> anyhow::Result<()> {
     let mut scene = load(path)?;
@@ -304,12 +348,15 @@ fn run(
         scene = with_growth_mode(&scene, m)?;
     }
     let out = out.unwrap_or_else(|| default_out(&scene, ""));
-    let summary = run_scene(&scene, &out, quiet)?;
-    if !quiet {
+    let summary = run_scene_with(&scene, &out, &options)?;
+    if !options.quiet {
         print_summary(&summary);
         println!("outputs in {}", out.display());
     }
-    Ok(())
+    match summary.incomplete() {
+        Some(reason) => Err(IncompleteRun { out, reason }.into()),
+        None => Ok(()),
+    }
 }
 
 fn print_summary(s: &RunSummary) {
