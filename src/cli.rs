@@ -8,8 +8,8 @@ use clap::{Parser, Subcommand};
 
 use crate::bench::BenchKind;
 use crate::runner::mode::mode_of;
-use crate::runner::run_scene;
 use crate::runner::summary::RunSummary;
+use crate::runner::{run_scene_with, RunOptions};
 use crate::scene::shapes::SceneGeometry;
 use crate::scene::{GrowthMode, Scene};
 
@@ -58,6 +58,10 @@ pub enum Command {
         /// error estimate meets it (sets `bem.tolerance`, in [4e-4, 0.5]).
         #[arg(long)]
         tol: Option<f64>,
+        /// Growth runs: continue an interrupted run from the checkpoint in the run folder
+        /// (the same scene and options; refused when the scene changed).
+        #[arg(long)]
+        resume: bool,
     },
     /// Run a scene over a grid of values of dotted fields.
     Sweep {
@@ -126,11 +130,45 @@ impl From<GrowthModeArg> for GrowthMode {
     }
 }
 
-/// Parses the command line, runs the command, prints errors; returns the exit code.
+/// Exit code of a growth run that ended early (`complete: false`): its outputs are
+/// written. 1 is any error (bad scene, failed setup, a folder in use, nothing written),
+/// 2 a command line clap refuses.
+pub const EXIT_INCOMPLETE: u8 = 3;
+
+/// The error of a growth run that ended early with its outputs written (exit code
+/// [`EXIT_INCOMPLETE`]).
+#[derive(Debug)]
+pub struct IncompleteRun {
+    /// The run folder.
+    pub out: PathBuf,
+    /// `failure_reason` of the summary.
+    pub reason: String,
+}
+
+impl std::fmt::Display for IncompleteRun {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "the run ended early (complete: false, outputs of the completed steps in {}): {}",
+            self.out.display(),
+            self.reason
+        )
+    }
+}
+
+impl std::error::Error for IncompleteRun {}
+
+/// Parses the command line, runs the command, prints errors; returns the exit code: 0
+/// done, 1 error, 2 bad command line (clap), [`EXIT_INCOMPLETE`] a growth run that ended
+/// early with its outputs written.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     match execute(cli.command) {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e) if e.downcast_ref::<IncompleteRun>().is_some() => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(EXIT_INCOMPLETE)
+        }
         Err(e) => {
             eprintln!("error: {e:#}");
             ExitCode::FAILURE
@@ -156,14 +194,19 @@ pub fn execute(command: Command) -> anyhow::Result<()> {
             growth_mode,
             max_memory,
             tol,
+            resume,
         } => {
             set_budget(max_memory);
             let options = RunOptions {
                 quiet,
+                resume,
+                ..Default::default()
+            };
+            let cli = CliRun {
                 growth_mode: growth_mode.map(GrowthMode::from),
                 tol,
             };
-            run(&scene, out, &options)
+            run(&scene, out, options, &cli)
         }
         Command::Sweep {
             scene,
@@ -316,33 +359,38 @@ pub fn with_tolerance(scene: &Scene, tol: f64) -> anyhow::Result<Scene> {
     )?)
 }
 
-/// Command-line settings of `run` beyond the scene and the folder.
+/// Command-line changes to the scene before `run` (beyond the runner's [`RunOptions`]).
 #[derive(Debug, Clone, Default)]
-pub struct RunOptions {
-    /// No progress output.
-    pub quiet: bool,
+pub struct CliRun {
     /// `--growth-mode`.
     pub growth_mode: Option<GrowthMode>,
     /// `--tol`.
     pub tol: Option<f64>,
 }
 
-fn run(path: &Path, out: Option<PathBuf>, options: &RunOptions) -> anyhow::Result<()> {
+fn run(
+    path: &Path,
+    out: Option<PathBuf>,
+    options: RunOptions,
+    cli: &CliRun,
+) -> anyhow::Result<()> {
     let mut scene = load(path)?;
-    if let Some(m) = options.growth_mode {
+    if let Some(m) = cli.growth_mode {
         scene = with_growth_mode(&scene, m)?;
     }
-    if let Some(tol) = options.tol {
+    if let Some(tol) = cli.tol {
         scene = with_tolerance(&scene, tol)?;
     }
-    let quiet = options.quiet;
     let out = out.unwrap_or_else(|| default_out(&scene, ""));
-    let summary = run_scene(&scene, &out, quiet)?;
-    if !quiet {
+    let summary = run_scene_with(&scene, &out, &options)?;
+    if !options.quiet {
         print_summary(&summary);
         println!("outputs in {}", out.display());
     }
-    Ok(())
+    match summary.incomplete() {
+        Some(reason) => Err(IncompleteRun { out, reason }.into()),
+        None => Ok(()),
+    }
 }
 
 fn print_summary(s: &RunSummary) {

@@ -74,6 +74,7 @@ fn tolerance_refines_until_met_reports_what_it_cost_and_sweeps() {
             growth_mode: None,
             max_memory: None,
             tol: Some(tol),
+            resume: false,
         })
         .expect("runs");
         let s = summary(&out);
@@ -108,6 +109,7 @@ fn tolerance_refines_until_met_reports_what_it_cost_and_sweeps() {
         growth_mode: None,
         max_memory: None,
         tol: Some(1e-5),
+        resume: false,
     })
     .expect_err("below the estimate's floor");
     let msg = format!("{refused:#}");
@@ -126,6 +128,7 @@ fn tolerance_refines_until_met_reports_what_it_cost_and_sweeps() {
         growth_mode: None,
         max_memory: Some(8 << 20),
         tol: Some(1e-3),
+        resume: false,
     })
     .expect("runs with a note");
     pdbem::setup::estimate::set_budget(0);

@@ -102,10 +102,12 @@ pub enum CouplingError {
         residuals: Vec<f64>,
     },
     /// The iteration cap was reached before the residual fell below psi.
-    #[error("coupling did not converge in {iterations} iterations: residual {last:.3e} > psi = {psi:.1e}; history {residuals:?}; raise max_iter or use IQN-ILS")]
+    #[error("coupling did not converge in {iterations} iterations ({scheme}): residual {last:.3e} > psi = {psi:.1e}; history {residuals:?}; {hint}", hint = convergence_hint(scheme))]
     NoConvergence {
         /// Iterations done.
         iterations: usize,
+        /// The interface accelerator in use ([`crate::iteration::Acceleration::name`]).
+        scheme: &'static str,
         /// Last residual.
         last: f64,
         /// Tolerance.
@@ -183,11 +185,35 @@ pub enum CouplingError {
         /// Why, with the numbers.
         reason: String,
     },
+    /// A growth run stopped by its observer after a completed load step (a checkpoint
+    /// was offered first; the run can be resumed from it).
+    #[error("growth run stopped by its observer after load step {step}")]
+    Interrupted {
+        /// The last completed step (0-based).
+        step: usize,
+    },
+    /// A growth checkpoint does not fit the run it is to resume (another scene or
+    /// version).
+    #[error("checkpoint: {message}")]
+    Checkpoint {
+        /// What does not fit.
+        message: String,
+    },
 }
 
 impl CouplingError {
     /// Wraps a PD error of window `window`.
     pub fn pd(window: usize, source: PdError) -> Self {
         CouplingError::Pd { window, source }
+    }
+}
+
+/// What to change after a coupling that did not converge with the accelerator `scheme`:
+/// IQN-ILS is advised only when it is not already in use.
+fn convergence_hint(scheme: &str) -> &'static str {
+    if scheme == "iqn-ils" {
+        "raise max_iter, lower the IQN-ILS first weight w0, or lower the load step"
+    } else {
+        "raise max_iter or use IQN-ILS"
     }
 }

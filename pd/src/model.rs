@@ -22,8 +22,8 @@ use crate::problem::PdProblem;
 use crate::surface::{apply_crack_face_correction, apply_surface_correction};
 
 /// A snapshot of the mutable state, for roll-back (switching solver) and
-/// restarts (coupling).
-#[derive(Clone, Debug, Default)]
+/// restarts (coupling) and growth checkpoints (serialisable).
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ModelState {
     /// Displacements.
     pub u: Vec<P2>,
@@ -239,6 +239,13 @@ impl PdModel {
         self.grid.n_real..self.grid.len()
     }
 
+    /// The base displacement (at load factor 1) of every virtual node, in
+    /// [`Self::virtual_nodes`] order: what [`Self::set_prescribed_displacements`] set last
+    /// (a growth checkpoint keeps it).
+    pub fn prescribed_virtual(&self) -> Vec<P2> {
+        self.bc.base[self.virtual_nodes()].to_vec()
+    }
+
     /// Coupling: set the base displacement of every virtual node (in
     /// [`Self::virtual_nodes`] order), both components, and impose it at the
     /// current load factor (use load factor 1 to take the values as given).
@@ -434,6 +441,26 @@ impl PdModel {
         dst.intact.clone_from(&self.intact);
         dst.s_hist.clone_from(&self.s_hist);
         dst.load = self.load;
+    }
+
+    /// Restore a snapshot taken from a model of the same grid and bonds (a growth
+    /// checkpoint), checking its sizes first.
+    pub fn try_restore(&mut self, s: &ModelState) -> Result<(), PdError> {
+        for (what, expected, got) in [
+            ("displacements", self.u.len(), s.u.len()),
+            ("bond flags", self.intact.len(), s.intact.len()),
+            ("bond history", self.s_hist.len(), s.s_hist.len()),
+        ] {
+            if expected != got {
+                return Err(PdError::LengthMismatch {
+                    what,
+                    expected,
+                    got,
+                });
+            }
+        }
+        self.restore(s);
+        Ok(())
     }
 
     /// Restore a snapshot taken from this model.

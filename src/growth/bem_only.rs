@@ -6,22 +6,34 @@
 use anyhow::{Context, Result};
 use pdbem_coupling::growth::bem_only::{self as engine, TipCritical};
 
+use super::checkpoint::{resume_point, EngineState};
 use super::log::RunObserver;
 use super::GrowthHistory;
 use crate::runner::context::RunContext;
 use crate::scene::Scene;
 use crate::setup::growth::bem_only_input;
+use pdbem_coupling::growth::checkpoint::EngineCheckpoint;
 
 /// Runs BEM-only growth of `scene`.
+/// With `ctx.resume` it goes on from the run folder's checkpoint
+/// ([`super::checkpoint`]).
 pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
     let input = bem_only_input(scene)?;
-    let mut observer = RunObserver::new(ctx, input.params.loads.len())?;
-    let history = engine::run(
+    let cp = resume_point(ctx, scene, "bem-only")?;
+    let steps = input.params.loads.len();
+    let mut observer = RunObserver::for_scene(ctx, scene, "bem-only", steps, cp.as_ref())?;
+    let resume = match cp.map(|c| c.engine) {
+        Some(EngineState::Engine(EngineCheckpoint::BemOnly(c))) => Some(c),
+        Some(_) => anyhow::bail!("--resume: the checkpoint is not of a BEM-only run"),
+        None => None,
+    };
+    let history = engine::run_from(
         &input.body,
         input.front.clone(),
         &input.params,
         &input.scenario,
         &mut observer,
+        resume,
     )
     .with_context(|| scene.file_label().display().to_string());
     observer.finish()?;

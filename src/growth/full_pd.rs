@@ -8,10 +8,12 @@ use anyhow::{Context, Result};
 use pdbem_coupling::growth::full_pd::{self as engine, FullPdParams};
 use pdbem_pd::PdModel;
 
+use super::checkpoint::{resume_point, EngineState};
 use super::log::RunObserver;
 use super::GrowthHistory;
 use crate::runner::context::RunContext;
 use crate::scene::Scene;
+use pdbem_coupling::growth::checkpoint::EngineCheckpoint;
 
 /// The PD model of the scene at the window spacing, that spacing and the horizon.
 pub fn model_of(scene: &Scene) -> Result<(PdModel, f64, f64)> {
@@ -22,7 +24,8 @@ pub fn model_of(scene: &Scene) -> Result<(PdModel, f64, f64)> {
     Ok((model, dx, delta))
 }
 
-/// Runs full-PD growth of `scene`.
+/// Runs full-PD growth of `scene` (with `ctx.resume`, from the run folder's checkpoint,
+/// [`super::checkpoint`]).
 pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
     let (mut model, dx, delta) = model_of(scene)?;
     let growth = scene.growth.as_ref();
@@ -34,8 +37,15 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
         snapshot_steps: growth.map(|g| g.snapshot_steps.clone()).unwrap_or_default(),
     };
     let front = crate::setup::growth::front(scene);
-    let mut obs = RunObserver::new(ctx, params.loads.len())?;
-    let history = engine::run(&scene.name, &mut model, front, &params, &mut obs)
+    let cp = resume_point(ctx, scene, "full-pd")?;
+    let steps = params.loads.len();
+    let mut obs = RunObserver::for_scene(ctx, scene, "full-pd", steps, cp.as_ref())?;
+    let resume = match cp.map(|c| c.engine) {
+        Some(EngineState::Engine(EngineCheckpoint::FullPd(c))) => Some(c),
+        Some(_) => anyhow::bail!("--resume: the checkpoint is not of a full-PD run"),
+        None => None,
+    };
+    let history = engine::run_from(&scene.name, &mut model, front, &params, &mut obs, resume)
         .with_context(|| scene.file_label().display().to_string());
     obs.finish()?;
     history

@@ -17,8 +17,13 @@ use std::sync::Mutex;
 use anyhow::{Context, Result};
 use serde_json::{json, Value};
 
+use std::ops::ControlFlow;
+
+use crate::growth::checkpoint::{self, EngineState, RunCheckpoint};
 use crate::growth::GrowthHistory;
 use crate::runner::context::RunContext;
+use crate::scene::Scene;
+use pdbem_coupling::growth::checkpoint::EngineCheckpoint;
 use pdbem_coupling::growth::events::EngineObserver;
 
 /// File name of the log.
@@ -43,6 +48,15 @@ impl GrowthLog {
         Ok(GrowthLog {
             file: Mutex::new(BufWriter::new(file)),
         })
+    }
+
+    /// Opens the log of a resumed run: the text of the interrupted run's log up to its
+    /// checkpoint first, then appended to.
+    pub fn reopen(ctx: &RunContext, text: &str) -> Result<GrowthLog> {
+        ctx.writer
+            .write_bytes(LOG_FILE, text.as_bytes())
+            .with_context(|| format!("restoring {LOG_FILE}"))?;
+        GrowthLog::open(ctx)
     }
 
     /// Whether a solver already opened the log of this run.
@@ -108,6 +122,9 @@ pub struct RunObserver<'a> {
     log: GrowthLog,
     bar: indicatif::ProgressBar,
     error: Option<anyhow::Error>,
+    /// The scene and growth mode whose checkpoints it writes (none without).
+    checkpoints: Option<(&'a Scene, &'static str)>,
+    stopped: bool,
 }
 
 impl<'a> RunObserver<'a> {
@@ -118,7 +135,42 @@ impl<'a> RunObserver<'a> {
             log: GrowthLog::open(ctx)?,
             bar: step_bar(ctx, steps),
             error: None,
+            checkpoints: None,
+            stopped: false,
         })
+    }
+
+    /// The observer of a growth run of `scene` in growth mode `mode` that writes a
+    /// checkpoint after every load step; with `resume` (a checkpoint read by
+    /// `--resume`) the log starts with the interrupted run's text and the bar at its step.
+    pub fn for_scene(
+        ctx: &'a RunContext,
+        scene: &'a Scene,
+        mode: &'static str,
+        steps: usize,
+        resume: Option<&RunCheckpoint>,
+    ) -> Result<RunObserver<'a>> {
+        let log = match resume {
+            Some(cp) => GrowthLog::reopen(ctx, &cp.log)?,
+            None => GrowthLog::open(ctx)?,
+        };
+        let bar = step_bar(ctx, steps);
+        if let Some(cp) = resume {
+            bar.set_position(cp.step as u64 + 1);
+        }
+        Ok(RunObserver {
+            ctx,
+            log,
+            bar,
+            error: None,
+            checkpoints: Some((scene, mode)),
+            stopped: false,
+        })
+    }
+
+    /// Whether the run was stopped by [`RunContext::stop_after`].
+    pub fn stopped(&self) -> bool {
+        self.stopped
     }
 
     /// Clears the bar; the first log error, if any.
@@ -145,5 +197,27 @@ impl EngineObserver for RunObserver<'_> {
 
     fn message(&mut self, text: &str) {
         self.bar.suspend(|| self.ctx.log(text));
+    }
+
+    fn checkpoint(
+        &mut self,
+        step: usize,
+        save: &mut dyn FnMut() -> EngineCheckpoint,
+    ) -> ControlFlow<()> {
+        let Some((scene, mode)) = self.checkpoints else {
+            return ControlFlow::Continue(());
+        };
+        let engine = EngineState::Engine(save());
+        match checkpoint::save(self.ctx, scene, mode, step, engine, Default::default()) {
+            Ok(true) => {
+                self.stopped = true;
+                ControlFlow::Break(())
+            }
+            Ok(false) => ControlFlow::Continue(()),
+            Err(e) => {
+                self.error.get_or_insert(e);
+                ControlFlow::Continue(())
+            }
+        }
     }
 }

@@ -10,6 +10,8 @@
 //! - [`full_pd`]: the whole body in PD at the window resolution
 //!   (`pdbem_coupling::growth::full_pd`).
 //!
+//! Checkpoints and `--resume`: [`checkpoint`](mod@checkpoint).
+//!
 //! Reporting: [`log`] (`growth_log.jsonl`, progress bar), [`output`] (files and
 //! plots of a run, [`output::finish`]), [`overlay`] (`pdbem plot-paths`), [`bench`](mod@bench)
 //! (`pdbem bench growth`); path comparison is `pdbem_coupling::growth::compare`.
@@ -20,6 +22,7 @@
 
 pub mod bem_only;
 pub mod bench;
+pub mod checkpoint;
 pub mod full_pd;
 pub mod log;
 pub mod output;

@@ -27,6 +27,12 @@ use pdbem_coupling::iteration::{CoupledProblem, CoupledSolution};
 use pdbem_coupling::setup::WindowModel;
 use serde_json::json;
 
+use std::ops::ControlFlow;
+
+use pdbem_coupling::growth::checkpoint::PdBemCheckpoint;
+use pdbem_coupling::growth::history::WindowOutline;
+
+use super::checkpoint::{self, resume_point, EngineState, ObserverState};
 use super::log::{step_bar, GrowthLog};
 use super::{FieldSnapshot, GrowthHistory};
 use crate::geometry::{point_segment_projection, P2};
@@ -45,6 +51,8 @@ struct Progress<'a> {
     snapshots: Vec<FieldSnapshot>,
     /// Relocations so far (several can happen in one load step).
     relocations: usize,
+    /// Outlines of the initial windows (kept in checkpoints).
+    initial_windows: Vec<WindowOutline>,
     error: Option<anyhow::Error>,
 }
 
@@ -135,6 +143,27 @@ impl Observer for Progress<'_> {
         self.snapshots.extend(damage_snapshots(step, windows, &tag));
     }
 
+    fn checkpoint(
+        &mut self,
+        step: usize,
+        save: &mut dyn FnMut() -> PdBemCheckpoint,
+    ) -> ControlFlow<()> {
+        let observer = ObserverState {
+            snapshots: self.snapshots.clone(),
+            relocations: self.relocations,
+            initial_windows: self.initial_windows.clone(),
+        };
+        let engine = EngineState::PdBem(save());
+        match checkpoint::save(self.ctx, self.scene, "pd-bem", step, engine, observer) {
+            Ok(true) => ControlFlow::Break(()),
+            Ok(false) => ControlFlow::Continue(()),
+            Err(e) => {
+                self.error.get_or_insert(e);
+                ControlFlow::Continue(())
+            }
+        }
+    }
+
     fn state(&mut self, s: &StepResult, pb: &CoupledProblem, sol: Option<&CoupledSolution>) {
         if !super::snapshot_steps(self.scene).contains(&s.step) {
             return;
@@ -204,30 +233,54 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
         inp.params.loads.step,
         inp.setup.tips.len()
     ));
-    let log = if GrowthLog::exists(ctx) {
-        None
-    } else {
-        Some(GrowthLog::open(ctx)?)
+    let cp = resume_point(ctx, scene, "pd-bem")?;
+    let log = match &cp {
+        _ if GrowthLog::exists(ctx) => None,
+        Some(c) => Some(GrowthLog::reopen(ctx, &c.log)?),
+        None => Some(GrowthLog::open(ctx)?),
     };
     let tip_names = inp.setup.tips.iter().map(|t| t.name.clone()).collect();
-    let mut g = Growth::new(inp.setup, &inp.scenario, inp.params)
-        .with_context(|| format!("{}: PD-BEM growth setup", file.display()))?;
+    let (mut g, observed, at) = match cp {
+        Some(c) => {
+            let EngineState::PdBem(state) = c.engine else {
+                anyhow::bail!("--resume: the checkpoint is not of a PD-BEM run");
+            };
+            ctx.log(&format!("resuming after load step {}", c.step));
+            let g = Growth::resume(inp.setup, &inp.scenario, inp.params, state)
+                .with_context(|| format!("{}: PD-BEM growth resume", file.display()))?;
+            (g, Some(c.observer), c.step + 1)
+        }
+        None => {
+            let g = Growth::new(inp.setup, &inp.scenario, inp.params)
+                .with_context(|| format!("{}: PD-BEM growth setup", file.display()))?;
+            (g, None, 0)
+        }
+    };
+    let fresh = observed.is_none();
+    let observed = observed.unwrap_or_else(|| ObserverState {
+        initial_windows: initial_windows(&g),
+        ..Default::default()
+    });
     let mut progress = Progress {
         ctx,
         scene,
         bar: step_bar(ctx, count),
         log,
         tip_names,
-        snapshots: Vec::new(),
-        relocations: 0,
+        snapshots: observed.snapshots,
+        relocations: observed.relocations,
+        initial_windows: observed.initial_windows,
         error: None,
     };
-    progress.log_event(
-        "start",
-        json!({"mode": "pd-bem", "steps": count, "elements": g.problem().mesh.len(),
-               "windows": g.problem().windows.len()}),
-    );
-    let windows = initial_windows(&g);
+    progress.bar.set_position(at as u64);
+    if fresh {
+        progress.log_event(
+            "start",
+            json!({"mode": "pd-bem", "steps": count, "elements": g.problem().mesh.len(),
+                   "windows": g.problem().windows.len()}),
+        );
+    }
+    let windows = progress.initial_windows.clone();
     let result = g
         .run(&mut progress)
         .with_context(|| format!("{}: PD-BEM growth", file.display()))?;

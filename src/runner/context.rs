@@ -14,6 +14,13 @@ pub struct RunContext {
     pub quiet: bool,
     /// Writer for every output file of the run (staged until success).
     pub writer: OutputWriter,
+    /// Growth runs: go on from the checkpoint in the run folder (`pdbem run --resume`,
+    /// [`crate::growth::checkpoint`]).
+    pub resume: bool,
+    /// Growth runs: stop after this load step once its checkpoint is written, as if the
+    /// process had been killed there (a test hook; the run then fails with
+    /// "stopped after step k" and leaves the checkpoint).
+    pub stop_after: Option<usize>,
 }
 
 impl RunContext {
@@ -23,6 +30,8 @@ impl RunContext {
             out_dir: out_dir.to_path_buf(),
             quiet,
             writer: OutputWriter::create_run(out_dir)?,
+            resume: false,
+            stop_after: None,
         })
     }
 

@@ -30,10 +30,46 @@ use crate::scene::{GrowthMode, Scene};
 /// reported number is finite, outputs.
 /// On error nothing is left in `out_dir` (and a folder this run created is removed).
 pub fn run_scene(scene: &Scene, out_dir: &Path, quiet: bool) -> anyhow::Result<RunSummary> {
+    let options = RunOptions {
+        quiet,
+        ..Default::default()
+    };
+    run_scene_with(scene, out_dir, &options)
+}
+
+/// How [`run_scene_with`] runs a scene.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct RunOptions {
+    /// No progress output.
+    pub quiet: bool,
+    /// Growth runs: go on from the run folder's checkpoint (`pdbem run --resume`).
+    pub resume: bool,
+    /// Growth runs: stop after this load step once its checkpoint is written (a test hook
+    /// standing in for a kill; the run then fails and leaves only the checkpoint).
+    pub stop_after: Option<usize>,
+}
+
+/// [`run_scene`] with [`RunOptions`]. A growth run writes a checkpoint after every load
+/// step ([`crate::growth::checkpoint`]), deleted when the run's outputs are committed.
+/// A run whose growth ended early (`complete: false` in the summary) still writes every
+/// output and returns its summary; [`RunSummary::incomplete`] says why.
+pub fn run_scene_with(
+    scene: &Scene,
+    out_dir: &Path,
+    options: &RunOptions,
+) -> anyhow::Result<RunSummary> {
     let mode = mode_of(scene);
     crate::setup::estimate::check(scene)?;
-    let ctx = RunContext::new(out_dir, quiet)
+    if (options.resume || options.stop_after.is_some()) && mode != Mode::Growth {
+        anyhow::bail!(
+            "{}: --resume applies to growth runs (scenes with a `growth` section)",
+            scene.file_label().display()
+        );
+    }
+    let mut ctx = RunContext::new(out_dir, options.quiet)
         .with_context(|| format!("cannot create the run folder {}", out_dir.display()))?;
+    ctx.resume = options.resume;
+    ctx.stop_after = options.stop_after;
     let start = Instant::now();
     let mut summary = match mode {
         Mode::Pd => crate::run_pd::run(scene, &ctx)?,
@@ -65,6 +101,7 @@ pub fn run_scene(scene: &Scene, out_dir: &Path, quiet: bool) -> anyhow::Result<R
     ctx.writer
         .commit()
         .with_context(|| format!("cannot move outputs into {}", out_dir.display()))?;
+    crate::growth::checkpoint::RunCheckpoint::remove(out_dir);
     Ok(summary)
 }
 

@@ -111,6 +111,21 @@ pub struct CrackResult {
 }
 
 impl RunSummary {
+    /// Why a growth run ended early (`complete: false`, its `failure_reason`); None for a
+    /// complete run and for other modes.
+    pub fn incomplete(&self) -> Option<String> {
+        if self.extra.get("complete") != Some(&serde_json::Value::Bool(false)) {
+            return None;
+        }
+        Some(
+            self.extra
+                .get("failure_reason")
+                .and_then(|r| r.as_str())
+                .unwrap_or("no reason given")
+                .to_string(),
+        )
+    }
+
     /// The first reported number of the tips and cracks that is not finite, as a dotted
     /// path with its value (`tips.0.k1 = inf`); `None` when all are finite. A run must not
     /// report NaN or infinity (`summary.json` would write `null`).

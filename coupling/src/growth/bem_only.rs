@@ -40,6 +40,7 @@ use pdbem_bem::{BemSystem, Material, Mesh, MeshBuilder, PairCache, Solution, Sol
 use pdbem_geometry::{point_segment_projection, rotate, P2};
 use serde_json::json;
 
+use super::checkpoint::{mismatch, BemOnlyCheckpoint, EngineCheckpoint};
 use super::criterion::mcs;
 use super::events::EngineObserver;
 use super::front::{Front, Obstacle};
@@ -406,13 +407,31 @@ fn point(p: P2, step: usize, load: f64) -> PathPoint {
 /// scenario gives the boundary conditions of every mesh at unit load.
 pub fn run(
     body: &BemOnlyBody,
-    mut front: Front,
+    front: Front,
     params: &BemOnlyParams,
     scenario: &dyn Scenario,
     observer: &mut dyn EngineObserver,
 ) -> Result<GrowthHistory, CouplingError> {
+    run_from(body, front, params, scenario, observer, None)
+}
+
+/// [`run`], going on from `resume` when given (a checkpoint of a run of the same body,
+/// front and parameters, [`crate::growth::checkpoint`]): the front and history are taken
+/// from it and the current geometry is solved again. A geometry of a load step that
+/// cannot be meshed or solved, or a step past its increment cap, ends the run with
+/// [`GrowthHistory::failure_reason`] and the steps before it (no retry: the geometry does
+/// not depend on the load).
+pub fn run_from(
+    body: &BemOnlyBody,
+    mut front: Front,
+    params: &BemOnlyParams,
+    scenario: &dyn Scenario,
+    observer: &mut dyn EngineObserver,
+    resume: Option<BemOnlyCheckpoint>,
+) -> Result<GrowthHistory, CouplingError> {
     let k_c = params.k_c;
     let factors = &params.loads;
+    // Bounds, sizes and cap come from the initial front, also in a resumed run.
     let bounds = front.bounds();
     let mut engine = Engine {
         body,
@@ -420,45 +439,47 @@ pub fn run(
         pairs: PairCache::default(),
     };
     let first = factors.first().copied().unwrap_or(1.0);
-    let mut history = GrowthHistory {
-        mode: "bem-only".into(),
-        paths: front
-            .tips
-            .iter()
-            .map(|t| TipPath {
-                name: t.name.clone(),
-                points: vec![point(t.initial, 0, first)],
-                ended: None,
-            })
-            .collect(),
-        ..Default::default()
-    };
     let sizes = engine.sizes(&front, params.da)?;
-    observer.event(
-        "start",
-        json!({"mode": "bem-only", "k_c": k_c, "steps": factors.len(),
-               "da": sizes.da, "crack_element_size": sizes.element}),
-    );
-    let mut geometry = 0;
-    let mut solved = engine
-        .solve(&front, &sizes, false)
-        .map_err(|e| fail(format!("initial geometry: {e}")))?;
-    observer.event("solve", solve_event(&front, &solved, k_c, geometry));
     let cap = increment_cap(bounds, &front, &sizes);
+    let (mut history, mut geometry, next) = match resume {
+        Some(cp) => {
+            front.restore(&cp.front).map_err(mismatch)?;
+            let mut h = cp.history;
+            h.snapshots = cp.snapshots;
+            (h, cp.geometry, cp.next_step)
+        }
+        None => {
+            observer.event(
+                "start",
+                json!({"mode": "bem-only", "k_c": k_c, "steps": factors.len(),
+                       "da": sizes.da, "crack_element_size": sizes.element}),
+            );
+            (fresh_history(&front, first), 0, 0)
+        }
+    };
+    let mut solved = engine
+        .solve(&front, &sizes, geometry > 0)
+        .map_err(|e| fail(format!("geometry {geometry}: {e}")))?;
+    if next == 0 {
+        observer.event("solve", solve_event(&front, &solved, k_c, geometry));
+    }
     let mut current = true;
-    for (k, &f) in factors.iter().enumerate() {
+    for (k, &f) in factors.iter().enumerate().skip(next) {
         let t0 = Instant::now();
         let mut increments = 0;
         let mut solved_now = true;
+        let saved = (front.clone(), history.clone(), geometry);
+        let mut broken = None;
         loop {
             let growing = critical_tips(&front, &solved, f, k_c);
             if growing.is_empty() {
                 break;
             }
             if increments >= cap {
-                return Err(fail(format!(
+                broken = Some(format!(
                     "more than {cap} increments at load {f} (step {k}); increase growth.da"
-                )));
+                ));
+                break;
             }
             if history.initiation_load.is_none() {
                 history.initiation_load = Some(f);
@@ -475,10 +496,26 @@ pub fn run(
                 break;
             }
             geometry += 1;
-            solved = engine
-                .solve(&front, &sizes, true)
-                .map_err(|e| fail(format!("step {k} (load {f}), geometry {geometry}: {e}")))?;
+            match engine.solve(&front, &sizes, true) {
+                Ok(s) => solved = s,
+                Err(e) => {
+                    broken = Some(format!(
+                        "step {k} (load {f}): geometry {geometry} could not be meshed or \
+                         solved ({e}); no retry applies (the geometry does not depend on \
+                         the load)"
+                    ));
+                    break;
+                }
+            }
             observer.event("solve", solve_event(&front, &solved, k_c, geometry));
+        }
+        if let Some(reason) = broken {
+            // Back to the end of the last completed step, whose records stand.
+            (front, history, _) = saved;
+            observer.event("note", json!({ "message": reason }));
+            history.failure_reason = Some(reason);
+            current = false;
+            break;
         }
         let rec = StepRecord {
             step: k,
@@ -511,6 +548,20 @@ pub fn run(
         if stop_after_step(&mut history, observer, &front, cut, k, f, why) || !solved_now {
             break;
         }
+        if k + 1 < factors.len() {
+            let flow = observer.checkpoint(k, &mut || {
+                EngineCheckpoint::BemOnly(BemOnlyCheckpoint {
+                    next_step: k + 1,
+                    front: front.state(),
+                    history: history.clone(),
+                    snapshots: history.snapshots.clone(),
+                    geometry,
+                })
+            });
+            if flow.is_break() {
+                return Err(CouplingError::Interrupted { step: k });
+            }
+        }
     }
     // A last snapshot when the solved geometry is the final one.
     if current && !history.steps.is_empty() {
@@ -530,6 +581,23 @@ pub fn run(
         p.ended = t.ended.clone();
     }
     Ok(history)
+}
+
+/// The history of a run that has not started: one path per tip at its initial position.
+fn fresh_history(front: &Front, first: f64) -> GrowthHistory {
+    GrowthHistory {
+        mode: "bem-only".into(),
+        paths: front
+            .tips
+            .iter()
+            .map(|t| TipPath {
+                name: t.name.clone(),
+                points: vec![point(t.initial, 0, first)],
+                ended: None,
+            })
+            .collect(),
+        ..Default::default()
+    }
 }
 
 /// One increment of one tip: direction by MCS, `Front::step_ahead`, path point and events.

@@ -8,8 +8,14 @@
 //! SIFs of every tip), `grow` (BEM-only: one increment of one tip), `round` (full PD: one
 //! break round), `tip_end` (a tip stopped, and why), `step` (a load step's record),
 //! `failure` (the body was cut through), `solver` (full PD: the equilibrium solver's work).
+//! After every load step that does not end the run the observer is offered a checkpoint
+//! ([`EngineObserver::checkpoint`]).
+
+use std::ops::ControlFlow;
 
 use serde_json::Value;
+
+use super::checkpoint::EngineCheckpoint;
 
 /// Receives what a BEM-only or full-PD growth run reports.
 pub trait EngineObserver {
@@ -20,6 +26,16 @@ pub trait EngineObserver {
     fn progress(&mut self, _done: usize, _total: usize, _status: &str) {}
     /// A message for the person running it (the model built, its size).
     fn message(&mut self, _text: &str) {}
+    /// After every load step that does not end the run: `save` builds the checkpoint of
+    /// the run as it stands (call it only when one is wanted). `Break` stops the run there
+    /// with [`crate::CouplingError::Interrupted`].
+    fn checkpoint(
+        &mut self,
+        _step: usize,
+        _save: &mut dyn FnMut() -> EngineCheckpoint,
+    ) -> ControlFlow<()> {
+        ControlFlow::Continue(())
+    }
 }
 
 /// An observer that ignores everything.

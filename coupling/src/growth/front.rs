@@ -20,7 +20,7 @@ use pdbem_geometry::{
 };
 
 /// One crack of the front.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct FrontCrack {
     /// Crack name.
     pub name: String,
@@ -31,7 +31,7 @@ pub struct FrontCrack {
 }
 
 /// One crack tip.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct FrontTip {
     /// `<crack>.end` or `<crack>.start`.
     pub name: String,
@@ -71,7 +71,49 @@ pub struct Front {
     parent: Vec<usize>,
 }
 
+/// The part of a [`Front`] a growth run changes (cracks, tips, which cracks joined), for
+/// growth checkpoints; the outline and holes come from the scene again.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct FrontState {
+    /// Cracks as grown.
+    pub cracks: Vec<FrontCrack>,
+    /// Tips with their ends.
+    pub tips: Vec<FrontTip>,
+    /// Union-find parent of each crack.
+    pub parent: Vec<usize>,
+}
+
 impl Front {
+    /// What a checkpoint keeps of the front.
+    pub fn state(&self) -> FrontState {
+        FrontState {
+            cracks: self.cracks.clone(),
+            tips: self.tips.clone(),
+            parent: self.parent.clone(),
+        }
+    }
+
+    /// Takes the cracks, tips and joins of `state` (a checkpoint of a run on the same
+    /// body); refused when the numbers of cracks or tips differ.
+    pub fn restore(&mut self, state: &FrontState) -> Result<(), String> {
+        if state.cracks.len() != self.cracks.len()
+            || state.tips.len() != self.tips.len()
+            || state.parent.len() != self.parent.len()
+        {
+            return Err(format!(
+                "the checkpoint has {} cracks and {} tips, the scene {} and {}",
+                state.cracks.len(),
+                state.tips.len(),
+                self.cracks.len(),
+                self.tips.len()
+            ));
+        }
+        self.cracks.clone_from(&state.cracks);
+        self.tips.clone_from(&state.tips);
+        self.parent.clone_from(&state.parent);
+        Ok(())
+    }
+
     /// The front of a body: its outline (counter-clockwise; `None` for an infinite
     /// plate), its holes with their group names, and its cracks (each with at least two
     /// points).

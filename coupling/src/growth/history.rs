@@ -127,6 +127,11 @@ pub struct GrowthHistory {
     pub overstrain: Option<Overstrain>,
     /// Messages for the user (why the run stopped, merged windows, ...).
     pub notes: Vec<String>,
+    /// Why the run ended early without structural failure (a load step no back-off could
+    /// solve, a geometry that could not be meshed or solved), with what was tried; None
+    /// when the run completed. The history then holds the steps completed before.
+    #[serde(default)]
+    pub failure_reason: Option<String>,
     /// Field snapshots for plots (damage in the active windows, displacement at chosen
     /// steps); not serialised.
     #[serde(skip)]
@@ -135,7 +140,7 @@ pub struct GrowthHistory {
 
 /// A field sampled at points at one step (damage in a window, displacement magnitude ...),
 /// for snapshot plots. Not serialised.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct FieldSnapshot {
     /// Step (0-based).
     pub step: usize,

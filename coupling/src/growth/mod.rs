@@ -57,6 +57,7 @@
 //! - [`bem_only`]: BEM-only growth (SIF, MCS kink, fixed increment; [`bem_only::run`]).
 //! - [`full_pd`]: full-PD growth, the whole body at the window resolution
 //!   ([`full_pd::run`]), the reference PD-BEM is compared with.
+//! - [`checkpoint`]: the serialisable state of a run after a load step (resume).
 //! - [`verdict`]: the end-of-step verdict of the BEM-only and full-PD engines.
 //! - [`criterion`]: maximum circumferential stress kink and equivalent K (BEM-only growth).
 //! - [`events`]: what the BEM-only and full-PD engines report ([`events::EngineObserver`]).
@@ -77,6 +78,7 @@
 //! - [`polyline`]: small polyline helpers.
 
 pub mod bem_only;
+pub mod checkpoint;
 pub mod compare;
 pub mod criterion;
 pub mod driver;

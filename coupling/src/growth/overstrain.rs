@@ -36,7 +36,7 @@ use crate::window::Window;
 use pdbem_geometry::point_segment_projection;
 
 /// The most strained sample of the BEM body.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Hotspot {
     /// Sample position (m).
     pub position: V2,

@@ -2,9 +2,12 @@
 //! [`Observer`], the initial [`GrowthSetup`] and the records a run produces
 //! ([`StepResult`], [`RelocationRecord`], [`GrowthResult`], ...).
 
+use std::ops::ControlFlow;
+
 use pdbem_bem::post::Background;
 use pdbem_bem::{Bc, Material, Mesh, SolveParams, V2};
 
+use crate::growth::checkpoint::PdBemCheckpoint;
 use crate::growth::overstrain::Hotspot;
 use crate::growth::tips::TipSpec;
 use crate::growth::transfer::TransferInfo;
@@ -43,6 +46,17 @@ pub trait Observer {
         _problem: &CoupledProblem,
         _solution: Option<&CoupledSolution>,
     ) {
+    }
+    /// After every load step that does not end the run (just after [`Observer::state`]):
+    /// `save` builds the checkpoint of the run as it stands (call it only when one is
+    /// wanted: it copies the windows' state). `Break` stops the run there with
+    /// [`crate::CouplingError::Interrupted`] (a test's stand-in for a kill).
+    fn checkpoint(
+        &mut self,
+        _step: usize,
+        _save: &mut dyn FnMut() -> PdBemCheckpoint,
+    ) -> ControlFlow<()> {
+        ControlFlow::Continue(())
     }
 }
 
@@ -86,7 +100,7 @@ pub struct GrowthSetup {
 }
 
 /// One load step.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StepResult {
     /// Step index (0-based).
     pub step: usize,
@@ -117,7 +131,7 @@ pub struct StepResult {
 }
 
 /// One window relocation.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RelocationRecord {
     /// Load step.
     pub step: usize,
@@ -182,7 +196,7 @@ pub struct RelocationPlan {
 }
 
 /// Why the run stopped early.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Failure {
     /// Step.
     pub step: usize,
@@ -193,7 +207,7 @@ pub struct Failure {
 }
 
 /// What a growth run produced.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct GrowthResult {
     /// Load steps.
     pub steps: Vec<StepResult>,
@@ -205,6 +219,11 @@ pub struct GrowthResult {
     pub initiation_load: Option<f64>,
     /// Messages (tips ended, windows merged, ...).
     pub notes: Vec<String>,
+    /// Why the run ended before its load budget without structural failure: a load step
+    /// that no back-off could solve ([`crate::growth::driver`] module docs), with what
+    /// was tried. None for a run that completed.
+    #[serde(default)]
+    pub failure_reason: Option<String>,
 }
 
 /// Outcome of one Algorithm 1 run at a load.

@@ -146,6 +146,7 @@ pub fn history_of<S: Scenario>(
         failure_load: result.failure.as_ref().map(|f| f.load),
         overstrain,
         notes,
+        failure_reason: result.failure_reason.clone(),
         snapshots: Vec::new(),
     }
 }

@@ -23,7 +23,7 @@ use crate::window::{Body, SideKind, Window};
 use pdbem_geometry::polygon_distance;
 
 /// A crack end followed by a window.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct TipSpec {
     /// Name (`<crack>.end` / `<crack>.start`).
     pub name: String,
@@ -34,7 +34,7 @@ pub struct TipSpec {
 }
 
 /// Why a tip stopped.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum TipEnd {
     /// It reached the outer boundary: the body is cut (seed 002 Algorithm 2 step 9).
     Outline,
@@ -56,7 +56,7 @@ impl std::fmt::Display for TipEnd {
 }
 
 /// The tracked state of one tip.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct TipState {
     /// Which crack end.
     pub spec: TipSpec,

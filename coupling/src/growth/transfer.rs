@@ -22,7 +22,7 @@ use pdbem_bem::V2;
 use crate::setup::WindowModel;
 
 /// Counts of where the new window's state came from.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct TransferInfo {
     /// Nodes matched exactly to an old node.
     pub exact_nodes: usize,

@@ -126,6 +126,7 @@ pub fn solve_prepared(
         {
             return Err(CouplingError::NoConvergence {
                 iterations: info.iterations,
+                scheme: params.acceleration.name(),
                 last: e,
                 psi: params.psi,
                 residuals: info.residuals,

@@ -40,7 +40,7 @@ pub enum SideKind {
 }
 
 /// Where a window goes and how fine it is.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WindowSpec {
     /// Centre (m).
     pub center: V2,

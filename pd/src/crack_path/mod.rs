@@ -127,7 +127,7 @@ impl PathParams {
 }
 
 /// The traced macro crack.
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, serde::Deserialize)]
 pub struct CrackPath {
     /// The smoothed polyline from the entry point (first) to the tip (last).
     /// A single point (the entry) when no crack node is connected to it.

@@ -197,6 +197,7 @@ mod tests {
     fn a_coupling_breakdown_while_the_crack_runs_to_the_outline_in_pd_ends_the_run() {
         let stall = CouplingError::NoConvergence {
             iterations: 50,
+            scheme: "iqn-ils",
             last: 2e-3,
             psi: 1e-4,
             residuals: vec![],

@@ -24,6 +24,14 @@
 //! 4. Otherwise the step converged (interface residual below psi and no bond broke in the
 //!    last PD solves) and is recorded; the load grows.
 //!
+//! 5. A step whose coupling does not converge is tried again from the state it started
+//!    from with more iterations, IQN-ILS or a lower weight, then half the load increment
+//!    (`backoff`); when none solves it the run ends with
+//!    [`GrowthResult::failure_reason`](crate::growth::GrowthResult::failure_reason) and the
+//!    steps before it. After every step that does not end the run the windows' kept
+//!    solvers are dropped and the observer is offered a checkpoint
+//!    ([`crate::growth::checkpoint`]); [`Growth::resume`] goes on from one.
+//!
 //! The scene-specific parts (BEM conditions of a mesh, conditions on window sides lying on
 //! the outline, both at load factor 1) come from a [`Scenario`]; progress goes to an
 //! [`Observer`](crate::growth::Observer), so the crate stays free of I/O.
@@ -32,11 +40,16 @@
 //! - `mod.rs`: [`Growth`], its construction and accessors, the geometry build, tip tracing
 //!   and paths.
 //! - `run`: the strain watch, [`Growth::solve_at`] and the load-step loop [`Growth::run`].
+//! - `backoff`: the retries of a load step whose coupling does not converge.
+//! - `state`: the run's state between load steps ([`Growth::state`],
+//!   [`Growth::set_state`], [`Growth::resume`]).
 //! - `ends`: tips and runs that end (outline, hole, other crack, ligament), damage beyond
 //!   the tips.
 
+mod backoff;
 mod ends;
 mod run;
+mod state;
 
 use pdbem_bem::post::sif::cmod;
 use pdbem_bem::{PairCache, V2};
@@ -78,6 +91,8 @@ pub struct Growth<'s, S: Scenario> {
     /// Element-pair blocks of the last BEM assembly, reused by the next (relocations
     /// change only the crack faces near the tips and the window interfaces).
     pub(super) pairs: PairCache,
+    /// Set by [`Growth::resume`]: the records and the step [`Growth::run`] goes on from.
+    pub(super) resume_from: Option<state::ResumePoint>,
 }
 
 /// Builds mesh, windows (with their no-fail bands) and the factored BEM system of a
@@ -179,6 +194,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
             initial_tip,
             geometries: 1,
             pairs,
+            resume_from: None,
         };
         g.retrace()?;
         Ok(g)

@@ -158,107 +158,158 @@ impl<'s, S: Scenario> Growth<'s, S> {
             .sum()
     }
 
-    /// Runs Algorithm 2 (see the module docs).
-    pub fn run(&mut self, observer: &mut dyn Observer) -> Result<GrowthResult, CouplingError> {
-        let mut out = GrowthResult::default();
-        let mut noted_steps = 0;
-        self.record_progress(0, self.params.loads.initial);
-        for k in 0..self.params.loads.count {
-            let load = self.params.loads.factor(k);
-            let t0 = Instant::now();
-            let (mut iterations, mut pd_s, mut relocations) = (0, 0.0, 0);
-            let mut gave_way = false;
-            let mut noted = false;
-            let (converged, residual, cut) = loop {
-                let o = match self.solve_at(k, load, observer) {
-                    Ok(o) => o,
-                    Err(e) => match self.ligament_gave_way(&e) {
-                        Some((t, what)) => {
-                            observer.note(&format!(
-                                "step {k} (load {load}): the PD ligament ahead of tip {} \
-                                 gave way ({what}): structural failure",
-                                self.tips[t].spec.name
-                            ));
-                            gave_way = true;
-                            break (false, f64::NAN, Some(t));
-                        }
-                        None => return Err(step_error(k, load, e)),
-                    },
-                };
-                iterations += o.iterations;
-                pd_s += o.pd_s;
-                noted = noted || !o.notes.is_empty();
-                if o.bonds_broken > 0 && out.initiation_load.is_none() {
-                    out.initiation_load = Some(load);
-                }
-                if let Some(t) = self.end_tips(observer) {
-                    break (false, o.residual, Some(t));
-                }
-                let which = self.triggered();
-                if which.is_empty() {
-                    if o.converged {
-                        break (true, o.residual, None);
+    /// One try at load step `k` at load `load` on the current state: Algorithm 1 with the
+    /// geometry iteration (relocations) until the step converged or a tip ended the run.
+    pub(super) fn attempt(
+        &mut self,
+        k: usize,
+        load: f64,
+        out: &mut GrowthResult,
+        observer: &mut dyn Observer,
+    ) -> Result<StepRun, CouplingError> {
+        let mut run = StepRun {
+            load,
+            ..StepRun::default()
+        };
+        loop {
+            let o = match self.solve_at(k, load, observer) {
+                Ok(o) => o,
+                Err(e) => match self.ligament_gave_way(&e) {
+                    Some((t, what)) => {
+                        observer.note(&format!(
+                            "step {k} (load {load}): the PD ligament ahead of tip {} \
+                             gave way ({what}): structural failure",
+                            self.tips[t].spec.name
+                        ));
+                        run.gave_way = true;
+                        run.residual = f64::NAN;
+                        run.cut = Some(t);
+                        return Ok(run);
                     }
-                    // Stopped for a tip that has now ended: iterate on with the others.
-                    continue;
-                }
-                if relocations >= self.params.max_relocations_per_step {
-                    return Err(CouplingError::Relocation {
-                        tip: self.tips[which[0]].spec.name.clone(),
-                        reason: format!(
-                            "more than {relocations} relocations in step {k} (load {load}); lower the load step"
-                        ),
-                    });
-                }
-                self.record_progress(k, load);
-                let plan = self.plan(&which)?;
-                if let Some(&t) = plan.at_outline.first() {
-                    let p = self.tips[t].position();
-                    observer.note(&format!(
-                        "tip {} at ({:.4}, {:.4}): no window around it fits inside the body, \
-                         the outer boundary is within the window's reach: the crack reaches \
-                         it, structural failure",
-                        self.tips[t].spec.name, p.x, p.y
-                    ));
-                    self.tips[t].ended = Some(TipEnd::Outline);
-                    break (false, o.residual, Some(t));
-                }
-                if plan.cuts_body {
-                    let t = which[0];
-                    let p = self.tips[t].position();
-                    observer.note(&format!(
-                        "tip {} at ({:.4}, {:.4}): its moved window reaches the outline and \
-                         the cracks cut the BEM body apart; the windows alone hold the \
-                         cut-off part",
-                        self.tips[t].spec.name, p.x, p.y
-                    ));
-                }
-                let recs = self.apply(plan, k, load, observer)?;
-                if recs.is_empty() {
-                    // Every triggered tip ended at a hole: iterate on with the others.
-                    if o.converged || self.tips.iter().all(|t| !t.active()) {
-                        break (o.converged, o.residual, None);
-                    }
-                    continue;
-                }
-                relocations += recs.len();
-                out.relocations.extend(recs);
+                    None => return Err(e),
+                },
             };
+            run.iterations += o.iterations;
+            run.pd_s += o.pd_s;
+            run.noted = run.noted || !o.notes.is_empty();
+            run.residual = o.residual;
+            if o.bonds_broken > 0 && out.initiation_load.is_none() {
+                out.initiation_load = Some(load);
+            }
+            if let Some(t) = self.end_tips(observer) {
+                run.cut = Some(t);
+                return Ok(run);
+            }
+            let which = self.triggered();
+            if which.is_empty() {
+                if o.converged {
+                    run.converged = true;
+                    return Ok(run);
+                }
+                // Stopped for a tip that has now ended: iterate on with the others.
+                continue;
+            }
+            if run.relocations >= self.params.max_relocations_per_step {
+                return Err(CouplingError::Relocation {
+                    tip: self.tips[which[0]].spec.name.clone(),
+                    reason: format!(
+                        "more than {} relocations in step {k} (load {load}); lower the load step",
+                        run.relocations
+                    ),
+                });
+            }
             self.record_progress(k, load);
-            noted_steps += usize::from(noted);
+            let plan = self.plan(&which)?;
+            if let Some(&t) = plan.at_outline.first() {
+                let p = self.tips[t].position();
+                observer.note(&format!(
+                    "tip {} at ({:.4}, {:.4}): no window around it fits inside the body, \
+                     the outer boundary is within the window's reach: the crack reaches \
+                     it, structural failure",
+                    self.tips[t].spec.name, p.x, p.y
+                ));
+                self.tips[t].ended = Some(TipEnd::Outline);
+                run.cut = Some(t);
+                return Ok(run);
+            }
+            if plan.cuts_body {
+                let t = which[0];
+                let p = self.tips[t].position();
+                observer.note(&format!(
+                    "tip {} at ({:.4}, {:.4}): its moved window reaches the outline and \
+                     the cracks cut the BEM body apart; the windows alone hold the \
+                     cut-off part",
+                    self.tips[t].spec.name, p.x, p.y
+                ));
+            }
+            let recs = self.apply(plan, k, load, observer)?;
+            if recs.is_empty() {
+                // Every triggered tip ended at a hole: iterate on with the others.
+                if o.converged || self.tips.iter().all(|t| !t.active()) {
+                    run.converged = o.converged;
+                    return Ok(run);
+                }
+                continue;
+            }
+            run.relocations += recs.len();
+            out.relocations.extend(recs);
+        }
+    }
+
+    /// Runs Algorithm 2 (see the module docs); a run made by [`Growth::resume`] goes on
+    /// from its checkpoint. A step that no back-off solves ([`super::backoff`]) ends the
+    /// run with [`GrowthResult::failure_reason`] and the records of the steps before it.
+    pub fn run(&mut self, observer: &mut dyn Observer) -> Result<GrowthResult, CouplingError> {
+        let (mut out, mut noted_steps, first) = match self.resume_from.take() {
+            Some(r) => (r.result, r.noted_steps, r.next_step),
+            None => {
+                self.record_progress(0, self.params.loads.initial);
+                (GrowthResult::default(), 0, 0)
+            }
+        };
+        let count = self.params.loads.count;
+        for k in first..count {
+            let load = self.params.loads.factor(k);
+            let prev = if k == 0 {
+                0.0
+            } else {
+                self.params.loads.factor(k - 1)
+            };
+            let t0 = Instant::now();
+            let saved = self.state();
+            let run = match self.step_with_backoff((k, load, prev), &saved, &mut out, observer)? {
+                Ok(run) => run,
+                Err(reason) => {
+                    observer.note(&reason);
+                    out.failure_reason = Some(reason);
+                    break;
+                }
+            };
+            // A step solved through half the load increment may have ended (structural
+            // failure) at the half-way load.
+            let load = run.load;
+            let StepRun {
+                converged,
+                residual,
+                cut,
+                gave_way,
+                ..
+            } = run;
+            self.record_progress(k, load);
+            noted_steps += usize::from(run.noted);
             let rec = StepResult {
                 step: k,
                 load,
-                iterations,
+                iterations: run.iterations,
                 residual,
                 converged,
                 broken_bonds: self.broken_bonds(),
                 tips: self.tips.iter().map(TipState::position).collect(),
                 // The last solution of a step whose ligament gave way is not an equilibrium.
                 cmod: if gave_way { None } else { self.first_cmod() },
-                relocations,
+                relocations: run.relocations,
                 wall_s: t0.elapsed().as_secs_f64(),
-                pd_s,
+                pd_s: run.pd_s,
                 // Only an equilibrium says how strained the body is.
                 overstrain: if converged { self.overstrain() } else { None },
             };
@@ -267,24 +318,8 @@ impl<'s, S: Scenario> Growth<'s, S> {
             out.steps.push(rec);
             if let Some(t) = cut {
                 let name = self.tips[t].spec.name.clone();
-                out.notes.push(if gave_way {
-                    format!(
-                        "structural failure at step {k} (load {load}): the PD ligament at tip \
-                         {name} gave way (the coupling broke down with the remaining ligament in \
-                         the window)"
-                    )
-                } else if let Some(TipEnd::Coalescence(other)) = &self.tips[t].ended {
-                    format!(
-                        "structural failure at step {k} (load {load}): tip {name} joined the \
-                         crack of tip {other}; both cracks start on the outer boundary, so \
-                         together they cut the body"
-                    )
-                } else {
-                    format!(
-                        "structural failure at step {k} (load {load}): tip {name} reached the \
-                         outer boundary"
-                    )
-                });
+                out.notes
+                    .push(failure_note(k, load, &name, gave_way, &self.tips[t].ended));
                 out.failure = Some(Failure {
                     step: k,
                     load,
@@ -296,6 +331,18 @@ impl<'s, S: Scenario> Growth<'s, S> {
                 out.notes
                     .push(format!("every tip ended by step {k} (load {load})"));
                 break;
+            }
+            // The windows' kept factorisations end with the step, in every run, so that a
+            // run resumed from the checkpoint below repeats this one bit for bit.
+            for w in self.problem.windows.iter_mut() {
+                w.solver.clear();
+            }
+            if k + 1 < count {
+                let flow =
+                    observer.checkpoint(k, &mut || self.checkpoint(k + 1, &out, noted_steps));
+                if flow.is_break() {
+                    return Err(CouplingError::Interrupted { step: k });
+                }
             }
         }
         for t in &self.tips {
@@ -314,6 +361,62 @@ impl<'s, S: Scenario> Growth<'s, S> {
     }
 }
 
+/// What one completed try at a load step did.
+#[derive(Debug, Clone, Default)]
+pub(super) struct StepRun {
+    /// The load it ended at.
+    pub load: f64,
+    /// Converged (interface residual below psi, no bond breaking).
+    pub converged: bool,
+    /// Last interface residual (NaN when the coupling broke down).
+    pub residual: f64,
+    /// The tip that ended the run (structural failure).
+    pub cut: Option<usize>,
+    /// The PD ligament gave way (the coupling broke down).
+    pub gave_way: bool,
+    /// Algorithm 1 iterations.
+    pub iterations: usize,
+    /// PD seconds.
+    pub pd_s: f64,
+    /// Relocations.
+    pub relocations: usize,
+    /// The accelerator reported a restart or hand-over.
+    pub noted: bool,
+}
+
+impl StepRun {
+    /// This try after `first` (half the load increment first): counters added.
+    pub fn after(mut self, first: &StepRun) -> StepRun {
+        self.iterations += first.iterations;
+        self.pd_s += first.pd_s;
+        self.relocations += first.relocations;
+        self.noted |= first.noted;
+        self
+    }
+}
+
+/// The note of a structural failure at step `k` by tip `name`.
+fn failure_note(k: usize, load: f64, name: &str, gave_way: bool, end: &Option<TipEnd>) -> String {
+    if gave_way {
+        format!(
+            "structural failure at step {k} (load {load}): the PD ligament at tip \
+             {name} gave way (the coupling broke down with the remaining ligament in \
+             the window)"
+        )
+    } else if let Some(TipEnd::Coalescence(other)) = end {
+        format!(
+            "structural failure at step {k} (load {load}): tip {name} joined the \
+             crack of tip {other}; both cracks start on the outer boundary, so \
+             together they cut the body"
+        )
+    } else {
+        format!(
+            "structural failure at step {k} (load {load}): tip {name} reached the \
+             outer boundary"
+        )
+    }
+}
+
 /// Whether a traced tip at `p` (entry `entry`) in `w` is past the margin or at the outline
 /// or a hole (`body` with its hole names).
 fn needs_attention(
@@ -325,16 +428,4 @@ fn needs_attention(
 ) -> bool {
     passed_margin(w, p, entry, params.trigger_ratio)
         || reached_boundary(body, holes, p, params.boundary_reach * w.spec.dx).is_some()
-}
-
-/// Adds the step and load to an error of a step.
-fn step_error(step: usize, load: f64, e: CouplingError) -> CouplingError {
-    match e {
-        CouplingError::NoConvergence { .. } | CouplingError::Diverged { .. } => {
-            CouplingError::InvalidStep {
-                message: format!("load step {step} (load factor {load}): {e}"),
-            }
-        }
-        other => other,
-    }
 }

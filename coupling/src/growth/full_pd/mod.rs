@@ -48,6 +48,7 @@ use pdbem_pd::PdModel;
 use rounds::{load_step, message_of, pd_fail, Equilibrium, Tracked, LOOSE_MEASURE};
 use serde_json::json;
 
+use super::checkpoint::FullPdCheckpoint;
 use super::events::EngineObserver;
 use super::front::{Front, Obstacle};
 use super::history::{FieldSnapshot, GrowthHistory, PathPoint, StepRecord, TipPath};
@@ -55,6 +56,7 @@ use super::polyline;
 use super::verdict::stop_after_step;
 use crate::error::CouplingError;
 
+mod resume;
 mod rounds;
 
 /// Nodes this far behind a tip's initial position (in dx) are not traced from it.
@@ -284,9 +286,25 @@ fn snapshots(model: &PdModel, step: usize) -> [FieldSnapshot; 2] {
 pub fn run(
     name: &str,
     model: &mut PdModel,
+    front: Front,
+    p: &FullPdParams,
+    obs: &mut dyn EngineObserver,
+) -> Result<GrowthHistory, CouplingError> {
+    run_from(name, model, front, p, obs, None)
+}
+
+/// [`run`], going on from `resume` when given (a checkpoint of a run of the same model,
+/// front and parameters, [`crate::growth::checkpoint`]). A load step whose equilibrium
+/// fails before any bond broke is tried again ([`resume::EFFORT`] times the iteration
+/// budgets, then also half the load increment); when no try solves it the run ends with
+/// [`GrowthHistory::failure_reason`] and the steps before it.
+pub fn run_from(
+    name: &str,
+    model: &mut PdModel,
     mut front: Front,
     p: &FullPdParams,
     obs: &mut dyn EngineObserver,
+    resume: Option<FullPdCheckpoint>,
 ) -> Result<GrowthHistory, CouplingError> {
     let (dx, delta) = (p.dx, p.delta);
     let factors = &p.loads[..];
@@ -294,11 +312,13 @@ pub fn run(
         threshold: p.damage_threshold,
         ..Default::default()
     };
-    obs.event(
-        "start",
-        json!({"mode": "full-pd", "dx": dx, "horizon": delta, "nodes": model.n_real(),
-               "bonds": model.n_bonds() / 2, "steps": factors.len()}),
-    );
+    if resume.is_none() {
+        obs.event(
+            "start",
+            json!({"mode": "full-pd", "dx": dx, "horizon": delta, "nodes": model.n_real(),
+                   "bonds": model.n_bonds() / 2, "steps": factors.len()}),
+        );
+    }
     obs.message(&format!(
         "{name}: full PD, {} real nodes, dx = {dx:e} m",
         model.n_real()
@@ -332,29 +352,70 @@ pub fn run(
             .collect(),
         ..Default::default()
     };
+    let mut first_break = None;
+    let next = match &resume {
+        Some(cp) => {
+            resume::restore(cp, model, &mut front, &mut tr, &mut history)?;
+            first_break = cp.first_break;
+            cp.next_step
+        }
+        None => 0,
+    };
     let mut eq = Equilibrium::new(model).map_err(pd_fail)?;
+    if let Some(cp) = &resume {
+        eq.set_work(&cp.work);
+    }
     let n_side = (model.n_real() as f64).sqrt().ceil() as usize;
     let max_rounds = 20 * n_side.max(10);
-    let mut first_break = None;
-    for (k, &f) in factors.iter().enumerate() {
+    for (k, &f) in factors.iter().enumerate().skip(next) {
         let t0 = Instant::now();
         let broken0 = model.broken_bonds();
-        let outcome = load_step(model, &mut eq, f, max_rounds, |m| {
-            let tracked = track(&mut front, &mut tr, &mut history, m, &params, k, f, obs);
-            // A step can run for many minutes on a fine grid: show every round.
-            let status = round_message(f, m.broken_bonds(), &front.tip_positions());
-            obs.progress(k, factors.len(), &status);
-            tracked
-        });
-        let collapsed = match outcome {
-            Ok(()) => None,
-            Err(e) if model.broken_bonds() > broken0 => Some(message_of(&e)),
-            Err(e) => {
-                return Err(rounds::fail(format!(
-                    "step {k} (load {f}): {}",
-                    message_of(&e)
-                )))
+        let prev = if k == 0 { 0.0 } else { factors[k - 1] };
+        let saved = resume::Saved::take(model, &front, &tr, &history);
+        let mut tried = Vec::new();
+        let mut outcome = None;
+        for (i, attempt) in resume::ATTEMPTS.iter().enumerate() {
+            if i > 0 {
+                saved.put_back(model, &mut front, &mut tr, &mut history);
+                eq.renew(model).map_err(pd_fail)?;
+                let message = format!("step {k} (load {f}): retry {i} with {}", attempt.label);
+                obs.event("note", json!({ "message": message }));
             }
+            eq.set_effort(attempt.effort);
+            let loads = attempt.loads(prev, f);
+            let mut r = Ok(());
+            for &fl in &loads {
+                r = load_step(model, &mut eq, fl, max_rounds, |m| {
+                    let tracked = track(&mut front, &mut tr, &mut history, m, &params, k, fl, obs);
+                    // A step can run for many minutes on a fine grid: show every round.
+                    let status = round_message(fl, m.broken_bonds(), &front.tip_positions());
+                    obs.progress(k, factors.len(), &status);
+                    tracked
+                });
+                if r.is_err() || tr.apart || front.separated() {
+                    break;
+                }
+            }
+            eq.set_effort(1);
+            match r {
+                Ok(()) => outcome = Some(None),
+                Err(e) if model.broken_bonds() > broken0 => outcome = Some(Some(message_of(&e))),
+                Err(e) => {
+                    tried.push(format!("{}: {}", attempt.label, message_of(&e)));
+                    continue;
+                }
+            }
+            break;
+        }
+        let Some(collapsed) = outcome else {
+            saved.put_back(model, &mut front, &mut tr, &mut history);
+            let reason = format!(
+                "load step {k} (load factor {f}): no equilibrium before any bond broke; tried {}",
+                tried.join("; ")
+            );
+            obs.event("note", json!({ "message": reason }));
+            history.failure_reason = Some(reason);
+            break;
         };
         let grown = (0..front.tips.len()).any(|t| front.extension(t) > delta);
         if history.initiation_load.is_none() && grown {
@@ -394,6 +455,17 @@ pub fn run(
         };
         if stop_after_step(&mut history, obs, &front, failed, k, f, why) {
             break;
+        }
+        // The kept factorisations end with the step, in every run, so that a run resumed
+        // from the checkpoint below repeats this one bit for bit.
+        eq.renew(model).map_err(pd_fail)?;
+        if k + 1 < factors.len() {
+            let flow = obs.checkpoint(k, &mut || {
+                resume::checkpoint(k + 1, model, &front, &tr, &history, first_break, &eq)
+            });
+            if flow.is_break() {
+                return Err(CouplingError::Interrupted { step: k });
+            }
         }
     }
     let last = history.steps.len().saturating_sub(1);

@@ -17,6 +17,7 @@
 //! factor (see the module note of `pdbem_pd::solvers::secant` for the cost model).
 
 use crate::error::CouplingError;
+use crate::growth::checkpoint::SolverWork;
 
 use pdbem_pd::material::BondLaw;
 use pdbem_pd::solvers::frozen::{Fallbacks, FrozenSolver, Solved};
@@ -93,6 +94,10 @@ pub(super) struct Equilibrium {
     ip: ImplicitParams,
     pub counts: Counts,
     pub info: SolveInfo,
+    /// Chord solves of the solvers dropped by [`Equilibrium::renew`].
+    chord_solves_done: usize,
+    /// The scene's iteration budgets ([`Equilibrium::set_effort`] scales them).
+    base: (ImplicitParams, Fallbacks),
 }
 
 impl Equilibrium {
@@ -109,17 +114,70 @@ impl Equilibrium {
             adr_tol: 1e-6,
             adr_max_iters: ADR_STEPS_PER_ROW * rows,
         };
+        let ip = ImplicitParams {
+            residual_tol: 1e-6,
+            convergence: Convergence::Displacement { e0: 1e-6 },
+            max_iters: 10,
+            ..Default::default()
+        };
         Ok(Equilibrium {
             solver: FrozenSolver::new(model)?.with_fallbacks(fallbacks),
-            ip: ImplicitParams {
-                residual_tol: 1e-6,
-                convergence: Convergence::Displacement { e0: 1e-6 },
-                max_iters: 10,
-                ..Default::default()
-            },
+            ip: ip.clone(),
             counts: Counts::default(),
             info: SolveInfo::default(),
+            chord_solves_done: 0,
+            base: (ip, fallbacks),
         })
+    }
+
+    /// Drops the kept factorisations (new solvers for `model`, same settings and
+    /// counters): done at the end of every load step, so that a run resumed from a
+    /// checkpoint repeats an uninterrupted one bit for bit.
+    pub fn renew(&mut self, model: &PdModel) -> Result<(), PdError> {
+        self.chord_solves_done += self.solver.chord_solves();
+        let fallbacks = self.solver.fallbacks;
+        let chord = self.solver.has_chord();
+        let mut solver = FrozenSolver::new(model)?.with_fallbacks(fallbacks);
+        if !chord {
+            solver = solver.without_chord();
+        }
+        self.solver = solver;
+        Ok(())
+    }
+
+    /// Iteration budgets of Newton, the chord iteration and ADR at `factor` times the
+    /// scene's (1: the scene's; the back-off of a step raises them).
+    pub fn set_effort(&mut self, factor: usize) {
+        let (ip, fb) = &self.base;
+        self.ip.max_iters = ip.max_iters * factor;
+        self.solver.fallbacks.chord_iters = fb.chord_iters * factor;
+        self.solver.fallbacks.adr_max_iters = fb.adr_max_iters * factor;
+    }
+
+    /// The counters of the `solver` log event, for a checkpoint.
+    pub fn work_done(&self) -> SolverWork {
+        SolverWork {
+            factorizations: self.info.factorizations,
+            chord_solves: self.chord_solves_done + self.solver.chord_solves(),
+            assembly_s: self.info.time_assembly_s,
+            factor_and_solve_s: self.info.time_factorization_s,
+            newton: self.counts.newton,
+            loose: self.counts.loose,
+            adr: self.counts.adr,
+        }
+    }
+
+    /// Takes the counters of a checkpoint.
+    pub fn set_work(&mut self, w: &SolverWork) {
+        self.info.factorizations = w.factorizations;
+        self.chord_solves_done = w.chord_solves - self.solver.chord_solves();
+        self.info.time_assembly_s = w.assembly_s;
+        self.info.time_factorization_s = w.factor_and_solve_s;
+        self.counts = Counts {
+            newton: w.newton,
+            loose: w.loose,
+            adr: w.adr,
+        };
     }
 
     /// The solver work so far, for the run log: factorisations of the tangent (Newton,
@@ -128,7 +186,7 @@ impl Equilibrium {
     pub fn work(&self) -> serde_json::Value {
         serde_json::json!({
             "factorizations": self.info.factorizations,
-            "chord_solves": self.solver.chord_solves(),
+            "chord_solves": self.chord_solves_done + self.solver.chord_solves(),
             "assembly_s": self.info.time_assembly_s,
             "factor_and_solve_s": self.info.time_factorization_s,
             "newton_fallbacks": self.counts.newton,
