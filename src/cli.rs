@@ -80,6 +80,14 @@ pub enum Command {
         /// machine's memory.
         #[arg(long, value_parser = parse_max_memory)]
         max_memory: Option<u64>,
+        /// Run only part I of N of the grid (I from 1), e.g. a Slurm array task:
+        /// `--shard $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT` with `--array=1-N`; then
+        /// `--collect`.
+        #[arg(long, value_parser = crate::sweep::shard::Shard::parse, conflicts_with = "collect")]
+        shard: Option<crate::sweep::shard::Shard>,
+        /// Join the finished shards in the sweep folder into its table and plots.
+        #[arg(long)]
+        collect: bool,
     },
     /// Benchmarks.
     Bench {
@@ -214,9 +222,16 @@ pub fn execute(command: Command) -> anyhow::Result<()> {
             out,
             quiet,
             max_memory,
+            shard,
+            collect,
         } => {
             set_budget(max_memory);
-            sweep(&scene, &vary, out, quiet)
+            let part = match (shard, collect) {
+                (Some(s), _) => SweepPart::Shard(s),
+                (None, true) => SweepPart::Collect,
+                (None, false) => SweepPart::All,
+            };
+            sweep(&scene, &vary, out, quiet, part)
         }
         Command::Bench {
             kind,
@@ -464,7 +479,24 @@ fn plot_paths(runs: &[PathBuf], out: Option<PathBuf>) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn sweep(path: &Path, vary: &[String], out: Option<PathBuf>, quiet: bool) -> anyhow::Result<()> {
+/// Which part of a sweep a command runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SweepPart {
+    /// The whole grid.
+    All,
+    /// One shard.
+    Shard(crate::sweep::shard::Shard),
+    /// Join the finished shards.
+    Collect,
+}
+
+fn sweep(
+    path: &Path,
+    vary: &[String],
+    out: Option<PathBuf>,
+    quiet: bool,
+    part: SweepPart,
+) -> anyhow::Result<()> {
     let scene = load(path)?;
     let varies = vary
         .iter()
@@ -472,7 +504,22 @@ fn sweep(path: &Path, vary: &[String], out: Option<PathBuf>, quiet: bool) -> any
         .collect::<Result<Vec<_>, _>>()
         .map_err(anyhow::Error::msg)?;
     let out = out.unwrap_or_else(|| default_out(&scene, "-sweep"));
-    let rows = crate::sweep::run_sweep(&scene, &varies, &out, quiet)?;
+    let rows = match part {
+        SweepPart::All => crate::sweep::run_sweep(&scene, &varies, &out, quiet)?,
+        SweepPart::Shard(s) => {
+            let rows = crate::sweep::shard::run_shard(&scene, &varies, &out, s, quiet)?;
+            let failed = rows.iter().filter(|r| r.error.is_some()).count();
+            println!(
+                "shard {}/{}: {} runs ({failed} failed) in {}; join the shards with --collect",
+                s.index,
+                s.count,
+                rows.len(),
+                out.display()
+            );
+            return Ok(());
+        }
+        SweepPart::Collect => crate::sweep::shard::collect(&scene, &varies, &out)?,
+    };
     let failed = rows.iter().filter(|r| r.error.is_some()).count();
     println!(
         "{} runs ({} failed); table in {}",

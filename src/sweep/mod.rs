@@ -11,6 +11,7 @@
 //! `<out>/sweep_tolerance_time.{png,svg}` ([`plots`]).
 
 pub mod plots;
+pub mod shard;
 
 use std::path::Path;
 
@@ -102,7 +103,7 @@ fn overrides(varies: &[Vary], combo: &[usize]) -> Vec<(String, Value)> {
 }
 
 /// One row of the sweep.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct SweepRow {
     /// Values as typed, one per `--vary`.
     pub params: Vec<String>,
@@ -119,20 +120,53 @@ pub fn run_sweep(
     out_dir: &Path,
     quiet: bool,
 ) -> anyhow::Result<Vec<SweepRow>> {
+    check_sweep(scene, varies)?;
+    let writer = OutputWriter::create_run(out_dir)
+        .with_context(|| format!("cannot create {}", out_dir.display()))?;
+    let all: Vec<usize> = (0..grid(varies).len()).collect();
+    let rows = run_rows(scene, varies, out_dir, &all, quiet);
+    write_results(scene, varies, &rows, &writer)?;
+    writer.commit()?;
+    Ok(rows)
+}
+
+/// The sweep's table and plots, through `writer` (not committed).
+pub fn write_results(
+    scene: &Scene,
+    varies: &[Vary],
+    rows: &[SweepRow],
+    writer: &OutputWriter,
+) -> anyhow::Result<()> {
+    writer.write_csv("sweep.csv", &table(varies, rows))?;
+    plots::write_plots(scene, varies, rows, writer)
+}
+
+/// A sweep needs a `--vary` and paths that exist in the scene.
+pub fn check_sweep(scene: &Scene, varies: &[Vary]) -> anyhow::Result<()> {
     if varies.is_empty() {
         anyhow::bail!("sweep needs at least one --vary FIELD=v1,v2,...");
     }
-    check_paths(scene, varies)?;
+    check_paths(scene, varies)
+}
+
+/// Runs the combinations of the grid with the given indices, each into
+/// `<out>/run_<k>/`; a run that fails is a row with its error.
+pub fn run_rows(
+    scene: &Scene,
+    varies: &[Vary],
+    out_dir: &Path,
+    indices: &[usize],
+    quiet: bool,
+) -> Vec<SweepRow> {
     let combos = grid(varies);
-    let writer = OutputWriter::create_run(out_dir)
-        .with_context(|| format!("cannot create {}", out_dir.display()))?;
     let bar = if quiet {
         indicatif::ProgressBar::hidden()
     } else {
-        indicatif::ProgressBar::new(combos.len() as u64)
+        indicatif::ProgressBar::new(indices.len() as u64)
     };
     let mut rows = Vec::new();
-    for (k, combo) in combos.iter().enumerate() {
+    for &k in indices {
+        let combo = &combos[k];
         let params: Vec<String> = varies
             .iter()
             .zip(combo)
@@ -157,10 +191,7 @@ pub fn run_sweep(
         bar.inc(1);
     }
     bar.finish_and_clear();
-    writer.write_csv("sweep.csv", &table(varies, &rows))?;
-    plots::write_plots(scene, varies, &rows, &writer)?;
-    writer.commit()?;
-    Ok(rows)
+    rows
 }
 
 /// Paths must exist in the scene (values may still be invalid per combination).
