@@ -23,7 +23,7 @@ use pdbem_coupling::CouplingParams;
 use super::bem::{conditions, material, MissingGroup};
 use super::coupled::{macro_body, outer_conditions, params_of, pd_settings, window_specs};
 use super::sizing::Sizing;
-use crate::scene::shapes::SceneGeometry;
+use crate::scene::shapes::{HoleShape, SceneGeometry};
 use crate::scene::{GrowthMode, Scene};
 
 /// The scene seen by the growth driver (all values at load factor 1).
@@ -148,9 +148,25 @@ pub fn input(scene: &Scene) -> Result<PdBemInput<'_>> {
 }
 
 /// The crack front of a scene for the BEM-only and full-PD engines: outline, holes and
-/// cracks as the scene geometry has them.
+/// cracks as the scene geometry has them, circular holes as the polygons of the BEM mesh
+/// (`bem.elements_per_circle`), so that a crack the front takes onto a hole ends on an
+/// edge of the meshed hole.
 pub fn front(scene: &Scene) -> Front {
     let geo = SceneGeometry::of(scene);
+    let per_circle = super::sizing::circle_elements(scene, 1.0);
+    let holes = geo
+        .holes
+        .iter()
+        .map(|(n, h)| {
+            let shape = match h {
+                HoleShape::Circle { center, radius } => HoleShape::Polygon(
+                    crate::geometry::circle_polygon(center, *radius, per_circle, true),
+                ),
+                other => other.clone(),
+            };
+            (n.clone(), shape)
+        })
+        .collect();
     let cracks = geo
         .cracks
         .iter()
@@ -160,7 +176,7 @@ pub fn front(scene: &Scene) -> Front {
             mouth: c.mouth,
         })
         .collect();
-    Front::new(geo.outline.map(|o| o.points), geo.holes, cracks)
+    Front::new(geo.outline.map(|o| o.points), holes, cracks)
 }
 
 /// The scene's conditions for BEM-only growth: every group meshed (a missing one is an
