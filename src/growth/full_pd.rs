@@ -38,5 +38,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
     let history = engine::run(&scene.name, &mut model, front, &params, &mut obs)
         .with_context(|| scene.file_label().display().to_string());
     obs.finish()?;
-    history
+    let mut history = history?;
+    super::sif_record::replay_record(scene, &mut history)?;
+    Ok(history)
 }

@@ -127,6 +127,10 @@ pub struct GrowthHistory {
     pub overstrain: Option<Overstrain>,
     /// Messages for the user (why the run stopped, merged windows, ...).
     pub notes: Vec<String>,
+    /// The fracture-mechanics record along the path ([`super::sif_path`]): one row per
+    /// tip and state, in order.
+    #[serde(default)]
+    pub sif_path: Vec<super::sif_path::SifRow>,
     /// Field snapshots for plots (damage in the active windows, displacement at chosen
     /// steps); not serialised.
     #[serde(skip)]

@@ -156,6 +156,7 @@ pub fn history_of<S: Scenario>(
         failure_load: result.failure.as_ref().map(|f| f.load),
         overstrain,
         notes,
+        sif_path: Vec::new(),
         snapshots: Vec::new(),
     }
 }
