@@ -5,7 +5,8 @@
 
 use anyhow::{Context, Result};
 use pdbem_bem::analytic::{sent_f_fem, sent_f_tada};
-use pdbem_coupling::growth::sif_path::{replay, ReplayParams, SifRow};
+use pdbem_coupling::growth::history::SifRow;
+use pdbem_coupling::growth::sif_path::{replay, ReplayParams};
 
 use super::GrowthHistory;
 use crate::output::csv::{num, opt, CsvTable};

@@ -8,7 +8,7 @@
 //! of the static BEM runs (tip elements L/80 over 1 L, [`super::bem_only::sizing`]) and
 //! the crack-opening fit over the straight run behind the tip.
 //! - BEM-only: the geometries the engine solves anyway, one row per load step and one per
-//!   increment ([`rows`], called by [`super::bem_only::run`]).
+//!   increment ([`SifRow::rows`], called by [`super::bem_only::run`]).
 //! - PD-BEM and full PD: after the run, from the recorded paths ([`replay`]): stations
 //!   every `spacing` of crack advance and at the end of every load step; at each station
 //!   the paths up to where the tips were then, simplified to within `smooth` (the PD
@@ -23,81 +23,16 @@
 //!   Points within `clear` (the horizon) of the outline or a hole are left out: there the
 //!   ligament is shorter than a bond and a sharp-crack K means nothing at the PD scale.
 
-use pdbem_geometry::{polyline_length, P2};
-use serde::{Deserialize, Serialize};
+use pdbem_geometry::P2;
 
 use super::bem_only::sizing::{simplify, tip_scales};
 use super::bem_only::solve::{Checked, Engine};
-use super::bem_only::{BemOnlyBody, TipSif};
+use super::bem_only::BemOnlyBody;
+use super::criterion::TipSif;
 use super::front::Front;
-use super::history::{GrowthHistory, TipPath};
+use super::history::{GrowthHistory, SifRow, TipPath};
 use super::records::Scenario;
 use crate::error::CouplingError;
-
-/// One row of `sif_path.csv`: one tip at one state of the crack geometry.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct SifRow {
-    /// Load step (0-based).
-    pub step: usize,
-    /// Load factor.
-    pub load: f64,
-    /// Tip name.
-    pub tip: String,
-    /// Tip position (m).
-    pub x: f64,
-    /// Tip position (m).
-    pub y: f64,
-    /// Arc length of the tip's crack (m): for an edge crack the crack length a.
-    pub crack_length: f64,
-    /// Length grown at this tip (m).
-    pub extension: f64,
-    /// K_I at the load (Pa m^0.5).
-    pub k1: f64,
-    /// K_II at the load.
-    pub k2: f64,
-    /// Equivalent K by maximum circumferential stress.
-    pub k_eq: f64,
-    /// Kink angle (degrees, counter-clockwise from the crack line).
-    pub kink_deg: f64,
-    /// Energy release rate (K_I^2 + K_II^2) / E' (J/m^2).
-    pub g: f64,
-    /// CMOD of the first edge crack at the load (m), when there is one.
-    pub cmod: Option<f64>,
-}
-
-/// Rows of the tips still growing, from their SIFs at unit load (`sifs`), the CMOD at
-/// unit load and the state's `(step, load)`.
-pub fn rows(
-    front: &Front,
-    sifs: &[TipSif],
-    cmod1: Option<f64>,
-    (step, load): (usize, f64),
-    e_prime: f64,
-) -> Vec<SifRow> {
-    sifs.iter()
-        .filter(|s| front.tips[s.tip].ended.is_none())
-        .map(|s| {
-            let p = front.tip_position(s.tip);
-            let (k1, k2) = (load * s.k1, load * s.k2);
-            SifRow {
-                step,
-                load,
-                tip: front.tips[s.tip].name.clone(),
-                x: p.x,
-                y: p.y,
-                crack_length: polyline_length(&front.cracks[front.tips[s.tip].crack].points),
-                // abs: an ungrown tip gives -0.
-                extension: front.extension(s.tip).abs(),
-                k1,
-                k2,
-                k_eq: load * s.k_eq,
-                kink_deg: s.theta.to_degrees(),
-                g: (k1 * k1 + k2 * k2) / e_prime,
-                cmod: cmod1.map(|c| c * load),
-            }
-        })
-        .collect()
-}
 
 /// Settings of [`replay`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -193,7 +128,13 @@ pub fn replay(
             .map(|r| record(&mut out, &mut notes, r))?;
             last_station = Some(idx.clone());
         } else if let Some((front, sifs, cmod1)) = &last_solve {
-            out.extend(rows(front, sifs, *cmod1, (rec.step, rec.load), e_prime));
+            out.extend(SifRow::rows(
+                front,
+                sifs,
+                *cmod1,
+                (rec.step, rec.load),
+                e_prime,
+            ));
         }
     }
     let notes = match notes.first() {
@@ -254,7 +195,7 @@ fn solve_station(
     };
     match checked {
         Checked::Ok(s) => {
-            let r = rows(&front, &s.sifs, s.cmod, (step, load), e_prime);
+            let r = SifRow::rows(&front, &s.sifs, s.cmod, (step, load), e_prime);
             *last = Some((front, s.sifs, s.cmod));
             Ok(Ok(r))
         }

@@ -33,24 +33,25 @@
 //!
 //! The engine reports through an [`EngineObserver`] and never prints or writes files.
 
+mod body;
 pub mod sizing;
 pub(crate) mod solve;
 
+pub(crate) use self::body::fail;
+pub use self::body::BemOnlyBody;
+pub use super::criterion::TipSif;
+
 use std::time::Instant;
 
-use pdbem_bem::mesh::{CrackSpec, LoopSpec, SizeField};
-use pdbem_bem::post::{Background, FieldEvaluator};
-use pdbem_bem::{Material, SolveParams};
+use pdbem_bem::post::FieldEvaluator;
 use pdbem_geometry::{point_segment_projection, rotate, P2};
 use serde_json::json;
 
-use self::sizing::TipSizing;
 use self::solve::{Checked, Engine, Sizes, Solved};
 use super::events::EngineObserver;
 use super::front::{Front, Obstacle};
-use super::history::{FieldSnapshot, GrowthHistory, PathPoint, StepRecord, TipPath};
+use super::history::{FieldSnapshot, GrowthHistory, PathPoint, SifRow, StepRecord, TipPath};
 use super::records::Scenario;
-use super::sif_path;
 use super::verdict::stop_after_step;
 use crate::error::CouplingError;
 
@@ -63,31 +64,6 @@ pub const LIGAMENT_MARGIN: f64 = 1.5;
 
 /// Snapshot grid points per side over the body's bounding box.
 const SNAPSHOT_GRID: usize = 60;
-
-/// The body of a BEM-only run: what every re-meshed geometry shares.
-#[derive(Debug, Clone)]
-pub struct BemOnlyBody {
-    /// Outline (split at its groups) and hole loops with their element sizes.
-    pub loops: Vec<LoopSpec>,
-    /// The initial cracks in front order: name, polyline, faces, element size and the
-    /// tip refinement of the initial mesh.
-    pub cracks: Vec<CrackSpec>,
-    /// Material.
-    pub material: Material,
-    /// Solver parameters.
-    pub params: SolveParams,
-    /// Remote stress at unit load (infinite plates; zero otherwise).
-    pub background: Background,
-    /// Crack-opening fit range as a fraction of the tip length scale.
-    pub fit_fraction: f64,
-    /// Local-feature sizing of every geometry ([`sizing`]); `None` (cracks with sizes
-    /// fixed by the scene): each crack at its element size, with the initial tip
-    /// refinement and, once grown, a uniform zone of da/8 within da of every tip.
-    pub sizing: Option<TipSizing>,
-    /// Sources of the size field other than the tips (features, outline coarsening),
-    /// used with `sizing`.
-    pub field: SizeField,
-}
 
 /// Parameters of a BEM-only run.
 #[derive(Debug, Clone, PartialEq)]
@@ -102,21 +78,6 @@ pub struct BemOnlyParams {
     pub snapshot_steps: Vec<usize>,
 }
 
-/// SIFs of one tip at unit load.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct TipSif {
-    /// Index into [`Front::tips`].
-    pub tip: usize,
-    /// K_I at load factor 1 (Pa sqrt(m)).
-    pub k1: f64,
-    /// K_II at load factor 1.
-    pub k2: f64,
-    /// Kink angle (radians, counter-clockwise from the crack line).
-    pub theta: f64,
-    /// Equivalent K at load factor 1.
-    pub k_eq: f64,
-}
-
 /// Critical load of one tip of the initial geometry.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TipCritical {
@@ -128,13 +89,6 @@ pub struct TipCritical {
     pub kink_deg: f64,
     /// Load factor at which K_eq reaches K_c (infinite when K_eq <= 0).
     pub load: f64,
-}
-
-fn fail(message: String) -> CouplingError {
-    CouplingError::Growth {
-        mode: "BEM-only",
-        message,
-    }
 }
 
 /// Critical load factor of every tip of the initial geometry: K_c / K_eq at unit load.
@@ -298,7 +252,7 @@ pub fn run(
         let t0 = Instant::now();
         let mut increments = 0;
         let mut solved_now = true;
-        let rows = sif_path::rows(&front, &solved.sifs, solved.cmod, (k, f), e_prime);
+        let rows = SifRow::rows(&front, &solved.sifs, solved.cmod, (k, f), e_prime);
         history.sif_path.extend(rows);
         loop {
             let growing = critical_tips(&front, &solved, f, k_c);
@@ -341,7 +295,7 @@ pub fn run(
                 }
             }
             observer.event("solve", solve_event(&front, &solved, k_c, geometry));
-            let rows = sif_path::rows(&front, &solved.sifs, solved.cmod, (k, f), e_prime);
+            let rows = SifRow::rows(&front, &solved.sifs, solved.cmod, (k, f), e_prime);
             history.sif_path.extend(rows);
         }
         let rec = StepRecord {

@@ -19,10 +19,10 @@ use pdbem_bem::mesh::{CrackSpec, TipRefinement};
 use pdbem_bem::post::sif::{cmod, cod_sif, tip_length_scale};
 use pdbem_bem::{BemSystem, Mesh, MeshBuilder, PairCache, Solution};
 
+use super::body::{fail, BemOnlyBody};
 use super::sizing::{simplify_crack, tip_scales, tip_sources, TipScale, SIMPLIFY_FRACTION};
-use super::{fail, BemOnlyBody, TipSif};
 use crate::error::CouplingError;
-use crate::growth::criterion::mcs;
+use crate::growth::criterion::{mcs, TipSif};
 use crate::growth::front::Front;
 use crate::growth::records::Scenario;
 
