@@ -179,6 +179,12 @@ fn bem_only_needs_the_toughness() {
     // K_c alone is enough.
     let mat = "(E: 1e4, nu: 0.3, plane: Stress, fracture: (k_c: 5))";
     assert!(load(&scene(mat, CRACKS, "growth: (mode: BemOnly)")).is_ok());
+    // So is a PD critical stretch with windows to derive it from
+    // (setup::growth::toughness), as the README's BEM-only run of growth_tension_edge has.
+    let mat = "(E: 1e4, nu: 0.3, plane: Stress)";
+    let derived = "pd: (failure: CriticalStretch(0.02)), coupling: (side: 3, n: 20), \
+                   growth: (mode: BemOnly)";
+    assert!(load(&scene(mat, CRACKS, derived)).is_ok());
 }
 
 #[test]
@@ -187,6 +193,12 @@ fn growth_needs_a_crack_and_a_positive_increment() {
     assert_invalid(&src, "growth", "growth needs at least one crack");
     let src = scene(MAT_GC, CRACKS, "growth: (mode: BemOnly, da: -1)");
     assert_invalid(&src, "growth.da = -1", "crack increment da must be > 0");
+    let src = scene(MAT_GC, CRACKS, "growth: (mode: BemOnly, sif_spacing: -1)");
+    assert_invalid(
+        &src,
+        "growth.sif_spacing = -1",
+        "spacing of the K record must be >= 0",
+    );
 }
 
 #[test]

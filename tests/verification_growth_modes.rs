@@ -283,7 +283,7 @@ fn coarse_edge_scene() -> Scene {
         bem: (element_size: 0.001),
         pd: (failure: FromGc),
         coupling: (side: 0.004, n: 4),
-        growth: (mode: FullPd),
+        growth: (mode: FullPd, sif_spacing: 0.005),
     )"#,
     )
 }
@@ -310,6 +310,18 @@ fn full_pd_coarse_tension_edge_crack_runs_straight_to_failure() {
     // LEFM for a/W = 0.25 puts failure near 6.8 MPa; measured 6.25 MPa.
     let fail = h.failure_load.expect("failure load");
     assert!(fail > 4.5 && fail < 9.0, "failure at {fail} MPa");
+    // The K record of the path (BEM solves of the traced path every 5 mm and at the end
+    // of every step): from the initial crack (a = 10 mm), K_I > 0 and, at the failure
+    // load, growing with the crack as an edge crack's does. Measured: 8 rows at the
+    // failure load, K_I from 1.6e6 to 5.3e6 Pa m^0.5.
+    let rows: Vec<_> = h.sif_path.iter().filter(|r| r.load == fail).collect();
+    assert!(h.sif_path[0].crack_length == 0.01, "{:?}", h.sif_path[0]);
+    assert!(h.sif_path.iter().all(|r| r.k1 > 0.0), "{:?}", h.sif_path);
+    assert!(rows.len() >= 3, "{} rows at the failure load", rows.len());
+    assert!(
+        rows.windows(2).all(|w| w[1].k1 > w[0].k1),
+        "K_I must grow with the crack: {rows:?}"
+    );
 }
 
 fn read(dir: &Path, f: &str) -> String {

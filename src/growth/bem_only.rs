@@ -37,7 +37,11 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
     )
     .with_context(|| scene.file_label().display().to_string());
     observer.finish()?;
-    history
+    let mut history = history?;
+    if let (_, Some(note)) = crate::setup::growth::toughness(scene)? {
+        history.notes.insert(0, note);
+    }
+    Ok(history)
 }
 
 /// Critical load factor of every tip of the scene's initial geometry: K_c / K_eq at unit

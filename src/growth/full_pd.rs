@@ -48,5 +48,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
     let history = engine::run_from(&scene.name, &mut model, front, &params, &mut obs, resume)
         .with_context(|| scene.file_label().display().to_string());
     obs.finish()?;
-    history
+    let mut history = history?;
+    super::sif_record::replay_record(scene, &mut history)?;
+    Ok(history)
 }

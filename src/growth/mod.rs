@@ -13,7 +13,7 @@
 //! Checkpoints and `--resume`: [`checkpoint`](mod@checkpoint).
 //!
 //! Reporting: [`log`] (`growth_log.jsonl`, progress bar), [`output`] (files and
-//! plots of a run, [`output::finish`]), [`overlay`] (`pdbem plot-paths`), [`bench`](mod@bench)
+//! plots of a run, [`output::finish`]), [`sif_record`] (K along the path, `sif_path.csv`), [`overlay`] (`pdbem plot-paths`), [`bench`](mod@bench)
 //! (`pdbem bench growth`); path comparison is `pdbem_coupling::growth::compare`.
 //!
 //! Loads: step k applies the factor `load.initial + k load.step` to every boundary value
@@ -28,6 +28,7 @@ pub mod log;
 pub mod output;
 pub mod overlay;
 pub mod pd_bem;
+pub mod sif_record;
 
 pub use pdbem_coupling::growth::history::{
     FieldSnapshot, GrowthHistory, Overstrain, PathPoint, Relocation, StepRecord, TipPath,

@@ -46,6 +46,8 @@ pub fn finish(scene: &Scene, ctx: &RunContext, history: &GrowthHistory) -> Resul
         }
         w.write_csv("steps.csv", &steps_table(history))
             .context("writing steps.csv")?;
+        w.write_csv("sif_path.csv", &super::sif_record::sif_table(history))
+            .context("writing sif_path.csv")?;
     }
     if scene.outputs.plots {
         write_plots(scene, ctx, history, &mut summary)?;
@@ -352,6 +354,9 @@ fn write_plots(
     save_plot(w, "paths", &paths_plot(scene, h), formats, summary)?;
     if let Some(p) = load_cmod_plot(scene, h) {
         save_plot(w, "load_cmod", &p, formats, summary)?;
+    }
+    if let Some(p) = super::sif_record::sif_plot(scene, h) {
+        save_plot(w, "sif_path", &p, formats, summary)?;
     }
     save_plot(
         w,

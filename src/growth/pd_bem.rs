@@ -311,5 +311,6 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
     if let Some(e) = progress.error.take() {
         return Err(e);
     }
+    super::sif_record::replay_record(scene, &mut h)?;
     Ok(h)
 }

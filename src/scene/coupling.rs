@@ -135,6 +135,12 @@ pub struct Growth {
     /// Crack increment of `BemOnly` growth (m), > 0. Default: the element size.
     #[serde(default)]
     pub da: Option<f64>,
+    /// Crack advance between the rows of `sif_path.csv` within a load step in the PD modes
+    /// (m), >= 0; each row is a BEM solve of the path geometry
+    /// (`pdbem_coupling::growth::sif_path`); 0: no record in the PD modes. Default: 1/40
+    /// of the smaller side of the body's bounding box (0.25 m on the seed plate).
+    #[serde(default)]
+    pub sif_spacing: Option<f64>,
     /// Damage above which a node belongs to the macro crack (-). Default 0.38 (DESIGN.md).
     #[serde(default = "default_damage_threshold")]
     pub damage_threshold: f64,

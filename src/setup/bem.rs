@@ -77,10 +77,21 @@ pub fn check_balance(scene: &Scene) -> Result<()> {
     build(scene, 1.0, 1.0).map(|_| ())
 }
 
-/// The mesh builder of the static BEM model at refinement `refine`: loops and cracks with
-/// the local-feature sizes of [`LocalSizes`] (tip zones, and default-size outline edges
-/// coarsened far from every feature).
-pub fn mesh_builder(scene: &Scene, geo: &SceneGeometry, refine: f64) -> Result<MeshBuilder> {
+/// The loops, cracks and size field of the static BEM mesh at refinement `refine`
+/// ([`mesh_builder`]; BEM-only growth re-meshes from it).
+pub struct LocalModel {
+    /// Outline (default-size edges at the far size when [`LocalSizes::far`] is set) and
+    /// hole loops.
+    pub loops: Vec<LoopSpec>,
+    /// Cracks: faces capped at the base size where the tip sources grade them, else the
+    /// scene's sizes.
+    pub cracks: Vec<CrackSpec>,
+    /// The local sizes (tip sources and features).
+    pub local: LocalSizes,
+}
+
+/// The [`LocalModel`] of `scene` at refinement `refine`.
+pub fn local_model(scene: &Scene, geo: &SceneGeometry, refine: f64) -> Result<LocalModel> {
     let mut loops = loops(scene, geo, refine);
     let sizing = Sizing::of(scene, geo, &loops, refine)?;
     let local = LocalSizes::of(scene, geo, &loops, refine)?;
@@ -95,22 +106,34 @@ pub fn mesh_builder(scene: &Scene, geo: &SceneGeometry, refine: f64) -> Result<M
             }
         }
     }
-    let mut b = MeshBuilder::new();
-    for l in loops {
-        b.add_loop(l);
-    }
-    for (i, mut spec) in crack_specs(scene, geo, &sizing, refine)
-        .into_iter()
-        .enumerate()
-    {
+    let mut cracks = crack_specs(scene, geo, &sizing, refine);
+    for (i, spec) in cracks.iter_mut().enumerate() {
         let c = &scene.cracks[i];
         if !scene.bem.group_sizes.contains_key(&c.name) && scene.bem.tip_refinement.is_none() {
             // The tip zones are sources of the field; the faces grow to the base size.
             spec.element_size = sizing.base;
         }
+    }
+    Ok(LocalModel {
+        loops,
+        cracks,
+        local,
+    })
+}
+
+/// The mesh builder of the static BEM model at refinement `refine`: loops and cracks with
+/// the local-feature sizes of [`LocalSizes`] (tip zones, and default-size outline edges
+/// coarsened far from every feature).
+pub fn mesh_builder(scene: &Scene, geo: &SceneGeometry, refine: f64) -> Result<MeshBuilder> {
+    let m = local_model(scene, geo, refine)?;
+    let mut b = MeshBuilder::new();
+    for l in m.loops {
+        b.add_loop(l);
+    }
+    for spec in m.cracks {
         b.add_crack(spec);
     }
-    b.set_size_field(local.field);
+    b.set_size_field(m.local.field);
     Ok(b)
 }
 

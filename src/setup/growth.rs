@@ -22,9 +22,10 @@ use pdbem_coupling::CouplingParams;
 
 use super::bem::{conditions, material, MissingGroup};
 use super::coupled::{macro_body, outer_conditions, params_of, pd_settings, window_specs};
-use super::sizing::Sizing;
-use crate::scene::shapes::SceneGeometry;
-use crate::scene::{GrowthMode, Scene};
+use super::sizing::{LocalSizes, Sizing};
+use crate::scene::pd::Failure;
+use crate::scene::shapes::{HoleShape, SceneGeometry};
+use crate::scene::{GrowthMode, Plane, Scene};
 
 /// The scene seen by the growth driver (all values at load factor 1).
 pub struct SceneScenario<'a> {
@@ -148,9 +149,25 @@ pub fn input(scene: &Scene) -> Result<PdBemInput<'_>> {
 }
 
 /// The crack front of a scene for the BEM-only and full-PD engines: outline, holes and
-/// cracks as the scene geometry has them.
+/// cracks as the scene geometry has them, circular holes as the polygons of the BEM mesh
+/// (`bem.elements_per_circle`), so that a crack the front takes onto a hole ends on an
+/// edge of the meshed hole.
 pub fn front(scene: &Scene) -> Front {
     let geo = SceneGeometry::of(scene);
+    let per_circle = super::sizing::circle_elements(scene, 1.0);
+    let holes = geo
+        .holes
+        .iter()
+        .map(|(n, h)| {
+            let shape = match h {
+                HoleShape::Circle { center, radius } => HoleShape::Polygon(
+                    crate::geometry::circle_polygon(center, *radius, per_circle, true),
+                ),
+                other => other.clone(),
+            };
+            (n.clone(), shape)
+        })
+        .collect();
     let cracks = geo
         .cracks
         .iter()
@@ -160,7 +177,7 @@ pub fn front(scene: &Scene) -> Front {
             mouth: c.mouth,
         })
         .collect();
-    Front::new(geo.outline.map(|o| o.points), geo.holes, cracks)
+    Front::new(geo.outline.map(|o| o.points), holes, cracks)
 }
 
 /// The scene's conditions for BEM-only growth: every group meshed (a missing one is an
@@ -193,35 +210,14 @@ pub struct BemOnlyInput<'a> {
     pub scenario: BemOnlyScenario<'a>,
 }
 
-/// The BEM-only growth input of `scene` (with `growth` and fracture data): the static
-/// BEM model's loops and cracks at the one sizing rule, K_c from `material.fracture`.
+/// The BEM-only growth input of `scene` (with `growth`): the static BEM model's loops and
+/// cracks ([`super::bem::local_model`]) with its local-feature tip rule for every
+/// re-meshed geometry ([`LocalSizes::tip_rule`]), K_c from [`toughness`].
 pub fn bem_only_input(scene: &Scene) -> Result<BemOnlyInput<'_>> {
-    let file = scene.file_label();
-    let k_c = scene.material.k_c().with_context(|| {
-        format!(
-            "{}: material.fracture: BEM-only growth needs g_c (J/m^2) or k_c (Pa m^0.5)",
-            file.display()
-        )
-    })?;
+    let (k_c, _) = toughness(scene)?;
     super::bem::check_balance(scene)?;
     let geo = SceneGeometry::of(scene);
-    let loops = super::bem::loops(scene, &geo, 1.0);
-    let sizing = Sizing::of(scene, &geo, &loops, 1.0)?;
-    let cracks = super::bem::crack_specs(scene, &geo, &sizing, 1.0);
-    let body = BemOnlyBody {
-        loops,
-        cracks,
-        material: material(scene)?,
-        params: SolveParams {
-            infinite: geo.outline.is_none(),
-            estimate_condition: scene.bem.condition_estimate,
-            ..Default::default()
-        },
-        background: Background {
-            stress: geo.remote.unwrap_or([0.0; 3]),
-        },
-        fit_fraction: scene.bem.cod_fit_fraction,
-    };
+    let body = bem_only_body(scene, &geo)?;
     let gr = scene.growth.as_ref();
     let params = BemOnlyParams {
         k_c,
@@ -238,4 +234,89 @@ pub fn bem_only_input(scene: &Scene) -> Result<BemOnlyInput<'_>> {
             remote: geo.remote,
         },
     })
+}
+
+/// The LEFM body of a scene: what BEM-only growth re-meshes and what the K record along
+/// the path of every mode solves (`pdbem_coupling::growth::sif_path`).
+pub fn bem_only_body(scene: &Scene, geo: &SceneGeometry) -> Result<BemOnlyBody> {
+    let rule = LocalSizes::tip_rule(scene, geo, 1.0);
+    let (loops, cracks, features) = if rule.is_some() {
+        let m = super::bem::local_model(scene, geo, 1.0)?;
+        (m.loops, m.cracks, m.local.features)
+    } else {
+        let loops = super::bem::loops(scene, geo, 1.0);
+        let sizing = Sizing::of(scene, geo, &loops, 1.0)?;
+        let cracks = super::bem::crack_specs(scene, geo, &sizing, 1.0);
+        (loops, cracks, Default::default())
+    };
+    Ok(BemOnlyBody {
+        loops,
+        cracks,
+        material: material(scene)?,
+        params: SolveParams {
+            infinite: geo.outline.is_none(),
+            estimate_condition: scene.bem.condition_estimate,
+            ..Default::default()
+        },
+        background: Background {
+            stress: geo.remote.unwrap_or([0.0; 3]),
+        },
+        fit_fraction: scene.bem.cod_fit_fraction,
+        sizing: rule,
+        field: features,
+    })
+}
+
+/// The BEM scenario of a scene (every group meshed; an infinite plate loaded by minus
+/// the remote traction on every element).
+pub fn bem_only_scenario(scene: &Scene) -> BemOnlyScenario<'_> {
+    BemOnlyScenario {
+        scene,
+        remote: SceneGeometry::of(scene).remote,
+    }
+}
+
+/// G_c (J/m^2) of PMB bonds breaking at stretch `s0` with horizon `delta` (REFERENCES.md:
+/// s0 = sqrt(4 pi G_c / (9 E delta)) in plane stress, sqrt(5 pi G_c / (12 E delta)) in
+/// plane strain, solved for G_c).
+pub fn gc_from_stretch(e: f64, delta: f64, s0: f64, plane: Plane) -> f64 {
+    match plane {
+        Plane::Stress => 9.0 * e * delta * s0 * s0 / (4.0 * std::f64::consts::PI),
+        Plane::Strain => 12.0 * e * delta * s0 * s0 / (5.0 * std::f64::consts::PI),
+    }
+}
+
+/// Toughness K_c (Pa m^0.5) of the LEFM criterion, and where it came from:
+/// `material.fracture` (k_c, or sqrt(E' G_c)), else the PD failure law of the scene
+/// (`pd.failure: CriticalStretch(s0)` at the horizon of the PD-BEM windows, the material
+/// the PD modes break: G_c = 9 E delta s0^2 / (4 pi), K_c = sqrt(E' G_c)), as `pdbem bench
+/// growth` does. An error says what to give when neither exists.
+pub fn toughness(scene: &Scene) -> Result<(f64, Option<String>)> {
+    if let Some(k) = scene.material.k_c() {
+        return Ok((k, None));
+    }
+    let file = scene.file_label();
+    let derived = match (&scene.pd, &scene.coupling) {
+        (Some(pd), Some(co)) => match pd.failure {
+            Failure::CriticalStretch(s0) => Some((pd.horizon_factor * co.dx(), s0)),
+            _ => None,
+        },
+        _ => None,
+    };
+    let Some((delta, s0)) = derived else {
+        bail!(
+            "{}: material.fracture: BEM-only growth needs g_c (J/m^2) or k_c (Pa m^0.5) \
+             (or pd.failure: CriticalStretch with a coupling section to derive them from)",
+            file.display()
+        );
+    };
+    let m = &scene.material;
+    let g_c = gc_from_stretch(m.e, delta, s0, m.plane);
+    let k_c = pdbem_bem::analytic::griffith_k_c(g_c, m.e_prime());
+    let note = format!(
+        "K_c = {k_c:.4e} Pa m^0.5 derived from the PD failure law: critical stretch s0 = {s0} \
+         at the window horizon delta = {delta:.4e} m gives G_c = {g_c:.4e} J/m^2 \
+         (REFERENCES.md), K_c = sqrt(E' G_c)"
+    );
+    Ok((k_c, Some(note)))
 }

@@ -25,6 +25,7 @@ use std::collections::BTreeMap;
 
 use anyhow::{bail, Result};
 use pdbem_bem::mesh::{LoopSpec, SizeField, SizeSource, SourceShape, DEFAULT_GRADING};
+use pdbem_coupling::growth::bem_only::sizing::TipSizing;
 
 use crate::geometry::{bounding_box, point_segment_distance, polyline_length, signed_area, P2};
 use crate::scene::shapes::SceneGeometry;
@@ -191,8 +192,12 @@ pub struct TipFeature {
 ///   few thousand elements, not 2e5.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LocalSizes {
-    /// The field (before the mesh adds mouth sources).
+    /// The field (before the mesh adds mouth sources): the tip sources and `features`.
     pub field: SizeField,
+    /// The sources other than the tips (cracks, holes and patches keeping the base size
+    /// with the default element size): what a re-meshed growth geometry keeps while its
+    /// tips move ([`Self::tip_rule`]).
+    pub features: SizeField,
     /// Size cap of default-size outline edges (m), refined; `None` keeps the base size.
     pub far: Option<f64>,
     /// The tips and their length scales.
@@ -236,6 +241,7 @@ impl LocalSizes {
                 SizeSource::point(t.point, h, TIP_ZONE * t.scale).graded(TIP_GRADING / refine),
             );
         }
+        let mut features = SizeField::default();
         let far = far_size(scene, geo, base0).map(|far| {
             let side = geo
                 .outline
@@ -246,7 +252,7 @@ impl LocalSizes {
                 })
                 .unwrap_or(0.0);
             for shape in feature_shapes(scene, geo) {
-                field.sources.push(SizeSource {
+                features.sources.push(SizeSource {
                     shape,
                     size: base0 / refine,
                     radius: FEATURE_ZONE * side,
@@ -255,7 +261,32 @@ impl LocalSizes {
             }
             far / refine
         });
-        Ok(LocalSizes { field, far, tips })
+        field.sources.extend(features.sources.iter().cloned());
+        Ok(LocalSizes {
+            field,
+            features,
+            far,
+            tips,
+        })
+    }
+
+    /// The tip rule of the field for geometries whose tips move (BEM-only growth,
+    /// `pdbem_coupling::growth::bem_only::sizing`): size min(base, L / 80) over
+    /// [`TIP_ZONE`] L graded at [`TIP_GRADING`], all at refinement `refine`; `None` when
+    /// the scene fixes crack sizes (`bem.group_sizes` names a crack, or
+    /// `bem.tip_refinement`), whose cracks keep those sizes.
+    pub fn tip_rule(scene: &Scene, geo: &SceneGeometry, refine: f64) -> Option<TipSizing> {
+        let fixed = scene.bem.tip_refinement.is_some()
+            || scene
+                .cracks
+                .iter()
+                .any(|c| scene.bem.group_sizes.contains_key(&c.name));
+        (!fixed).then(|| TipSizing {
+            fraction: DEFAULT_CRACK_FRACTION,
+            zone: TIP_ZONE,
+            grading: TIP_GRADING,
+            base: scene.bem.base_size(geo) / refine,
+        })
     }
 }
 

@@ -16,6 +16,21 @@
 //! $K_{eq} = 4K_I/\sqrt5$ (cos(θ/2) = 2/√5, sin θ = -4/5). A closed crack ($K_I < 0$,
 //! $K_{II} = 0$) gives $K_{eq} < 0$ and never grows.
 
+/// SIFs of one tip at unit load.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TipSif {
+    /// Index into the tips of the crack front (`Front::tips`).
+    pub tip: usize,
+    /// K_I at load factor 1 (Pa sqrt(m)).
+    pub k1: f64,
+    /// K_II at load factor 1.
+    pub k2: f64,
+    /// Kink angle (radians, counter-clockwise from the crack line).
+    pub theta: f64,
+    /// Equivalent K at load factor 1.
+    pub k_eq: f64,
+}
+
 /// Kink angle (radians, counter-clockwise from the crack line) by maximum circumferential
 /// stress; 0 when `k2` vanishes against `k1`.
 pub fn kink_angle(k1: f64, k2: f64) -> f64 {

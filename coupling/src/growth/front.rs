@@ -5,7 +5,7 @@
 //! - [`Front::new`]: the body's outline and holes and its cracks; tips are named
 //!   `<crack>.start` (first point, when it is not a mouth on the outline) and `<crack>.end`.
 //! - [`Front::step_ahead`] (BEM-only): extend a tip by a straight increment and stop it at
-//!   the outline (the increment is clipped there), at a hole (arrested before it) or at
+//!   the outline or a hole (the increment is clipped there: the crack joins it) or at
 //!   another crack (coalescence, stopped before it), see [`Obstacle`].
 //! - [`Front::set_tip`], [`Front::stop`] (full PD): the tip position comes from the damage
 //!   tracker; the caller decides when it has reached something.
@@ -52,7 +52,7 @@ pub enum Obstacle {
     None,
     /// The outer boundary: the tip moved onto it and stopped.
     Outline,
-    /// A hole (its group name): the tip stopped before it.
+    /// A hole (its group name): the tip moved onto it and stopped.
     Hole(String),
     /// Another crack (its name): the tip stopped before it.
     Crack(String),
@@ -337,6 +337,14 @@ impl Front {
             .map_or(f64::INFINITY, |o| pdbem_geometry::polygon_distance(p, o))
     }
 
+    /// The boundary polygon of the hole named `name`.
+    pub fn hole_polygon(&self, name: &str) -> Option<Vec<P2>> {
+        self.holes
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, h)| h.polygon())
+    }
+
     /// The nearest hole to `p` within `d` (m), by group name.
     pub fn hole_within(&self, p: &P2, d: f64) -> Option<String> {
         self.holes
@@ -389,8 +397,9 @@ impl Front {
     }
 
     /// Extends tip `t` by `da` (m) in direction `dir` (unit) unless something is in the
-    /// way within `da + margin`: the outline (the increment is clipped onto it and the tip
-    /// stops), a hole or another crack (the tip stops where it is). Returns what it met.
+    /// way within `da + margin`: the outline or a hole (the increment is clipped onto it
+    /// and the tip stops there: the crack joins it), another crack (the tip stops where it
+    /// is). Returns what it met.
     pub fn step_ahead(&mut self, t: usize, dir: P2, da: f64, margin: f64) -> Obstacle {
         let tip = self.tip_position(t);
         let reach = da + margin;
@@ -418,6 +427,10 @@ impl Front {
             Some((s, Obstacle::Outline)) => {
                 self.set_tip(t, tip + dir * s);
                 Obstacle::Outline
+            }
+            Some((s, Obstacle::Hole(h))) => {
+                self.set_tip(t, tip + dir * s);
+                Obstacle::Hole(h)
             }
             Some((_, other)) => other,
             None => match self.crack_within(t, &end, margin) {
@@ -539,7 +552,7 @@ mod tests {
     }
 
     #[test]
-    fn hole_and_crack_stop_a_tip_before_them() {
+    fn a_crack_stops_a_tip_before_it_and_a_hole_takes_it_in() {
         let mut f = plate(
             &[("a", (0.0, 5.0), 0.0, 2.0), ("b", (10.0, 5.0), 180.0, 2.0)],
             vec![],
@@ -566,7 +579,9 @@ mod tests {
             }
         };
         assert_eq!(hit, Obstacle::Hole("hole0".into()));
-        assert!(f.tip_position(0).x <= 5.0 - 0.5 + 1e-12);
+        // Clipped onto the hole (its left point at x = 5): the crack joins it, and a crack
+        // from the outline into a hole does not cut the body.
+        assert!((f.tip_position(0) - P2::new(5.0, 5.0)).norm() < 1e-12);
         assert!(!f.separated());
     }
 

@@ -2,7 +2,11 @@
 //! relocations. Written by the output layer as `path_<tip>.csv`, `steps.csv` and the
 //! `summary.json` fields of docs/outputs.md.
 
+use pdbem_geometry::polyline_length;
 use serde::{Deserialize, Serialize};
+
+use super::criterion::TipSif;
+use super::front::Front;
 
 /// One point of a tip path.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -132,10 +136,81 @@ pub struct GrowthHistory {
     /// when the run completed. The history then holds the steps completed before.
     #[serde(default)]
     pub failure_reason: Option<String>,
+    /// The fracture-mechanics record along the path ([`super::sif_path`]): one row per
+    /// tip and state, in order.
+    #[serde(default)]
+    pub sif_path: Vec<SifRow>,
     /// Field snapshots for plots (damage in the active windows, displacement at chosen
     /// steps); not serialised.
     #[serde(skip)]
     pub snapshots: Vec<FieldSnapshot>,
+}
+
+/// One row of `sif_path.csv`: one tip at one state of the crack geometry.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SifRow {
+    /// Load step (0-based).
+    pub step: usize,
+    /// Load factor.
+    pub load: f64,
+    /// Tip name.
+    pub tip: String,
+    /// Tip position (m).
+    pub x: f64,
+    /// Tip position (m).
+    pub y: f64,
+    /// Arc length of the tip's crack (m): for an edge crack the crack length a.
+    pub crack_length: f64,
+    /// Length grown at this tip (m).
+    pub extension: f64,
+    /// K_I at the load (Pa m^0.5).
+    pub k1: f64,
+    /// K_II at the load.
+    pub k2: f64,
+    /// Equivalent K by maximum circumferential stress.
+    pub k_eq: f64,
+    /// Kink angle (degrees, counter-clockwise from the crack line).
+    pub kink_deg: f64,
+    /// Energy release rate (K_I^2 + K_II^2) / E' (J/m^2).
+    pub g: f64,
+    /// CMOD of the first edge crack at the load (m), when there is one.
+    pub cmod: Option<f64>,
+}
+
+impl SifRow {
+    /// Rows of the tips still growing, from their SIFs at unit load (`sifs`), the CMOD at
+    /// unit load and the state's `(step, load)`.
+    pub fn rows(
+        front: &Front,
+        sifs: &[TipSif],
+        cmod1: Option<f64>,
+        (step, load): (usize, f64),
+        e_prime: f64,
+    ) -> Vec<SifRow> {
+        sifs.iter()
+            .filter(|s| front.tips[s.tip].ended.is_none())
+            .map(|s| {
+                let p = front.tip_position(s.tip);
+                let (k1, k2) = (load * s.k1, load * s.k2);
+                SifRow {
+                    step,
+                    load,
+                    tip: front.tips[s.tip].name.clone(),
+                    x: p.x,
+                    y: p.y,
+                    crack_length: polyline_length(&front.cracks[front.tips[s.tip].crack].points),
+                    // abs: an ungrown tip gives -0.
+                    extension: front.extension(s.tip).abs(),
+                    k1,
+                    k2,
+                    k_eq: load * s.k_eq,
+                    kink_deg: s.theta.to_degrees(),
+                    g: (k1 * k1 + k2 * k2) / e_prime,
+                    cmod: cmod1.map(|c| c * load),
+                }
+            })
+            .collect()
+    }
 }
 
 /// A field sampled at points at one step (damage in a window, displacement magnitude ...),

@@ -58,6 +58,8 @@
 //! - [`full_pd`]: full-PD growth, the whole body at the window resolution
 //!   ([`full_pd::run`]), the reference PD-BEM is compared with.
 //! - [`checkpoint`]: the serialisable state of a run after a load step (resume).
+//! - [`sif_path`]: the fracture-mechanics record along the path of every mode (K_I, K_II,
+//!   K_eq, kink, G, load, CMOD against crack length; [`sif_path::SifRow`]).
 //! - [`verdict`]: the end-of-step verdict of the BEM-only and full-PD engines.
 //! - [`criterion`]: maximum circumferential stress kink and equivalent K (BEM-only growth).
 //! - [`events`]: what the BEM-only and full-PD engines report ([`events::EngineObserver`]).
@@ -93,6 +95,7 @@ pub mod params;
 pub mod polyline;
 pub mod records;
 pub mod relocate;
+pub mod sif_path;
 pub mod summary;
 pub mod tips;
 pub mod topology;

@@ -103,6 +103,51 @@ pub fn end_on_outline(path: &[V2], outline: &[V2], delta: f64, chord: f64) -> Ve
     }
 }
 
+/// The path of a tip that ended on `boundary` (the outline, or a hole polygon) made to
+/// reach it: unchanged when its last point lies on it (within 1e-9 of the path's length),
+/// else continued along the chord of its last `chord` (as [`end_on_outline`]) to the
+/// first crossing with the boundary, or, when that ray misses it, straight to the
+/// nearest boundary point. Returns the path and the length added (m). PD-BEM ends a tip
+/// at the outline when no window around it fits in the body, and at a hole when its
+/// window cannot move on without covering it: in both cases the remaining ligament, at
+/// most a window side, lies in the window, and the crack is taken through it along its
+/// approach.
+pub fn join_boundary(path: &[V2], boundary: &[V2], chord: f64) -> (Vec<V2>, f64) {
+    let Some(&tip) = path.last() else {
+        return (path.to_vec(), 0.0);
+    };
+    let scale = pdbem_geometry::polyline_length(path).max(chord);
+    if polygon_distance(&tip, boundary) <= 1e-9 * scale {
+        return (path.to_vec(), 0.0);
+    }
+    let back = path
+        .iter()
+        .rev()
+        .find(|p| (tip - **p).norm() >= chord)
+        .copied()
+        .unwrap_or(path[0]);
+    let hit = unit(back, tip)
+        .and_then(|d| ray_polygon(&tip, &d, boundary).map(|s| tip + d * s))
+        .unwrap_or_else(|| nearest_on_polygon(&tip, boundary));
+    let mut out = path.to_vec();
+    out.push(hit);
+    (out, (hit - tip).norm())
+}
+
+/// The point of the closed polygon nearest to `p`.
+fn nearest_on_polygon(p: &V2, poly: &[V2]) -> V2 {
+    let n = poly.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (poly[i], poly[(i + 1) % n]);
+            let d = b - a;
+            let t = ((p - a).dot(&d) / d.norm_squared().max(1e-300)).clamp(0.0, 1.0);
+            a + d * t
+        })
+        .min_by(|x, y| (x - p).norm().total_cmp(&(y - p).norm()))
+        .unwrap_or(*p)
+}
+
 /// Unit vector from `a` to `b` (None when they coincide).
 pub fn unit(a: V2, b: V2) -> Option<V2> {
     let d = b - a;
@@ -151,6 +196,34 @@ mod tests {
             end_on_outline(&path[..5], &square, 0.3, 0.3),
             path[..5].to_vec()
         );
+    }
+
+    #[test]
+    fn a_path_ended_on_a_boundary_is_joined_to_it() {
+        let square = [
+            V2::new(0.0, 0.0),
+            V2::new(10.0, 0.0),
+            V2::new(10.0, 10.0),
+            V2::new(0.0, 10.0),
+        ];
+        // 0.86 m short of the bottom edge, heading down at 45 degrees.
+        let path = [V2::new(4.0, 1.86 + 1.0), V2::new(5.0, 1.86)];
+        let (joined, added) = join_boundary(&path, &square, 0.3);
+        let last = *joined.last().unwrap();
+        assert!((last - V2::new(6.86, 0.0)).norm() < 1e-12, "{last:?}");
+        assert!((added - 1.86 * 2f64.sqrt()).abs() < 1e-12);
+        // Already on it: unchanged.
+        let (same, zero) = join_boundary(&joined, &square, 0.3);
+        assert_eq!((same.len(), zero), (joined.len(), 0.0));
+        // Heading away from a hole (a square hole at x in [6, 8]): the nearest point.
+        let hole = [
+            V2::new(6.0, 4.0),
+            V2::new(6.0, 6.0),
+            V2::new(8.0, 6.0),
+            V2::new(8.0, 4.0),
+        ];
+        let (j, _) = join_boundary(&[V2::new(5.5, 5.0), V2::new(5.0, 5.0)], &hole, 0.3);
+        assert!((j[2] - V2::new(6.0, 5.0)).norm() < 1e-12);
     }
 
     #[test]

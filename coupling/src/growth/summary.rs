@@ -120,6 +120,16 @@ pub fn history_of<S: Scenario>(
     if let Some(f) = result.initiation_load {
         notes.push(format!("first bond broke at load {f}"));
     }
+    for (t, p) in paths.iter().enumerate() {
+        let added = g.join_length(t);
+        if let (Some(end), true) = (&p.ended, added > horizon) {
+            notes.push(format!(
+                "tip {} ended at {end}: its path is continued by {added:.4e} m along its \
+                 approach to reach it (the ligament left in its window)",
+                p.name
+            ));
+        }
+    }
     let overstrain = first_overstrain(&result.steps);
     if let Some(o) = &overstrain {
         notes.push(overstrain_note(o));
@@ -147,6 +157,7 @@ pub fn history_of<S: Scenario>(
         overstrain,
         notes,
         failure_reason: result.failure_reason.clone(),
+        sif_path: Vec::new(),
         snapshots: Vec::new(),
     }
 }

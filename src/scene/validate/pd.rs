@@ -265,6 +265,15 @@ fn check_growth(c: &mut Checker, scene: &Scene, g: &crate::scene::Growth) {
     if let Some(da) = g.da {
         c.positive("growth.da", da, "crack increment da");
     }
+    if let Some(sp) = g.sif_spacing {
+        if c.finite("growth.sif_spacing", sp) && sp < 0.0 {
+            c.fail(
+                "growth.sif_spacing",
+                sp,
+                "spacing of the K record must be >= 0 (0: no record in the PD modes)",
+            );
+        }
+    }
     if let Some(&k) = g.snapshot_steps.iter().find(|&&k| k >= scene.load.count) {
         c.fail(
             "growth.snapshot_steps",
@@ -330,7 +339,7 @@ fn check_trigger_band(c: &mut Checker, ratio: f64) {
 }
 
 /// BEM-only growth compares K_eq with K_c: the material needs `fracture.g_c` > 0 or
-/// `fracture.k_c`.
+/// `fracture.k_c`, or the scene a PD critical stretch and windows to derive it from.
 fn check_toughness(c: &mut Checker, scene: &Scene) {
     let f = scene.material.fracture.as_ref();
     let k_c = f.and_then(|f| f.k_c);
@@ -343,11 +352,23 @@ fn check_toughness(c: &mut Checker, scene: &Scene) {
             "BemOnly growth needs G_c > 0 (K_c = sqrt(E' G_c) would be 0)",
         ),
         (None, Some(_)) => {}
+        // K_c from the PD failure law (`setup::growth::toughness`).
+        (None, None) if derivable(scene) => {}
         (None, None) => c.fail_at(
             "material.fracture",
-            "BemOnly growth needs the toughness: give g_c (J/m^2) or k_c (Pa m^0.5)",
+            "BemOnly growth needs the toughness: give g_c (J/m^2) or k_c (Pa m^0.5), or \
+             pd.failure: CriticalStretch with a coupling section to derive it from",
         ),
     }
+}
+
+/// K_c can be derived from the PD critical stretch at the window horizon.
+fn derivable(scene: &Scene) -> bool {
+    scene.coupling.is_some()
+        && scene
+            .pd
+            .as_ref()
+            .is_some_and(|pd| matches!(pd.failure, crate::scene::Failure::CriticalStretch(_)))
 }
 
 /// PD-BEM windows sit on the tips: each window side must be below the ligament ahead of

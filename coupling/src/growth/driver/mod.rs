@@ -260,24 +260,15 @@ impl<'s, S: Scenario> Growth<'s, S> {
     /// by [`polyline::end_on_outline`] when the tip reached it); each point with the step
     /// and load at which the tip first reached it.
     pub fn tip_path(&self, t: usize) -> Vec<(V2, usize, f64)> {
-        let tip = &self.tips[t];
-        let line = towards_tip(
-            &self.setup.layout.cracks[tip.spec.crack].points,
-            tip.spec.at_end,
-        );
-        let w = &self.problem.windows[tip.window].window;
-        let s_entry =
-            polyline::entry_length(&line, w).unwrap_or(pdbem_geometry::polyline_length(&line));
-        let mut full = polyline::head(&line, s_entry);
-        full.extend(tip.path_points());
-        if tip.ended == Some(TipEnd::Outline) {
-            let chord = polyline::OUTLINE_CHORD_DX * w.spec.dx;
-            full = polyline::end_on_outline(&full, &self.body.outline, w.delta(), chord);
-        }
+        let w = &self.problem.windows[self.tips[t].window].window;
+        let full = self.joined(t, self.traced_path(t)).0;
         let s0 = pdbem_geometry::polyline_project(&full, &self.initial_tip[t]);
         let total = pdbem_geometry::polyline_length(&full);
         let first = self.progress[t].first().map_or((0, 0.0), |p| (p.1, p.2));
-        let mut out = vec![(pdbem_geometry::point_at(&full, s0), first.0, first.1)];
+        // The path starts at the initial tip itself: the traced PD path runs through
+        // node positions, up to half a spacing beside the crack line (on the seed plate
+        // its projection lay 0.049 m from the tip).
+        let mut out = vec![(self.initial_tip[t], first.0, first.1)];
         let mut s = s0;
         let dx = w.spec.dx;
         while s + dx < total {
@@ -294,6 +285,53 @@ impl<'s, S: Scenario> Growth<'s, S> {
             out.push((pdbem_geometry::point_at(&full, total), k, f));
         }
         out
+    }
+
+    /// The macro polyline of tip `t` up to its window entry, then its traced PD path.
+    fn traced_path(&self, t: usize) -> Vec<V2> {
+        let tip = &self.tips[t];
+        let line = towards_tip(
+            &self.setup.layout.cracks[tip.spec.crack].points,
+            tip.spec.at_end,
+        );
+        let w = &self.problem.windows[tip.window].window;
+        let s_entry =
+            polyline::entry_length(&line, w).unwrap_or(pdbem_geometry::polyline_length(&line));
+        let mut full = polyline::head(&line, s_entry);
+        full.extend(tip.path_points());
+        full
+    }
+
+    /// Length (m) by which the reported path of tip `t` is continued beyond its traced
+    /// path to reach the outline or hole it ended at ([`Self::joined`]; 0 for a tip
+    /// still growing).
+    pub fn join_length(&self, t: usize) -> f64 {
+        self.joined(t, self.traced_path(t)).1
+    }
+
+    /// The path `full` of tip `t` ended on what the tip reached: on the outline by
+    /// [`polyline::end_on_outline`] (the fan of the last horizon dropped), then joined to
+    /// the outline or the hole it ended at by [`polyline::join_boundary`]; with the length
+    /// that join added (m).
+    pub fn joined(&self, t: usize, mut full: Vec<V2>) -> (Vec<V2>, f64) {
+        let tip = &self.tips[t];
+        let w = &self.problem.windows[tip.window].window;
+        let chord = polyline::OUTLINE_CHORD_DX * w.spec.dx;
+        let boundary = match &tip.ended {
+            Some(TipEnd::Outline) => {
+                full = polyline::end_on_outline(&full, &self.body.outline, w.delta(), chord);
+                &self.body.outline
+            }
+            Some(TipEnd::Hole(name)) => {
+                let names = self.hole_names();
+                match names.iter().position(|n| n == name) {
+                    Some(i) if i < self.body.holes.len() => &self.body.holes[i],
+                    _ => return (full, 0.0),
+                }
+            }
+            _ => return (full, 0.0),
+        };
+        polyline::join_boundary(&full, boundary, chord)
     }
 
     /// Arc length of tip `t` along its crack (polyline to the entry + traced path).

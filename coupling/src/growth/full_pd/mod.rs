@@ -22,7 +22,8 @@
 //!    into a neighbouring crack). A tip within one horizon of the outline has reached it
 //!    (its path is ended on the outline by the PD-BEM rule,
 //!    `pdbem_coupling::growth::polyline::end_on_outline`), within one horizon of a hole
-//!    is arrested there, within 3 dx of another crack has joined it ([`Front`] decides
+//!    is arrested there (its path joined to the hole along its approach,
+//!    `polyline::join_boundary`), within 3 dx of another crack has joined it ([`Front`] decides
 //!    failure).
 //! 4. Failure ends the run: a crack cut the body through, either a tracked tip reached
 //!    the outline ([`Front::separated`]) or any macro crack reaches the outline at two
@@ -539,8 +540,15 @@ fn track(
         };
         let tip = *path.last().unwrap_or(&front.tips[t].initial);
         let hit = obstacle_at(front, t, &tip, tr);
-        if hit == Obstacle::Outline {
-            extend_to_outline(front, &mut path, tr);
+        match &hit {
+            Obstacle::Outline => extend_to_outline(front, &mut path, tr),
+            Obstacle::Hole(h) => {
+                if let Some(poly) = front.hole_polygon(h) {
+                    let chord = polyline::OUTLINE_CHORD_DX * tr.dx;
+                    path = polyline::join_boundary(&path, &poly, chord).0;
+                }
+            }
+            _ => {}
         }
         front.set_path(t, &path);
         record_path(

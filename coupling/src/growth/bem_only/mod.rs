@@ -3,48 +3,55 @@
 //!
 //! Algorithm, for every load factor f of [`BemOnlyParams::loads`]:
 //! 1. The current geometry (the body's loops, the crack polylines as grown so far) is
-//!    meshed and solved once at unit load: the problem is linear, so K(f) = f K(1). SIFs
-//!    come from the crack-opening fit ([`pdbem_bem::post::sif::cod_sif`]).
+//!    meshed with the local-feature sizes of the static BEM mesh ([`sizing`]: every tip a
+//!    source of min(base, L/80) over 1 L, L the tip's distance to the nearest boundary or
+//!    its crack's length) and solved once at unit load ([`solve`]): the problem is
+//!    linear, so K(f) = f K(1). SIFs come from the crack-opening fit
+//!    ([`pdbem_bem::post::sif::cod_sif`]) over r < min(0.3 L, the straight run behind the
+//!    tip). A geometry where a growing tip has K_I < 0 or a mouth closes is refined (tip
+//!    elements halved, up to 4x) and, if that does not cure it, the run ends there with
+//!    the reason in its notes: overlapping faces are never taken as a growth state.
 //! 2. For every growing tip, the maximum-circumferential-stress kink angle theta and the
 //!    equivalent K_eq ([`super::criterion`]) at load f. Tips with K_eq >= K_c each get
 //!    one straight increment `da` along the kink direction ([`Front::step_ahead`] with a
-//!    margin of [`LIGAMENT_MARGIN`] increments: a tip that would end within 1.5 da of the
-//!    outline is taken onto it, one that would end within 1.5 da of a hole or another
-//!    crack stops; closer, the crack-opening fit has too few elements left in the
-//!    ligament), then the body is re-meshed and re-solved and 2. is repeated at the same
-//!    load (unstable growth under load control runs within one step).
+//!    margin of [`LIGAMENT_MARGIN`] increments). **A tip whose increment would leave less
+//!    than 1.5 da of ligament to the outline has reached the outline**: it is taken onto
+//!    it, and a crack that then connects two points of the outline cuts the body (failure,
+//!    "tip reached the outline"). One that would end within 1.5 da of a hole or another
+//!    crack stops there. Then the body is re-meshed and re-solved and 2. is repeated at the
+//!    same load (unstable growth under load control runs within one step).
 //! 3. When no tip is critical the step is recorded and the load grows. The run ends when
-//!    the body is cut through (failure), when no tip can grow any more, or when the load
-//!    budget is spent.
+//!    the body is cut through (failure), when no tip can grow any more, when a geometry is
+//!    not a growth state (1.), or when the load budget is spent.
 //!
-//! Crack elements keep the size the initial mesh gave them (the largest element of each
-//! crack's upper face), so a long grown crack does not get finer; the increment `da`
-//! defaults to that size. A grown crack is straight only over its last increment: the
-//! crack-opening fit of a kinked crack reaching across the kink mixes the two directions
-//! (measured on the 45-degree crack: K_II of the kinked tip 0.4 K_I instead of about 0,
-//! and the next kink reversed). So once cracks have grown, the elements within one
-//! increment of every tip are refined to da/8 (uniform, REFERENCES.md) and the fit is
-//! restricted to r < da; the initial geometry is meshed and fitted exactly like a static
-//! BEM run. The critical load of the current geometry, f_c = K_c / K_eq(1), is reported
-//! with every solve (`solve` events), and [`critical_loads`] gives it for the initial
-//! geometry.
+//! The increment `da` defaults to the crack's face element size (the size its elements
+//! grow to away from the tips: `bem.element_size` on the seed plates, the PD-BEM dx).
+//! Every accepted geometry adds one row per growing tip to the fracture-mechanics record
+//! along the path ([`crate::growth::sif_path`]). The critical load of the current
+//! geometry, f_c = K_c / K_eq(1), is reported with every solve (`solve` events), and
+//! [`critical_loads`] gives it for the initial geometry.
 //!
 //! The engine reports through an [`EngineObserver`] and never prints or writes files.
 
+mod body;
+pub mod sizing;
+pub(crate) mod solve;
+
+pub(crate) use self::body::fail;
+pub use self::body::BemOnlyBody;
+pub use super::criterion::TipSif;
+
 use std::time::Instant;
 
-use pdbem_bem::mesh::{CrackSpec, LoopSpec, TipRefinement};
-use pdbem_bem::post::sif::{cmod, cod_sif, tip_length_scale};
-use pdbem_bem::post::{Background, FieldEvaluator};
-use pdbem_bem::{BemSystem, Material, Mesh, MeshBuilder, PairCache, Solution, SolveParams};
+use pdbem_bem::post::FieldEvaluator;
 use pdbem_geometry::{point_segment_projection, rotate, P2};
 use serde_json::json;
 
+use self::solve::{Checked, Engine, Sizes, Solved};
 use super::checkpoint::{mismatch, BemOnlyCheckpoint, EngineCheckpoint};
-use super::criterion::mcs;
 use super::events::EngineObserver;
 use super::front::{Front, Obstacle};
-use super::history::{FieldSnapshot, GrowthHistory, PathPoint, StepRecord, TipPath};
+use super::history::{FieldSnapshot, GrowthHistory, PathPoint, SifRow, StepRecord, TipPath};
 use super::records::Scenario;
 use super::verdict::stop_after_step;
 use crate::error::CouplingError;
@@ -56,30 +63,8 @@ use crate::error::CouplingError;
 /// stopped short of failure.
 pub const LIGAMENT_MARGIN: f64 = 1.5;
 
-/// Crack-opening stations wanted within one increment once cracks have grown: the fit
-/// over them then has its full four terms (`cod_sif` uses 4 terms from 7 stations).
-const STATIONS_PER_INCREMENT: f64 = 8.0;
-
 /// Snapshot grid points per side over the body's bounding box.
 const SNAPSHOT_GRID: usize = 60;
-
-/// The body of a BEM-only run: what every re-meshed geometry shares.
-#[derive(Debug, Clone)]
-pub struct BemOnlyBody {
-    /// Outline (split at its groups) and hole loops with their element sizes.
-    pub loops: Vec<LoopSpec>,
-    /// The initial cracks in front order: name, polyline, faces, element size and the
-    /// tip refinement of the initial mesh.
-    pub cracks: Vec<CrackSpec>,
-    /// Material.
-    pub material: Material,
-    /// Solver parameters.
-    pub params: SolveParams,
-    /// Remote stress at unit load (infinite plates; zero otherwise).
-    pub background: Background,
-    /// Crack-opening fit range as a fraction of the tip length scale.
-    pub fit_fraction: f64,
-}
 
 /// Parameters of a BEM-only run.
 #[derive(Debug, Clone, PartialEq)]
@@ -92,21 +77,6 @@ pub struct BemOnlyParams {
     pub da: Option<f64>,
     /// Steps (0-based) after which a displacement snapshot is taken as well.
     pub snapshot_steps: Vec<usize>,
-}
-
-/// SIFs of one tip at unit load.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct TipSif {
-    /// Index into [`Front::tips`].
-    pub tip: usize,
-    /// K_I at load factor 1 (Pa sqrt(m)).
-    pub k1: f64,
-    /// K_II at load factor 1.
-    pub k2: f64,
-    /// Kink angle (radians, counter-clockwise from the crack line).
-    pub theta: f64,
-    /// Equivalent K at load factor 1.
-    pub k_eq: f64,
 }
 
 /// Critical load of one tip of the initial geometry.
@@ -122,178 +92,6 @@ pub struct TipCritical {
     pub load: f64,
 }
 
-/// One solved geometry at unit load.
-struct Solved {
-    mesh: Mesh,
-    solution: Solution,
-    sifs: Vec<TipSif>,
-    /// CMOD of the first crack with a mouth at load factor 1 (m).
-    cmod: Option<f64>,
-    solve_s: f64,
-}
-
-/// Fixed meshing data of a run: crack element sizes and increments.
-struct Sizes {
-    /// Element size of each crack (m).
-    element: Vec<f64>,
-    /// Increment of each crack (m).
-    da: Vec<f64>,
-}
-
-impl Sizes {
-    /// Tip refinement of grown geometries: elements of da / 8 (at most the crack size)
-    /// within one increment of every tip; the SIF fit stays inside that zone.
-    fn tip_zone(&self) -> TipRefinement {
-        let da = self.da.iter().copied().fold(f64::INFINITY, f64::min);
-        let h = self.element.iter().copied().fold(f64::INFINITY, f64::min);
-        TipRefinement {
-            size: h.min(da / STATIONS_PER_INCREMENT),
-            radius: da,
-        }
-    }
-}
-
-fn fail(message: String) -> CouplingError {
-    CouplingError::Growth {
-        mode: "BEM-only",
-        message,
-    }
-}
-
-/// The context of one run: body, conditions and the pair cache of the last mesh.
-struct Engine<'a> {
-    body: &'a BemOnlyBody,
-    scenario: &'a dyn Scenario,
-    pairs: PairCache,
-}
-
-impl Engine<'_> {
-    /// Meshes the front's cracks: with `sizes` each crack at its fixed element size, and
-    /// once they have `grown` with the tip zone of [`Sizes::tip_zone`] (else with the
-    /// initial tip refinement); without `sizes`, the initial crack specifications.
-    fn mesh(
-        &self,
-        front: &Front,
-        sizes: Option<&Sizes>,
-        grown: bool,
-    ) -> Result<Mesh, CouplingError> {
-        let mut b = MeshBuilder::new();
-        for l in &self.body.loops {
-            b.add_loop(l.clone());
-        }
-        for (i, (spec, c)) in self.body.cracks.iter().zip(&front.cracks).enumerate() {
-            let mut spec = CrackSpec {
-                points: c.points.clone(),
-                ..spec.clone()
-            };
-            if let Some(s) = sizes {
-                spec.element_size = s.element[i];
-                if grown {
-                    spec.tip = Some(s.tip_zone());
-                }
-            }
-            b.add_crack(spec);
-        }
-        Ok(b.build()?)
-    }
-
-    /// Element size of every crack in the initial mesh (the largest element of its upper
-    /// face: the size the rounding to whole elements gave), and the increments.
-    fn sizes(&self, front: &Front, da: Option<f64>) -> Result<Sizes, CouplingError> {
-        let mesh = self.mesh(front, None, false)?;
-        let element: Vec<f64> = mesh
-            .cracks
-            .iter()
-            .map(|c| {
-                c.upper
-                    .iter()
-                    .map(|&e| mesh.elements[e].h)
-                    .fold(0.0, f64::max)
-            })
-            .collect();
-        let da = match da {
-            Some(da) => vec![da; element.len()],
-            None => element.clone(),
-        };
-        Ok(Sizes { element, da })
-    }
-
-    /// Meshes and solves the current geometry at unit load, reusing the element-pair
-    /// blocks of the last geometry (the outline and the crack away from the tips stay).
-    /// `grown`: the cracks have grown (tip zone and capped fit).
-    fn solve(
-        &mut self,
-        front: &Front,
-        sizes: &Sizes,
-        grown: bool,
-    ) -> Result<Solved, CouplingError> {
-        let t0 = Instant::now();
-        let mesh = self.mesh(front, Some(sizes), grown)?;
-        let bcs = self
-            .scenario
-            .bem_conditions(&mesh)
-            .map_err(|m| fail(format!("boundary conditions: {m}")))?;
-        let sys = BemSystem::new_with_cache(
-            &mesh,
-            &self.body.material,
-            &bcs,
-            &self.body.params,
-            Some(&mut self.pairs),
-        )?;
-        let solution = sys.solve()?;
-        let cap = if grown {
-            sizes.tip_zone().radius
-        } else {
-            f64::INFINITY
-        };
-        let sifs = self.tip_sifs(front, &mesh, &solution, cap)?;
-        let cmod = (0..mesh.cracks.len()).find_map(|i| cmod(&mesh, &solution, i));
-        Ok(Solved {
-            mesh,
-            solution,
-            sifs,
-            cmod,
-            solve_s: t0.elapsed().as_secs_f64(),
-        })
-    }
-
-    /// SIFs of every tip by the crack-opening fit over r < fit_fraction L (as in a static
-    /// BEM run), capped at `cap` (m): a grown crack is straight only over its last
-    /// increment, and the fit must not reach across a kink.
-    fn tip_sifs(
-        &self,
-        front: &Front,
-        mesh: &Mesh,
-        solution: &Solution,
-        cap: f64,
-    ) -> Result<Vec<TipSif>, CouplingError> {
-        let mut sifs = Vec::new();
-        for (ci, at_end, pos, _) in mesh.tips() {
-            let end = if at_end { "end" } else { "start" };
-            let name = format!("{}.{end}", mesh.cracks[ci].name);
-            let Some(t) = front.tips.iter().position(|f| f.name == name) else {
-                continue;
-            };
-            let fit = (self.body.fit_fraction * tip_length_scale(mesh, ci, pos)).min(cap);
-            let (k1, k2, _) = cod_sif(mesh, &self.body.material, solution, ci, at_end, fit);
-            if !(k1.is_finite() && k2.is_finite()) {
-                return Err(fail(format!(
-                    "tip {name}: no SIF (no crack element within {fit:.3e} m of the tip)"
-                )));
-            }
-            let (theta, k_eq) = mcs(k1, k2);
-            sifs.push(TipSif {
-                tip: t,
-                k1,
-                k2,
-                theta,
-                k_eq,
-            });
-        }
-        Ok(sifs)
-    }
-}
-
 /// Critical load factor of every tip of the initial geometry: K_c / K_eq at unit load.
 pub fn critical_loads(
     body: &BemOnlyBody,
@@ -301,11 +99,7 @@ pub fn critical_loads(
     k_c: f64,
     scenario: &dyn Scenario,
 ) -> Result<Vec<TipCritical>, CouplingError> {
-    let mut engine = Engine {
-        body,
-        scenario,
-        pairs: PairCache::default(),
-    };
+    let mut engine = Engine::new(body, scenario);
     let sizes = engine.sizes(front, None)?;
     let solved = engine.solve(front, &sizes, false)?;
     Ok(solved
@@ -341,7 +135,7 @@ fn solve_event(front: &Front, s: &Solved, k_c: f64, geometry: usize) -> serde_js
             })
         })
         .collect();
-    json!({"geometry": geometry, "elements": s.mesh.len(),
+    json!({"geometry": geometry, "elements": s.mesh.len(), "refine": s.refine,
            "solve_s": s.solve_s, "unit_load": tips})
 }
 
@@ -389,7 +183,7 @@ fn displacement_snapshot(
 /// Upper bound on increments within one load step: every tip crossing the body twice.
 fn increment_cap(bounds: (P2, P2), front: &Front, sizes: &Sizes) -> usize {
     let (lo, hi) = bounds;
-    let da = sizes.da.iter().copied().fold(f64::INFINITY, f64::min);
+    let da = sizes.smallest_da();
     let per_tip = (2.0 * (hi - lo).norm() / da).ceil() as usize;
     per_tip.saturating_mul(front.tips.len()).saturating_add(10)
 }
@@ -433,11 +227,8 @@ pub fn run_from(
     let factors = &params.loads;
     // Bounds, sizes and cap come from the initial front, also in a resumed run.
     let bounds = front.bounds();
-    let mut engine = Engine {
-        body,
-        scenario,
-        pairs: PairCache::default(),
-    };
+    let e_prime = body.material.e_prime();
+    let mut engine = Engine::new(body, scenario);
     let first = factors.first().copied().unwrap_or(1.0);
     let sizes = engine.sizes(&front, params.da)?;
     let cap = increment_cap(bounds, &front, &sizes);
@@ -452,24 +243,37 @@ pub fn run_from(
             observer.event(
                 "start",
                 json!({"mode": "bem-only", "k_c": k_c, "steps": factors.len(),
-                       "da": sizes.da, "crack_element_size": sizes.element}),
+                       "da": sizes.da, "crack_element_size": sizes.element,
+                       "local_sizing": body.sizing.is_some()}),
             );
             (fresh_history(&front, first), 0, 0)
         }
     };
-    let mut solved = engine
-        .solve(&front, &sizes, geometry > 0)
-        .map_err(|e| fail(format!("geometry {geometry}: {e}")))?;
+    let mut solved = match engine
+        .solve_checked(&front, &sizes, geometry > 0)
+        .map_err(|e| fail(format!("geometry {geometry}: {e}")))?
+    {
+        Checked::Ok(s) => *s,
+        Checked::Overlap(why) => {
+            return Err(fail(format!(
+                "geometry {geometry}: {why}: the crack faces overlap in the linear solution, \
+                 which has no contact (is the load opening the crack?)"
+            )))
+        }
+    };
     if next == 0 {
         observer.event("solve", solve_event(&front, &solved, k_c, geometry));
     }
     let mut current = true;
+    let mut not_a_state = None;
     for (k, &f) in factors.iter().enumerate().skip(next) {
         let t0 = Instant::now();
         let mut increments = 0;
         let mut solved_now = true;
         let saved = (front.clone(), history.clone(), geometry);
         let mut broken = None;
+        let rows = SifRow::rows(&front, &solved.sifs, solved.cmod, (k, f), e_prime);
+        history.sif_path.extend(rows);
         loop {
             let growing = critical_tips(&front, &solved, f, k_c);
             if growing.is_empty() {
@@ -496,8 +300,17 @@ pub fn run_from(
                 break;
             }
             geometry += 1;
-            match engine.solve(&front, &sizes, true) {
-                Ok(s) => solved = s,
+            match engine.solve_checked(&front, &sizes, true) {
+                Ok(Checked::Ok(s)) => solved = *s,
+                Ok(Checked::Overlap(why)) => {
+                    not_a_state = Some(format!(
+                        "run ended at load {f} (step {k}), geometry {geometry}: {why}; the crack \
+                         faces overlap in the linear solution (no contact), which is not a \
+                         growth state; the path ends at the last increment"
+                    ));
+                    solved_now = false;
+                    break;
+                }
                 Err(e) => {
                     broken = Some(format!(
                         "step {k} (load {f}): geometry {geometry} could not be meshed or \
@@ -508,6 +321,8 @@ pub fn run_from(
                 }
             }
             observer.event("solve", solve_event(&front, &solved, k_c, geometry));
+            let rows = SifRow::rows(&front, &solved.sifs, solved.cmod, (k, f), e_prime);
+            history.sif_path.extend(rows);
         }
         if let Some(reason) = broken {
             // Back to the end of the last completed step, whose records stand.
@@ -544,8 +359,8 @@ pub fn run_from(
             &format!("load {f:.4e}, {geometry} re-meshes"),
         );
         let cut = front.separated();
-        let why = "a crack cut the body through";
-        if stop_after_step(&mut history, observer, &front, cut, k, f, why) || !solved_now {
+        let why = failure_reason(&front);
+        if stop_after_step(&mut history, observer, &front, cut, k, f, &why) || !solved_now {
             break;
         }
         if k + 1 < factors.len() {
@@ -562,6 +377,11 @@ pub fn run_from(
                 return Err(CouplingError::Interrupted { step: k });
             }
         }
+    }
+    if let Some(why) = not_a_state {
+        observer.event("note", json!({"message": why}));
+        history.failure_reason.get_or_insert_with(|| why.clone());
+        history.notes.push(why);
     }
     // A last snapshot when the solved geometry is the final one.
     if current && !history.steps.is_empty() {
@@ -597,6 +417,22 @@ fn fresh_history(front: &Front, first: f64) -> GrowthHistory {
             })
             .collect(),
         ..Default::default()
+    }
+}
+
+/// Why the body came apart: a tip reached the outline, or cracks joined across it.
+fn failure_reason(front: &Front) -> String {
+    match front
+        .tips
+        .iter()
+        .find(|t| t.ended.as_deref() == Some("outline"))
+    {
+        Some(t) => format!(
+            "tip reached the outline ({}: its next increment would have left less than \
+             {LIGAMENT_MARGIN} increments of ligament, so it was taken onto the outline)",
+            t.name
+        ),
+        None => "a crack cut the body through".into(),
     }
 }
 

@@ -1,0 +1,42 @@
+//! The body of a BEM-only run ([`BemOnlyBody`]): what every re-meshed geometry shares,
+//! and the engine's error.
+
+use pdbem_bem::mesh::{CrackSpec, LoopSpec, SizeField};
+use pdbem_bem::post::Background;
+use pdbem_bem::{Material, SolveParams};
+
+use super::sizing::TipSizing;
+use crate::error::CouplingError;
+
+/// The body of a BEM-only run: what every re-meshed geometry shares.
+#[derive(Debug, Clone)]
+pub struct BemOnlyBody {
+    /// Outline (split at its groups) and hole loops with their element sizes.
+    pub loops: Vec<LoopSpec>,
+    /// The initial cracks in front order: name, polyline, faces, element size and the
+    /// tip refinement of the initial mesh.
+    pub cracks: Vec<CrackSpec>,
+    /// Material.
+    pub material: Material,
+    /// Solver parameters.
+    pub params: SolveParams,
+    /// Remote stress at unit load (infinite plates; zero otherwise).
+    pub background: Background,
+    /// Crack-opening fit range as a fraction of the tip length scale.
+    pub fit_fraction: f64,
+    /// Local-feature sizing of every geometry ([`sizing`]); `None` (cracks with sizes
+    /// fixed by the scene): each crack at its element size, with the initial tip
+    /// refinement and, once grown, a uniform zone of da/8 within da of every tip.
+    pub sizing: Option<TipSizing>,
+    /// Sources of the size field other than the tips (features, outline coarsening),
+    /// used with `sizing`.
+    pub field: SizeField,
+}
+
+/// A BEM-only growth error with `message`.
+pub(crate) fn fail(message: String) -> CouplingError {
+    CouplingError::Growth {
+        mode: "BEM-only",
+        message,
+    }
+}
