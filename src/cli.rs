@@ -383,12 +383,7 @@ pub struct CliRun {
     pub tol: Option<f64>,
 }
 
-fn run(
-    path: &Path,
-    out: Option<PathBuf>,
-    options: RunOptions,
-    cli: &CliRun,
-) -> anyhow::Result<()> {
+fn run(path: &Path, out: Option<PathBuf>, options: RunOptions, cli: &CliRun) -> anyhow::Result<()> {
     let mut scene = load(path)?;
     if let Some(m) = cli.growth_mode {
         scene = with_growth_mode(&scene, m)?;
