@@ -8,6 +8,7 @@
 //! they seem: [`plausibility`]; tables and plots: [`report`].
 
 pub mod context;
+pub mod marks;
 pub mod mode;
 pub mod plausibility;
 pub mod reference;
