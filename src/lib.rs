@@ -9,6 +9,7 @@
 //!   summary/CSV/plot writing, reference errors;
 //! - [`run_bem`], [`run_pd`], [`run_coupled`]: the solver entry points the runner calls;
 //! - [`output`]: atomic files, CSV tables, `summary.json`;
+//! - [`provenance`]: version, commit, threads, command line, start time, resolved `scene.ron`;
 //! - [`plot`]: report plots (geometry, value vs parameter, error vs time, scatter fields);
 //! - [`sweep`]: `pdbem sweep` (grid of dotted-path overrides);
 //! - [`bench`](mod@bench): `pdbem bench`;
@@ -20,6 +21,7 @@ pub use pdbem_geometry as geometry;
 pub mod growth;
 pub mod output;
 pub mod plot;
+pub mod provenance;
 pub mod refine;
 pub mod run_bem;
 pub mod run_coupled;
