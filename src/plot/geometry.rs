@@ -204,14 +204,20 @@ impl GeometryPlot {
         chart: &mut MapChart<'_, DB>,
         labels: bool,
     ) -> Result<(), String> {
+        let pts = self.all_points();
+        let (xs, ys) = (
+            super::span(pts.iter().map(|p| p.0)),
+            super::span(pts.iter().map(|p| p.1)),
+        );
+        let dash = (xs.1 - xs.0).max(ys.1 - ys.0) / 80.0;
         for (i, w) in self.windows.iter().enumerate() {
-            let mut pts = w.clone();
+            let mut ring = w.clone();
             if let Some(f) = w.first() {
-                pts.push(*f);
+                ring.push(*f);
             }
             let a = chart
                 .draw_series(
-                    dashed(&pts, 6)
+                    dashed(&ring, dash)
                         .into_iter()
                         .map(|seg| PathElement::new(seg, WINDOW.stroke_width(2))),
                 )
@@ -337,11 +343,14 @@ fn arrow_paths(a: &Arrow) -> Vec<Vec<(f64, f64)>> {
     vec![vec![a.from, a.to], vec![head(1.0), a.to, head(-1.0)]]
 }
 
-/// A closed polyline cut into `n` dashes per side (every other piece drawn).
-fn dashed(pts: &[(f64, f64)], n: usize) -> Vec<Vec<(f64, f64)>> {
+/// A polyline cut into dashes about `dash` long (every other piece drawn, at least two
+/// dashes per side).
+fn dashed(pts: &[(f64, f64)], dash: f64) -> Vec<Vec<(f64, f64)>> {
     let mut out = Vec::new();
     for w in pts.windows(2) {
         let (a, b) = (w[0], w[1]);
+        let len = ((b.0 - a.0).powi(2) + (b.1 - a.1).powi(2)).sqrt();
+        let n = ((len / (2.0 * dash.max(1e-300))).round() as usize).clamp(2, 40);
         for k in (0..2 * n).step_by(2) {
             let t0 = k as f64 / (2 * n) as f64;
             let t1 = (k + 1) as f64 / (2 * n) as f64;

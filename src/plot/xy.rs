@@ -306,10 +306,49 @@ impl XyPlot {
                 .background_style(WHITE.mix(0.85))
                 .border_style(BLACK)
                 .label_font((FONT, LABEL_SIZE - 4))
-                .position(SeriesLabelPosition::UpperLeft)
+                .position(self.legend_corner())
                 .draw()
                 .map_err(msg)?;
         }
         Ok(())
+    }
+}
+
+impl XyPlot {
+    /// The corner whose box (40 % of the width, 30 % of the height) holds the fewest
+    /// points, so the legend hides as little data as possible; upper left on a tie.
+    fn legend_corner(&self) -> SeriesLabelPosition {
+        let ((x0, x1), (y0, y1)) = self.ranges();
+        let unit = |v: f64, lo: f64, hi: f64, log: bool| {
+            if log {
+                (v.ln() - lo.ln()) / (hi.ln() - lo.ln())
+            } else {
+                (v - lo) / (hi - lo)
+            }
+        };
+        let pts: Vec<(f64, f64)> = self
+            .series
+            .iter()
+            .flat_map(|s| s.points.iter().copied())
+            .filter(|p| self.usable(p))
+            .map(|p| (unit(p.0, x0, x1, self.log_x), unit(p.1, y0, y1, self.log_y)))
+            .collect();
+        let count = |left: bool, top: bool| {
+            pts.iter()
+                .filter(|(u, v)| {
+                    (if left { *u < 0.4 } else { *u > 0.6 })
+                        && (if top { *v > 0.7 } else { *v < 0.3 })
+                })
+                .count()
+        };
+        [
+            (SeriesLabelPosition::UpperLeft, count(true, true)),
+            (SeriesLabelPosition::UpperRight, count(false, true)),
+            (SeriesLabelPosition::LowerLeft, count(true, false)),
+            (SeriesLabelPosition::LowerRight, count(false, false)),
+        ]
+        .into_iter()
+        .min_by_key(|(_, n)| *n)
+        .map_or(SeriesLabelPosition::UpperLeft, |(p, _)| p)
     }
 }
