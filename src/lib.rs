@@ -13,10 +13,11 @@
 //! - [`plot`]: report plots (geometry, value vs parameter, error vs time, scatter fields);
 //! - [`sweep`]: `pdbem sweep` (grid of dotted-path overrides);
 //! - [`bench`](mod@bench): `pdbem bench`;
-//! - [`cli`]: the `pdbem` command line.
+//! - [`cli`]: the `pdbem` command line; [`console`]: its printed run summaries.
 
 pub mod bench;
 pub mod cli;
+pub mod console;
 pub use pdbem_geometry as geometry;
 pub mod growth;
 pub mod output;

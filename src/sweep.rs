@@ -124,11 +124,7 @@ pub fn run_sweep(
     let combos = grid(varies);
     let writer = OutputWriter::create_run(out_dir)
         .with_context(|| format!("cannot create {}", out_dir.display()))?;
-    let bar = if quiet {
-        indicatif::ProgressBar::hidden()
-    } else {
-        indicatif::ProgressBar::new(combos.len() as u64)
-    };
+    let bar = crate::runner::context::progress_bar(combos.len() as u64, quiet);
     let mut rows = Vec::new();
     for (k, combo) in combos.iter().enumerate() {
         let params: Vec<String> = varies
