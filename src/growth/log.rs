@@ -95,9 +95,9 @@ pub fn step_bar(ctx: &RunContext, steps: usize) -> indicatif::ProgressBar {
     // On a terminal a bar; in lines (a log file) the step and message alone, so a line
     // is written when they change, not every second.
     let template = if crate::runner::context::stderr_is_terminal() {
-        "{elapsed_precise} [{bar:30}] step {pos}/{len} {msg}"
+        "{elapsed_precise} [{bar:30}] {pos}/{len} load steps done; {msg}"
     } else {
-        "step {pos}/{len} {msg}"
+        "{pos}/{len} load steps done; {msg}"
     };
     if let Ok(style) = indicatif::ProgressStyle::with_template(template) {
         bar.set_style(style.progress_chars("=> "));

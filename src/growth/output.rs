@@ -313,10 +313,7 @@ fn snapshot_plot(scene: &Scene, h: &GrowthHistory, s: &FieldSnapshot) -> Scatter
         (format!("{name} ({unit})"), None, scale)
     };
     ScatterField {
-        title: format!(
-            "{}: {} at step {} ({})",
-            scene.name, s.label, s.step, h.mode
-        ),
+        title: format!("{}: {} ({})", scene.name, snapshot_title(s), h.mode),
         unit: "m".into(),
         value_label: label,
         points: s.points.iter().map(|p| (p[0], p[1])).collect(),
@@ -325,6 +322,34 @@ fn snapshot_plot(scene: &Scene, h: &GrowthHistory, s: &FieldSnapshot) -> Scatter
         loops,
         marker_px: 0,
     }
+}
+
+/// What a snapshot shows, in words, load steps counted from 1: `damage_window0_step1_reloc7`
+/// is "damage in PD window 0, load step 2, after relocation 7".
+fn snapshot_title(s: &FieldSnapshot) -> String {
+    let (mut field, mut window, mut reloc, mut step) = (Vec::new(), None, None, s.step);
+    for part in s.label.split('_') {
+        if let Some(w) = part.strip_prefix("window") {
+            window = Some(w.to_string());
+        } else if let Some(k) = part.strip_prefix("step").and_then(|k| k.parse().ok()) {
+            step = k;
+        } else if let Some(r) = part.strip_prefix("reloc") {
+            reloc = Some(r.to_string());
+        } else if part == "displacement" {
+            field.push("|u|".to_string());
+        } else {
+            field.push(part.to_string());
+        }
+    }
+    let mut text = field.join(" ");
+    if let Some(w) = window {
+        text.push_str(&format!(" in PD window {w}"));
+    }
+    text.push_str(&format!(", load step {}", step + 1));
+    if let Some(r) = reloc {
+        text.push_str(&format!(", after relocation {r}"));
+    }
+    text
 }
 
 /// Exponent (a multiple of 3) and factor 10^-exponent that bring the largest magnitude of
@@ -378,6 +403,21 @@ fn write_plots(
 mod tests {
     use super::*;
     use crate::growth::{PathPoint, StepRecord};
+
+    #[test]
+    fn snapshot_titles_count_load_steps_from_one() {
+        let snap = |label: &str, step| FieldSnapshot {
+            step,
+            label: label.into(),
+            points: Vec::new(),
+            values: Vec::new(),
+        };
+        assert_eq!(
+            snapshot_title(&snap("damage_window0_step1_reloc7", 1)),
+            "damage in PD window 0, load step 2, after relocation 7"
+        );
+        assert_eq!(snapshot_title(&snap("displacement", 0)), "|u|, load step 1");
+    }
 
     fn pp(x: f64, y: f64, step: usize, load: f64) -> PathPoint {
         PathPoint { x, y, step, load }

@@ -326,13 +326,28 @@ impl XyPlot {
                 (v - lo) / (hi - lo)
             }
         };
-        let pts: Vec<(f64, f64)> = self
-            .series
-            .iter()
-            .flat_map(|s| s.points.iter().copied())
-            .filter(|p| self.usable(p))
-            .map(|p| (unit(p.0, x0, x1, self.log_x), unit(p.1, y0, y1, self.log_y)))
-            .collect();
+        let mut pts: Vec<(f64, f64)> = Vec::new();
+        for s in &self.series {
+            let own: Vec<(f64, f64)> = s
+                .points
+                .iter()
+                .filter(|p| self.usable(p))
+                .map(|p| (unit(p.0, x0, x1, self.log_x), unit(p.1, y0, y1, self.log_y)))
+                .collect();
+            pts.extend(&own);
+            // A line crosses the boxes between its points too.
+            if s.style != SeriesStyle::Markers {
+                for w in own.windows(2) {
+                    pts.extend((1..10).map(|k| {
+                        let t = k as f64 / 10.0;
+                        (
+                            w[0].0 + t * (w[1].0 - w[0].0),
+                            w[0].1 + t * (w[1].1 - w[0].1),
+                        )
+                    }));
+                }
+            }
+        }
         let count = |left: bool, top: bool| {
             pts.iter()
                 .filter(|(u, v)| {
