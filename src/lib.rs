@@ -12,6 +12,7 @@
 //! - [`provenance`]: version, commit, threads, command line, start time, resolved `scene.ron`;
 //! - [`plot`]: report plots (geometry, value vs parameter, error vs time, scatter fields);
 //! - [`sweep`]: `pdbem sweep` (grid of dotted-path overrides);
+//! - [`vtk`]: ParaView files (`outputs.vtk`);
 //! - [`bench`](mod@bench): `pdbem bench`;
 //! - [`cli`]: the `pdbem` command line; [`console`]: its printed run summaries.
 
@@ -31,3 +32,4 @@ pub mod runner;
 pub mod scene;
 pub mod setup;
 pub mod sweep;
+pub mod vtk;

@@ -25,6 +25,7 @@ pub mod log;
 pub mod output;
 pub mod overlay;
 pub mod pd_bem;
+pub mod vtk;
 
 pub use pdbem_coupling::growth::history::{
     FieldSnapshot, GrowthHistory, Overstrain, PathPoint, Relocation, StepRecord, TipPath,

@@ -50,6 +50,9 @@ pub fn finish(scene: &Scene, ctx: &RunContext, history: &GrowthHistory) -> Resul
     if scene.outputs.plots {
         write_plots(scene, ctx, history, &mut summary)?;
     }
+    if scene.outputs.vtk {
+        super::vtk::write(ctx, history)?;
+    }
     Ok(summary)
 }
 
@@ -387,11 +390,7 @@ fn write_plots(
     // `growth.snapshot_steps`): the first of a name is plotted.
     let mut seen = std::collections::HashSet::new();
     for s in &h.snapshots {
-        let stem = if s.label.contains("step") {
-            format!("snapshot_{}", s.label)
-        } else {
-            format!("snapshot_{}_step{:03}", s.label, s.step)
-        };
+        let stem = super::vtk::snapshot_stem(s);
         if seen.insert(stem.clone()) {
             save_plot(w, &stem, &snapshot_plot(scene, h, s), formats, summary)?;
         }

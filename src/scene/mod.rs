@@ -198,9 +198,8 @@ impl Scene {
         }
     }
 
-    /// Notes on fields the scene sets but no solver of its mode reads (no silent
-    /// garbage): `material.fracture.s0` (the PD failure law is `pd.failure`) and
-    /// `outputs.vtk` outside static BEM runs.
+    /// Notes on fields the scene sets but no solver reads (no silent garbage):
+    /// `material.fracture.s0` (the PD failure law is `pd.failure`).
     pub fn note_inert_fields(&mut self) {
         let s0 = self.material.fracture.as_ref().and_then(|f| f.s0);
         let failure = self.pd.as_ref().map(|p| &p.failure);
@@ -210,12 +209,6 @@ impl Scene {
                     "material.fracture.s0 = {s0} is not read by any solver: the PD failure law is pd.failure (use CriticalStretch({s0}))"
                 ));
             }
-        }
-        if self.outputs.vtk && (self.pd.is_some() || self.growth.is_some()) {
-            self.notes.push(
-                "outputs.vtk: only static BEM runs write VTK (boundary.vtk); this run writes none"
-                    .into(),
-            );
         }
     }
 
