@@ -306,14 +306,20 @@ fn run(
     let out = out.unwrap_or_else(|| default_out(&scene, ""));
     let summary = run_scene(&scene, &out, quiet)?;
     // Results are printed with --quiet too: it silences progress only.
-    print_summary(&summary);
-    println!("outputs in {}", out.display());
+    print_summary(&summary, &out);
     Ok(())
 }
 
-fn print_summary(s: &RunSummary) {
-    for line in crate::console::summary_lines(s) {
-        println!("{line}");
+/// Prints the run's summary; a closed stdout (`| head`) ends the printing quietly.
+fn print_summary(s: &RunSummary, out_dir: &Path) {
+    use std::io::Write as _;
+    let mut out = std::io::stdout().lock();
+    let mut lines = crate::console::summary_lines(s);
+    lines.push(format!("outputs in {}", out_dir.display()));
+    for line in lines {
+        if writeln!(out, "{line}").is_err() {
+            break;
+        }
     }
 }
 

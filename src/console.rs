@@ -19,12 +19,15 @@ pub fn summary_lines(s: &RunSummary) -> Vec<String> {
         seconds(s.wall_time_s)
     )];
     for t in &s.tips {
+        // Round-off of a K that is zero by symmetry prints as 0.
+        let keq = t.k1.hypot(t.k2);
+        let k = |v: f64| human(if v.abs() <= 1e-9 * keq { 0.0 } else { v }, 4);
         out.push(format!(
             "  tip {} at {} m: K_I {} Pa m^0.5, K_II {} Pa m^0.5, kink {} deg{}",
             t.name,
             point(t.position),
-            human(t.k1, 4),
-            human(t.k2, 4),
+            k(t.k1),
+            k(t.k2),
             human(t.kink_deg, 4),
             tip_errors(t)
         ));

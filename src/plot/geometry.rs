@@ -29,7 +29,7 @@ pub struct GeometryPlot {
     /// Extra polylines with legend entries (paths, PD windows).
     pub extra: Vec<Series>,
     /// Unit direction out of the crack at each tip (same order as `tips`); the tip's
-    /// label is placed beyond the tip along it. Empty: labels to the upper right.
+    /// label is placed beside the crack, on its upward normal. Empty: labels above.
     pub tip_directions: Vec<(f64, f64)>,
     /// Load and prescribed-displacement arrows.
     pub arrows: Vec<Arrow>,
@@ -287,21 +287,28 @@ impl GeometryPlot {
             }))
             .map_err(msg)?;
         if labels {
-            a.label("support (u = 0)").legend(|(x, y)| {
+            a.label("support (u_x or u_y = 0)").legend(|(x, y)| {
                 Rectangle::new([(x + 5, y - 5), (x + 15, y + 5)], SUPPORT.filled())
             });
         }
         Ok(())
     }
 
-    /// Tip names beyond their tips along the crack direction, aligned away from it.
+    /// Tip names beside their tips, on the side of the crack's upward (or right) normal.
     fn draw_tip_labels<DB: DrawingBackend>(
         &self,
         chart: &mut MapChart<'_, DB>,
     ) -> Result<(), String> {
         use plotters::style::text_anchor::{HPos, Pos, VPos};
         for (i, (name, p)) in self.tips.iter().enumerate() {
-            let d = self.tip_directions.get(i).copied().unwrap_or((0.7, 0.7));
+            // Beside the crack, not along it (two tips facing each other across a gap
+            // would put their names on top of each other): along the normal that points
+            // up, or right for a vertical crack.
+            let t = self.tip_directions.get(i).copied().unwrap_or((1.0, 0.0));
+            let mut d = (-t.1, t.0);
+            if d.1 < -1e-9 || (d.1.abs() <= 1e-9 && d.0 < 0.0) {
+                d = (-d.0, -d.1);
+            }
             let h = if d.0 > 0.3 {
                 HPos::Left
             } else if d.0 < -0.3 {

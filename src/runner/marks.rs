@@ -67,11 +67,12 @@ fn marks_at(bc: &BoundaryCondition, p: P2, n: P2, t: P2, size: f64, out: &mut Ve
 }
 
 /// An arrow of length `len` along `d` at edge point `p`: from the edge outwards when `d`
-/// points out of the body, onto the edge from outside when it points in.
+/// points out of the body, onto the edge from outside when it points in; an arrow along
+/// the edge (shear) a quarter of its length outside, so it does not cover the edge.
 fn arrow(p: P2, d: P2, n: P2, len: f64, kind: ArrowKind) -> Arrow {
     let along = d.dot(&n);
     let base = if along.abs() < 0.3 {
-        p + n * 0.03 * len
+        p + n * 0.25 * len
     } else {
         p
     };

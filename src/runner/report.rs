@@ -87,10 +87,17 @@ pub fn geometry_plot(scene: &Scene, summary: Option<&RunSummary>) -> GeometryPlo
         _ => Vec::new(),
     };
     let (arrows, supports) = super::marks::boundary_marks(scene);
-    let infinite = if geo.outline.is_none() {
-        " (infinite plate)"
-    } else {
-        ""
+    let infinite = match geo.remote {
+        Some(r) => {
+            let parts: Vec<String> = ["sxx", "syy", "sxy"]
+                .iter()
+                .zip(r)
+                .filter(|(_, v)| *v != 0.0)
+                .map(|(k, v)| format!("{k} = {} Pa", crate::plot::ticks::human(v, 4)))
+                .collect();
+            format!(" (infinite plate, remote {})", parts.join(", "))
+        }
+        None => String::new(),
     };
     GeometryPlot {
         title: format!("{}{infinite}", scene.name),
