@@ -100,8 +100,8 @@ pub enum Command {
         /// Smaller sizes.
         #[arg(long)]
         quick: bool,
-        /// `growth` only: the case to run three ways (a file stem in cases/). Default
-        /// growth_tension_edge.
+        /// `growth` only: the case to run three ways: a file stem in `cases/` under the
+        /// current folder, or the path of a scene file. Default growth_tension_edge.
         #[arg(long)]
         case: Option<String>,
     },
@@ -393,71 +393,23 @@ fn run(path: &Path, out: Option<PathBuf>, options: RunOptions, cli: &CliRun) -> 
     }
     let out = out.unwrap_or_else(|| default_out(&scene, ""));
     let summary = run_scene_with(&scene, &out, &options)?;
-    if !options.quiet {
-        print_summary(&summary);
-        println!("outputs in {}", out.display());
-    }
+    // Results are printed with --quiet too: it silences progress only.
+    print_summary(&summary, &out);
     match summary.incomplete() {
         Some(reason) => Err(IncompleteRun { out, reason }.into()),
         None => Ok(()),
     }
 }
 
-fn print_summary(s: &RunSummary) {
-    println!(
-        "{}: mode {}, {} elements, {:.3} s",
-        s.scene,
-        s.mode,
-        s.elements
-            .map(|e| e.to_string())
-            .unwrap_or_else(|| "-".into()),
-        s.wall_time_s
-    );
-    for t in &s.tips {
-        let err = t
-            .k1_err
-            .map(|e| format!(" (K_I error {:+.3} %)", 100.0 * e))
-            .unwrap_or_default();
-        println!(
-            "  tip {}: K_I {:.6e}, K_II {:.6e}, kink {:.2} deg{err}",
-            t.name, t.k1, t.k2, t.kink_deg
-        );
-    }
-    for c in &s.cracks {
-        if let Some(v) = c.cmod {
-            let err = c
-                .cmod_err
-                .map(|e| format!(" (error {:+.3} %)", 100.0 * e))
-                .unwrap_or_default();
-            println!("  crack {}: CMOD {v:.6e} m{err}", c.name);
-        }
-    }
-    if s.mode == "growth" {
-        print_growth(s);
-    }
-    for n in &s.notes {
-        println!("  note: {n}");
-    }
-}
-
-/// The growth fields of a summary: mode, loads, failure, where each tip ended.
-fn print_growth(s: &RunSummary) {
-    let g = |k: &str| s.extra.get(k).cloned().unwrap_or(serde_json::Value::Null);
-    println!(
-        "  growth {}: {} steps, initiation load {}, failure {} (load {}), {} relocations",
-        g("growth_mode"),
-        g("steps"),
-        g("initiation_load"),
-        g("failure"),
-        g("failure_load"),
-        g("relocations")
-    );
-    if let Some(tips) = g("tips_final").as_array() {
-        for t in tips {
-            println!(
-                "  tip {}: at {}, grew {} m, ended {}",
-                t["name"], t["position"], t["extension"], t["ended"]
-            );
+/// Prints the run's summary; a closed stdout (`| head`) ends the printing quietly.
+fn print_summary(s: &RunSummary, out_dir: &Path) {
+    use std::io::Write as _;
+    let mut out = std::io::stdout().lock();
+    let mut lines = crate::console::summary_lines(s);
+    lines.push(format!("outputs in {}", out_dir.display()));
+    for line in lines {
+        if writeln!(out, "{line}").is_err() {
+            break;
         }
     }
 }

@@ -9,17 +9,21 @@
 //!   summary/CSV/plot writing, reference errors;
 //! - [`run_bem`], [`run_pd`], [`run_coupled`]: the solver entry points the runner calls;
 //! - [`output`]: atomic files, CSV tables, `summary.json`;
+//! - [`provenance`]: version, commit, threads, command line, start time, resolved `scene.ron`;
 //! - [`plot`]: report plots (geometry, value vs parameter, error vs time, scatter fields);
 //! - [`sweep`]: `pdbem sweep` (grid of dotted-path overrides);
+//! - [`vtk`]: ParaView files (`outputs.vtk`);
 //! - [`bench`](mod@bench): `pdbem bench`;
-//! - [`cli`]: the `pdbem` command line.
+//! - [`cli`]: the `pdbem` command line; [`console`]: its printed run summaries.
 
 pub mod bench;
 pub mod cli;
+pub mod console;
 pub use pdbem_geometry as geometry;
 pub mod growth;
 pub mod output;
 pub mod plot;
+pub mod provenance;
 pub mod refine;
 pub mod run_bem;
 pub mod run_coupled;
@@ -28,3 +32,4 @@ pub mod runner;
 pub mod scene;
 pub mod setup;
 pub mod sweep;
+pub mod vtk;

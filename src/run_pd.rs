@@ -225,6 +225,18 @@ fn write_fields(
         ]);
     }
     ctx.writer.write_csv("nodes.csv", &t)?;
+    if scene.outputs.vtk {
+        use crate::vtk::Field;
+        let bytes = crate::vtk::point_cloud(
+            &x[..n],
+            vec![
+                ("displacement", Field::Vectors(u[..n].to_vec())),
+                ("damage", Field::Scalars(phi[..n].to_vec())),
+            ],
+        )
+        .map_err(anyhow::Error::msg)?;
+        ctx.writer.write_bytes("nodes.vtu", &bytes)?;
+    }
     if !scene.outputs.plots {
         return Ok(());
     }

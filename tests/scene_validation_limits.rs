@@ -254,7 +254,7 @@ fn grid_and_line_names_and_counts() {
     assert_invalid(
         &scene("outputs: (grids: [(name: \"../g\", from: (1, 1), to: (9, 19), nx: 10, ny: 10)])"),
         "outputs.grids.0.name",
-        "field_<name>.csv",
+        "grid_<name>.csv",
     );
     assert_invalid(
         &scene(

@@ -353,13 +353,11 @@ pub fn table(r: &GrowthBenchReport) -> String {
     t
 }
 
-/// `bench growth` on `cases/<case>.ron` (default [`CASE`]).
+/// `bench growth` on `cases/<case>.ron` under the current folder, or a scene file
+/// (default [`CASE`]; [`crate::bench::case_path`]).
 pub fn run(out: &Path, quick: bool, case: Option<&str>) -> Result<()> {
     let case = case.unwrap_or(CASE);
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("cases")
-        .join(format!("{case}.ron"));
-    let base = Scene::load(&path)?;
+    let base = Scene::load(crate::bench::case_path(case)?)?;
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
     let modes = [GrowthMode::PdBem, GrowthMode::BemOnly, GrowthMode::FullPd];
     let mut runs = Vec::new();

@@ -106,9 +106,14 @@ impl GrowthLog {
 /// A progress bar over `steps` load steps with a message (hidden with `--quiet`).
 pub fn step_bar(ctx: &RunContext, steps: usize) -> indicatif::ProgressBar {
     let bar = ctx.progress(steps as u64);
-    if let Ok(style) = indicatif::ProgressStyle::with_template(
-        "{elapsed_precise} [{bar:30}] step {pos}/{len} {msg}",
-    ) {
+    // On a terminal a bar; in lines (a log file) the step and message alone, so a line
+    // is written when they change, not every second.
+    let template = if crate::runner::context::stderr_is_terminal() {
+        "{elapsed_precise} [{bar:30}] {pos}/{len} load steps done; {msg}"
+    } else {
+        "{pos}/{len} load steps done; {msg}"
+    };
+    if let Ok(style) = indicatif::ProgressStyle::with_template(template) {
         bar.set_style(style.progress_chars("=> "));
     }
     bar

@@ -29,6 +29,7 @@ pub mod output;
 pub mod overlay;
 pub mod pd_bem;
 pub mod sif_record;
+pub mod vtk;
 
 pub use pdbem_coupling::growth::history::{
     FieldSnapshot, GrowthHistory, Overstrain, PathPoint, Relocation, StepRecord, TipPath,

@@ -52,6 +52,9 @@ pub fn finish(scene: &Scene, ctx: &RunContext, history: &GrowthHistory) -> Resul
     if scene.outputs.plots {
         write_plots(scene, ctx, history, &mut summary)?;
     }
+    if scene.outputs.vtk {
+        super::vtk::write(ctx, history)?;
+    }
     Ok(summary)
 }
 
@@ -317,10 +320,7 @@ fn snapshot_plot(scene: &Scene, h: &GrowthHistory, s: &FieldSnapshot) -> Scatter
         (format!("{name} ({unit})"), None, scale)
     };
     ScatterField {
-        title: format!(
-            "{}: {} at step {} ({})",
-            scene.name, s.label, s.step, h.mode
-        ),
+        title: format!("{}: {} ({})", scene.name, snapshot_title(s), h.mode),
         unit: "m".into(),
         value_label: label,
         points: s.points.iter().map(|p| (p[0], p[1])).collect(),
@@ -329,6 +329,34 @@ fn snapshot_plot(scene: &Scene, h: &GrowthHistory, s: &FieldSnapshot) -> Scatter
         loops,
         marker_px: 0,
     }
+}
+
+/// What a snapshot shows, in words, load steps counted from 1: `damage_window0_step1_reloc7`
+/// is "damage in PD window 0, load step 2, after relocation 7".
+fn snapshot_title(s: &FieldSnapshot) -> String {
+    let (mut field, mut window, mut reloc, mut step) = (Vec::new(), None, None, s.step);
+    for part in s.label.split('_') {
+        if let Some(w) = part.strip_prefix("window") {
+            window = Some(w.to_string());
+        } else if let Some(k) = part.strip_prefix("step").and_then(|k| k.parse().ok()) {
+            step = k;
+        } else if let Some(r) = part.strip_prefix("reloc") {
+            reloc = Some(r.to_string());
+        } else if part == "displacement" {
+            field.push("|u|".to_string());
+        } else {
+            field.push(part.to_string());
+        }
+    }
+    let mut text = field.join(" ");
+    if let Some(w) = window {
+        text.push_str(&format!(" in PD window {w}"));
+    }
+    text.push_str(&format!(", load step {}", step + 1));
+    if let Some(r) = reloc {
+        text.push_str(&format!(", after relocation {r}"));
+    }
+    text
 }
 
 /// Exponent (a multiple of 3) and factor 10^-exponent that bring the largest magnitude of
@@ -369,11 +397,7 @@ fn write_plots(
     // `growth.snapshot_steps`): the first of a name is plotted.
     let mut seen = std::collections::HashSet::new();
     for s in &h.snapshots {
-        let stem = if s.label.contains("step") {
-            format!("snapshot_{}", s.label)
-        } else {
-            format!("snapshot_{}_step{:03}", s.label, s.step)
-        };
+        let stem = super::vtk::snapshot_stem(s);
         if seen.insert(stem.clone()) {
             save_plot(w, &stem, &snapshot_plot(scene, h, s), formats, summary)?;
         }
@@ -385,6 +409,21 @@ fn write_plots(
 mod tests {
     use super::*;
     use crate::growth::{PathPoint, StepRecord};
+
+    #[test]
+    fn snapshot_titles_count_load_steps_from_one() {
+        let snap = |label: &str, step| FieldSnapshot {
+            step,
+            label: label.into(),
+            points: Vec::new(),
+            values: Vec::new(),
+        };
+        assert_eq!(
+            snapshot_title(&snap("damage_window0_step1_reloc7", 1)),
+            "damage in PD window 0, load step 2, after relocation 7"
+        );
+        assert_eq!(snapshot_title(&snap("displacement", 0)), "|u|, load step 1");
+    }
 
     fn pp(x: f64, y: f64, step: usize, load: f64) -> PathPoint {
         PathPoint { x, y, step, load }

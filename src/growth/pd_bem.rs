@@ -36,6 +36,7 @@ use super::checkpoint::{self, resume_point, EngineState, ObserverState};
 use super::log::{step_bar, GrowthLog};
 use super::{FieldSnapshot, GrowthHistory};
 use crate::geometry::{point_segment_projection, P2};
+use crate::plot::ticks::human;
 use crate::runner::context::RunContext;
 use crate::scene::shapes::SceneGeometry;
 use crate::scene::Scene;
@@ -78,8 +79,8 @@ impl Progress<'_> {
 impl Observer for Progress<'_> {
     fn iteration(&mut self, e: &IterationEvent<'_>) {
         let msg = format!(
-            "load {:.4e}, iteration {}, residual {:.2e}, {} bonds broke; {}",
-            e.load,
+            "load factor {}, iteration {}, residual {:.2e}, {} bonds broke; {}",
+            human(e.load, 4),
             e.iteration,
             e.residual,
             e.bonds_broken,
@@ -105,8 +106,8 @@ impl Observer for Progress<'_> {
 
     fn relocation(&mut self, r: &RelocationRecord) {
         let msg = format!(
-            "step {} (load {:.4e}): window of {} moved ({:.4}, {:.4}) -> ({:.4}, {:.4}), tip at ({:.4}, {:.4}), +{} BEM elements per face, {} elements ({:.0} % of the pairs reused), rebuild {:.2} s{}",
-            r.step, r.load, r.tip, r.from.x, r.from.y, r.to.x, r.to.y, r.tip_at.x, r.tip_at.y,
+            "load step {} (load factor {}): window of {} moved ({:.4}, {:.4}) -> ({:.4}, {:.4}), tip at ({:.4}, {:.4}), +{} BEM elements per face, {} elements ({:.0} % of the pairs reused), rebuild {:.2} s{}",
+            r.step + 1, human(r.load, 4), r.tip, r.from.x, r.from.y, r.to.x, r.to.y, r.tip_at.x, r.tip_at.y,
             r.elements_added, r.elements, 100.0 * r.bem_pairs_reused,
             r.rebuild_s * r.rebuild_shared_by as f64,
             if r.rebuild_shared_by > 1 {

@@ -5,7 +5,9 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::style::{viridis, CAPTION_SIZE, FONT, LABEL_SIZE};
+use super::ticks::{Ticked, Ticks};
 use super::{equal_aspect, msg, span, Figure};
+use plotters::coord::types::RangedCoordf64;
 
 /// A field sampled at points.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -77,11 +79,24 @@ impl ScatterField {
                 .x_label_area_size(55)
                 .y_label_area_size(85);
         }
-        let mut chart = builder.build_cartesian_2d(x0..x1, y0..y1).map_err(msg)?;
+        let (xt, yt) = (
+            Ticks::linear_if(labels, x0, x1, 9),
+            Ticks::linear_if(labels, y0, y1, 9),
+        );
+        let mut chart = builder
+            .build_cartesian_2d(
+                Ticked::<RangedCoordf64>::new(x0..x1, &xt),
+                Ticked::<RangedCoordf64>::new(y0..y1, &yt),
+            )
+            .map_err(msg)?;
+        let fx = |v: &f64| xt.label_of(*v);
+        let fy = |v: &f64| yt.label_of(*v);
         let mut mesh = chart.configure_mesh();
         if labels {
             mesh.x_desc(format!("x ({})", self.unit))
                 .y_desc(format!("y ({})", self.unit))
+                .x_label_formatter(&fx)
+                .y_label_formatter(&fy)
                 .axis_desc_style((FONT, LABEL_SIZE))
                 .label_style((FONT, LABEL_SIZE - 4));
         } else {
@@ -133,8 +148,9 @@ fn draw_colorbar<DB: DrawingBackend>(
     if labels {
         builder.y_label_area_size(0).right_y_label_area_size(80);
     }
+    let yt = Ticks::linear_if(labels, vmin, vmax, 9);
     let mut chart = builder
-        .build_cartesian_2d(0.0..1.0, vmin..vmax)
+        .build_cartesian_2d(0.0..1.0, Ticked::<RangedCoordf64>::new(vmin..vmax, &yt))
         .map_err(msg)?;
     let steps = 100;
     chart
@@ -148,11 +164,13 @@ fn draw_colorbar<DB: DrawingBackend>(
         }))
         .map_err(msg)?;
     if labels {
+        let fy = |v: &f64| yt.label_of(*v);
         chart
             .configure_mesh()
             .disable_mesh()
             .disable_x_axis()
             .y_desc(label)
+            .y_label_formatter(&fy)
             .axis_desc_style((FONT, LABEL_SIZE - 2))
             .label_style((FONT, LABEL_SIZE - 6))
             .draw()

@@ -6,11 +6,12 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::style::{CAPTION_SIZE, FONT, LABEL_SIZE};
+use super::ticks::{Ticked, Ticks};
 use super::{equal_aspect, msg, span};
 
 /// Chart of a map figure (metres on both axes).
 pub(crate) type MapChart<'a, DB> =
-    ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+    ChartContext<'a, DB, Cartesian2d<Ticked<RangedCoordf64>, Ticked<RangedCoordf64>>>;
 
 const MARGIN: u32 = 20;
 const X_AREA: u32 = 55;
@@ -59,11 +60,24 @@ pub(crate) fn draw_map<DB: DrawingBackend>(
             .x_label_area_size(X_AREA)
             .y_label_area_size(Y_AREA);
     }
-    let mut chart = builder.build_cartesian_2d(x0..x1, y0..y1).map_err(msg)?;
+    let (xt, yt) = (
+        Ticks::linear_if(labels, x0, x1, 11),
+        Ticks::linear_if(labels, y0, y1, 11),
+    );
+    let mut chart = builder
+        .build_cartesian_2d(
+            Ticked::<RangedCoordf64>::new(x0..x1, &xt),
+            Ticked::<RangedCoordf64>::new(y0..y1, &yt),
+        )
+        .map_err(msg)?;
+    let fx = |v: &f64| xt.label_of(*v);
+    let fy = |v: &f64| yt.label_of(*v);
     let mut mesh = chart.configure_mesh();
     if labels {
         mesh.x_desc(format!("x ({unit})"))
             .y_desc(format!("y ({unit})"))
+            .x_label_formatter(&fx)
+            .y_label_formatter(&fy)
             .axis_desc_style((FONT, LABEL_SIZE))
             .label_style((FONT, LABEL_SIZE - 4));
     } else {

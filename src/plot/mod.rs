@@ -9,6 +9,10 @@
 //! - [`paths::PathsPlot`]: crack paths of growth runs over the body outline, with
 //!   PD window outlines; one colour per run or mode.
 //!
+//! - [`ticks`]: the one tick placement and label formatter every axis and colour bar
+//!   uses (no `0.30000000000000004`, no `0.0` for 5e-6, at least three ticks on log
+//!   axes).
+//!
 //! [`save`] writes a [`Figure`] in the requested formats. If drawing text
 //! fails (no usable font), the figure is drawn again without text and
 //! [`SavedPlot::degraded`] is set; plotters panics are caught and returned as
@@ -20,6 +24,7 @@ pub mod geometry;
 mod map;
 pub mod paths;
 pub mod style;
+pub mod ticks;
 pub mod xy;
 
 use std::path::{Path, PathBuf};

@@ -7,7 +7,10 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::style::{series_color, CAPTION_SIZE, FONT, LABEL_SIZE};
+use super::ticks::{Ticked, Ticks};
 use super::{msg, span, Figure};
+use plotters::coord::combinators::LogCoord;
+use plotters::coord::types::RangedCoordf64;
 
 /// How a series is drawn.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -57,6 +60,8 @@ pub struct XyPlot {
     pub log_x: bool,
     /// Logarithmic y axis (non-positive y are dropped).
     pub log_y: bool,
+    /// Text next to points (e.g. the parameter value of each run of a sweep).
+    pub point_labels: Vec<((f64, f64), String)>,
 }
 
 impl XyPlot {
@@ -73,6 +78,7 @@ impl XyPlot {
             series: Vec::new(),
             log_x: false,
             log_y: false,
+            point_labels: Vec::new(),
         }
     }
 
@@ -89,6 +95,7 @@ impl XyPlot {
             series,
             log_x: true,
             log_y: true,
+            point_labels: Vec::new(),
         }
     }
 
@@ -141,11 +148,46 @@ impl Figure for XyPlot {
     ) -> Result<(), String> {
         root.fill(&WHITE).map_err(msg)?;
         let ((x0, x1), (y0, y1)) = self.ranges();
+        let tick = |lo: f64, hi: f64, log: bool, n: usize| {
+            if !labels {
+                Ticks::none()
+            } else if log {
+                Ticks::log(lo, hi)
+            } else {
+                Ticks::linear(lo, hi, n)
+            }
+        };
+        let (xt, yt) = (tick(x0, x1, self.log_x, 10), tick(y0, y1, self.log_y, 9));
+        let axes = (&xt, &yt);
         match (self.log_x, self.log_y) {
-            (false, false) => self.draw_on(root, labels, x0..x1, y0..y1),
-            (true, false) => self.draw_on(root, labels, (x0..x1).log_scale(), y0..y1),
-            (false, true) => self.draw_on(root, labels, x0..x1, (y0..y1).log_scale()),
-            (true, true) => self.draw_on(root, labels, (x0..x1).log_scale(), (y0..y1).log_scale()),
+            (false, false) => self.draw_on(
+                root,
+                labels,
+                Ticked::<RangedCoordf64>::new(x0..x1, &xt),
+                Ticked::<RangedCoordf64>::new(y0..y1, &yt),
+                axes,
+            ),
+            (true, false) => self.draw_on(
+                root,
+                labels,
+                Ticked::<LogCoord<f64>>::new((x0..x1).log_scale(), &xt),
+                Ticked::<RangedCoordf64>::new(y0..y1, &yt),
+                axes,
+            ),
+            (false, true) => self.draw_on(
+                root,
+                labels,
+                Ticked::<RangedCoordf64>::new(x0..x1, &xt),
+                Ticked::<LogCoord<f64>>::new((y0..y1).log_scale(), &yt),
+                axes,
+            ),
+            (true, true) => self.draw_on(
+                root,
+                labels,
+                Ticked::<LogCoord<f64>>::new((x0..x1).log_scale(), &xt),
+                Ticked::<LogCoord<f64>>::new((y0..y1).log_scale(), &yt),
+                axes,
+            ),
         }
     }
 }
@@ -157,6 +199,7 @@ impl XyPlot {
         labels: bool,
         xr: XR,
         yr: YR,
+        (xt, yt): (&Ticks, &Ticks),
     ) -> Result<(), String>
     where
         DB: DrawingBackend,
@@ -174,10 +217,14 @@ impl XyPlot {
                 .y_label_area_size(85);
         }
         let mut chart = builder.build_cartesian_2d(xr, yr).map_err(msg)?;
+        let fx = |v: &f64| xt.label_of(*v);
+        let fy = |v: &f64| yt.label_of(*v);
         let mut mesh = chart.configure_mesh();
         if labels {
             mesh.x_desc(&self.x_label)
                 .y_desc(&self.y_label)
+                .x_label_formatter(&fx)
+                .y_label_formatter(&fy)
                 .axis_desc_style((FONT, LABEL_SIZE))
                 .label_style((FONT, LABEL_SIZE - 4));
         } else {
@@ -186,6 +233,7 @@ impl XyPlot {
         mesh.light_line_style(RGBColor(235, 235, 235))
             .draw()
             .map_err(msg)?;
+        let mut marker_index = 0;
         for (i, s) in self.series.iter().enumerate() {
             let color = series_color(i);
             let pts: Vec<(f64, f64)> = s
@@ -207,14 +255,50 @@ impl XyPlot {
                 }
             }
             if marks {
-                let a = chart
-                    .draw_series(pts.iter().map(|p| Circle::new(*p, 5, color.filled())))
-                    .map_err(msg)?;
+                // Marker series take turns: a ring, a small disc, a triangle, a square, so
+                // points at the same place stay visible (K_I = K_II at 45 degrees).
+                let shape = marker_index;
+                marker_index += 1;
+                let ring = color.stroke_width(2);
+                let a = match shape % 4 {
+                    0 => chart.draw_series(pts.iter().map(|p| Circle::new(*p, 8, ring))),
+                    1 => chart.draw_series(pts.iter().map(|p| Circle::new(*p, 4, color.filled()))),
+                    2 => chart.draw_series(
+                        pts.iter()
+                            .map(|p| TriangleMarker::new(*p, 7, color.filled())),
+                    ),
+                    _ => chart.draw_series(pts.iter().map(|p| {
+                        EmptyElement::at(*p) + Rectangle::new([(-4, -4), (4, 4)], color.filled())
+                    })),
+                }
+                .map_err(msg)?;
                 if labels && !line {
-                    a.label(&s.label)
-                        .legend(move |(x, y)| Circle::new((x + 10, y), 5, color.filled()));
+                    let a = a.label(&s.label);
+                    match shape % 4 {
+                        0 => a.legend(move |(x, y)| Circle::new((x + 10, y), 8, ring)),
+                        1 => a.legend(move |(x, y)| Circle::new((x + 10, y), 4, color.filled())),
+                        2 => a.legend(move |(x, y)| {
+                            TriangleMarker::new((x + 10, y), 7, color.filled())
+                        }),
+                        _ => a.legend(move |(x, y)| {
+                            Rectangle::new([(x + 6, y - 4), (x + 14, y + 4)], color.filled())
+                        }),
+                    };
                 }
             }
+        }
+        if labels {
+            let style = (FONT, LABEL_SIZE - 6).into_font();
+            chart
+                .draw_series(
+                    self.point_labels
+                        .iter()
+                        .filter(|(p, _)| self.usable(p))
+                        .map(|(p, t)| {
+                            EmptyElement::at(*p) + Text::new(t.clone(), (9, -18), style.clone())
+                        }),
+                )
+                .map_err(msg)?;
         }
         if labels && !self.series.is_empty() {
             chart
@@ -222,10 +306,64 @@ impl XyPlot {
                 .background_style(WHITE.mix(0.85))
                 .border_style(BLACK)
                 .label_font((FONT, LABEL_SIZE - 4))
-                .position(SeriesLabelPosition::UpperLeft)
+                .position(self.legend_corner())
                 .draw()
                 .map_err(msg)?;
         }
         Ok(())
+    }
+}
+
+impl XyPlot {
+    /// The corner whose box (40 % of the width, 30 % of the height) holds the fewest
+    /// points, so the legend hides as little data as possible; upper left on a tie.
+    fn legend_corner(&self) -> SeriesLabelPosition {
+        let ((x0, x1), (y0, y1)) = self.ranges();
+        let unit = |v: f64, lo: f64, hi: f64, log: bool| {
+            if log {
+                (v.ln() - lo.ln()) / (hi.ln() - lo.ln())
+            } else {
+                (v - lo) / (hi - lo)
+            }
+        };
+        let mut pts: Vec<(f64, f64)> = Vec::new();
+        for s in &self.series {
+            let own: Vec<(f64, f64)> = s
+                .points
+                .iter()
+                .filter(|p| self.usable(p))
+                .map(|p| (unit(p.0, x0, x1, self.log_x), unit(p.1, y0, y1, self.log_y)))
+                .collect();
+            pts.extend(&own);
+            // A line crosses the boxes between its points too.
+            if s.style != SeriesStyle::Markers {
+                for w in own.windows(2) {
+                    pts.extend((1..10).map(|k| {
+                        let t = k as f64 / 10.0;
+                        (
+                            w[0].0 + t * (w[1].0 - w[0].0),
+                            w[0].1 + t * (w[1].1 - w[0].1),
+                        )
+                    }));
+                }
+            }
+        }
+        let count = |left: bool, top: bool| {
+            pts.iter()
+                .filter(|(u, v)| {
+                    (if left { *u < 0.4 } else { *u > 0.6 })
+                        && (if top { *v > 0.7 } else { *v < 0.3 })
+                })
+                .count()
+        };
+        [
+            (SeriesLabelPosition::UpperLeft, count(true, true)),
+            (SeriesLabelPosition::UpperRight, count(false, true)),
+            (SeriesLabelPosition::LowerLeft, count(true, false)),
+            (SeriesLabelPosition::LowerRight, count(false, false)),
+        ]
+        .into_iter()
+        .min_by_key(|(_, n)| *n)
+        .map_or(SeriesLabelPosition::UpperLeft, |(p, _)| p)
     }
 }

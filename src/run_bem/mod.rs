@@ -198,7 +198,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     write_samples(scene, ctx, &ev, &mut summary)?;
     if scene.outputs.vtk {
         ctx.writer
-            .write_bytes("boundary.vtk", boundary_vtk(&level).as_bytes())?;
+            .write_bytes("boundary.vtu", &boundary_vtu(&level)?)?;
     }
     if !scene.bem.interior_points.is_empty() {
         let pts: Vec<V2> = scene
@@ -281,6 +281,11 @@ fn write_samples(
             .collect();
         let (t, u, s) = field_table(ev, &pts);
         ctx.writer.write_csv(&format!("grid_{}.csv", g.name), &t)?;
+        if scene.outputs.vtk {
+            let bytes = grid_vtu(&pts, &u, &s)?;
+            ctx.writer
+                .write_bytes(&format!("grid_{}.vtu", g.name), &bytes)?;
+        }
         if scene.outputs.plots && !pts.is_empty() {
             let points: Vec<(f64, f64)> = pts.iter().map(|p| (p.x, p.y)).collect();
             let gp = crate::runner::report::geometry_plot(scene, None);
@@ -308,10 +313,7 @@ fn write_samples(
                 &scene.outputs.formats,
                 summary,
             )?;
-            let vm = s
-                .iter()
-                .map(|v| (v[0] * v[0] - v[0] * v[1] + v[1] * v[1] + 3.0 * v[2] * v[2]).sqrt())
-                .collect();
+            let vm = s.iter().map(|v| von_mises(*v)).collect();
             let svm = fig("von Mises stress", "sigma_vm (Pa)", vm);
             save_plot(
                 &ctx.writer,
@@ -325,31 +327,49 @@ fn write_samples(
     Ok(())
 }
 
-/// Legacy VTK poly data of the boundary elements with displacement and traction (ParaView).
-fn boundary_vtk(level: &Level) -> String {
-    use std::fmt::Write as _;
+/// Interior grid points with displacement, stress (xx, yy, xy) and von Mises stress.
+fn grid_vtu(pts: &[V2], u: &[[f64; 2]], s: &[[f64; 3]]) -> Result<Vec<u8>> {
+    use crate::vtk::Field;
+    let points: Vec<[f64; 2]> = pts.iter().map(|p| [p.x, p.y]).collect();
+    crate::vtk::point_cloud(
+        &points,
+        vec![
+            ("displacement", Field::Vectors(u.to_vec())),
+            ("stress_xx_yy_xy", Field::Triples(s.to_vec())),
+            (
+                "von_mises",
+                Field::Scalars(s.iter().map(|v| von_mises(*v)).collect()),
+            ),
+        ],
+    )
+    .map_err(anyhow::Error::msg)
+}
+
+/// Von Mises stress of a plane stress state (xx, yy, xy).
+fn von_mises(v: [f64; 3]) -> f64 {
+    (v[0] * v[0] - v[0] * v[1] + v[1] * v[1] + 3.0 * v[2] * v[2]).sqrt()
+}
+
+/// The boundary elements as line cells with displacement, traction and group index
+/// (ParaView, `outputs.vtk`).
+fn boundary_vtu(level: &Level) -> Result<Vec<u8>> {
+    use crate::vtk::Field;
     let mesh = &level.setup.mesh;
-    let n = mesh.len();
-    let mut s = String::from(
-        "# vtk DataFile Version 3.0\npdbem boundary elements\nASCII\nDATASET POLYDATA\n",
-    );
-    let _ = writeln!(s, "POINTS {} double", 2 * n);
-    for e in &mesh.elements {
-        let _ = writeln!(s, "{} {} 0\n{} {} 0", e.a.x, e.a.y, e.b.x, e.b.y);
-    }
-    let _ = writeln!(s, "LINES {n} {}", 3 * n);
-    for i in 0..n {
-        let _ = writeln!(s, "2 {} {}", 2 * i, 2 * i + 1);
-    }
-    let _ = writeln!(s, "CELL_DATA {n}\nVECTORS displacement double");
-    for u in &level.solution.u {
-        let _ = writeln!(s, "{} {} 0", u[0], u[1]);
-    }
-    let _ = writeln!(s, "VECTORS traction double");
-    for t in &level.solution.t {
-        let _ = writeln!(s, "{} {} 0", t[0], t[1]);
-    }
-    s
+    let ends: Vec<([f64; 2], [f64; 2])> = mesh
+        .elements
+        .iter()
+        .map(|e| ([e.a.x, e.a.y], [e.b.x, e.b.y]))
+        .collect();
+    let group = mesh.elements.iter().map(|e| e.group as f64).collect();
+    crate::vtk::segments(
+        &ends,
+        vec![
+            ("displacement", Field::Vectors(level.solution.u.clone())),
+            ("traction", Field::Vectors(level.solution.t.clone())),
+            ("group", Field::Scalars(group)),
+        ],
+    )
+    .map_err(anyhow::Error::msg)
 }
 
 fn boundary_table(level: &Level) -> CsvTable {

@@ -80,6 +80,9 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
         out.info.scheme,
         out.info.residuals.last().copied().unwrap_or(f64::NAN)
     ));
+    if scene.outputs.vtk {
+        write_vtk(ctx, &out)?;
+    }
     if scene.outputs.csv {
         write_tables(ctx, &out)?;
     }
@@ -242,6 +245,31 @@ fn write_tables(ctx: &RunContext, out: &CoupledOutcome) -> Result<()> {
         }
     }
     ctx.writer.write_csv("pd_nodes.csv", &n)?;
+    Ok(())
+}
+
+/// `pd_nodes.vtu`: the real nodes of every window with displacement, damage and window
+/// index (ParaView, `outputs.vtk`).
+fn write_vtk(ctx: &RunContext, out: &CoupledOutcome) -> Result<()> {
+    use crate::vtk::Field;
+    let (mut x, mut u, mut d, mut w) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for (wi, win) in out.setup.problem.windows.iter().enumerate() {
+        let n = win.model.n_real();
+        x.extend_from_slice(&win.model.positions()[..n]);
+        u.extend_from_slice(&win.model.displacements()[..n]);
+        d.extend_from_slice(&win.model.damage()[..n]);
+        w.extend(std::iter::repeat_n(wi as f64, n));
+    }
+    let bytes = crate::vtk::point_cloud(
+        &x,
+        vec![
+            ("displacement", Field::Vectors(u)),
+            ("damage", Field::Scalars(d)),
+            ("window", Field::Scalars(w)),
+        ],
+    )
+    .map_err(anyhow::Error::msg)?;
+    ctx.writer.write_bytes("pd_nodes.vtu", &bytes)?;
     Ok(())
 }
 

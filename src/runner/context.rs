@@ -1,7 +1,12 @@
 //! [`RunContext`]: what a solver's report gets besides the scene (the run folder, the
-//! staged writer, quiet or not).
+//! staged writer, quiet or not), and [`progress_bar`]: a bar on a terminal, one line per
+//! change on a stderr that is not one (a log file, CI), nothing with `--quiet`.
 
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+use indicatif::{ProgressBar, ProgressDrawTarget, TermLike};
 
 use crate::output::OutputWriter;
 
@@ -42,12 +47,84 @@ impl RunContext {
         }
     }
 
-    /// A progress bar of `len` steps (hidden when quiet).
-    pub fn progress(&self, len: u64) -> indicatif::ProgressBar {
-        if self.quiet {
-            indicatif::ProgressBar::hidden()
-        } else {
-            indicatif::ProgressBar::new(len)
+    /// A progress bar of `len` steps ([`progress_bar`]).
+    pub fn progress(&self, len: u64) -> ProgressBar {
+        progress_bar(len, self.quiet)
+    }
+}
+
+/// True when progress goes to an interactive terminal (bars) rather than to lines.
+pub fn stderr_is_terminal() -> bool {
+    std::io::stderr().is_terminal()
+}
+
+/// A progress bar of `len` steps: hidden when `quiet`; drawn in place on a terminal;
+/// otherwise written as plain lines on stderr, one whenever the bar's text changes (at
+/// most twice a second), so a redirected run still shows where it is.
+pub fn progress_bar(len: u64, quiet: bool) -> ProgressBar {
+    if quiet {
+        ProgressBar::hidden()
+    } else if stderr_is_terminal() {
+        ProgressBar::new(len)
+    } else {
+        let target = ProgressDrawTarget::term_like_with_hz(Box::new(LineTerm::default()), 2);
+        let bar = ProgressBar::with_draw_target(Some(len), target);
+        if let Ok(style) = indicatif::ProgressStyle::with_template("{pos}/{len} {msg}") {
+            bar.set_style(style);
         }
+        bar
+    }
+}
+
+/// A pretend terminal that prints each new bar text as a line on stderr.
+#[derive(Debug, Default)]
+struct LineTerm {
+    last: Mutex<String>,
+}
+
+impl LineTerm {
+    fn emit(&self, s: &str) {
+        let text = s.trim_end();
+        if text.is_empty() {
+            return;
+        }
+        if let Ok(mut last) = self.last.lock() {
+            if *last != text {
+                eprintln!("{text}");
+                *last = text.to_string();
+            }
+        }
+    }
+}
+
+impl TermLike for LineTerm {
+    fn width(&self) -> u16 {
+        100
+    }
+    fn move_cursor_up(&self, _n: usize) -> std::io::Result<()> {
+        Ok(())
+    }
+    fn move_cursor_down(&self, _n: usize) -> std::io::Result<()> {
+        Ok(())
+    }
+    fn move_cursor_right(&self, _n: usize) -> std::io::Result<()> {
+        Ok(())
+    }
+    fn move_cursor_left(&self, _n: usize) -> std::io::Result<()> {
+        Ok(())
+    }
+    fn write_line(&self, s: &str) -> std::io::Result<()> {
+        self.emit(s);
+        Ok(())
+    }
+    fn write_str(&self, s: &str) -> std::io::Result<()> {
+        self.emit(s);
+        Ok(())
+    }
+    fn clear_line(&self) -> std::io::Result<()> {
+        Ok(())
+    }
+    fn flush(&self) -> std::io::Result<()> {
+        Ok(())
     }
 }

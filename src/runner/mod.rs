@@ -8,6 +8,7 @@
 //! they seem: [`plausibility`]; tables and plots: [`report`].
 
 pub mod context;
+pub mod marks;
 pub mod mode;
 pub mod plausibility;
 pub mod reference;
@@ -70,6 +71,7 @@ pub fn run_scene_with(
         .with_context(|| format!("cannot create the run folder {}", out_dir.display()))?;
     ctx.resume = options.resume;
     ctx.stop_after = options.stop_after;
+    let provenance = crate::provenance::Provenance::now();
     let start = Instant::now();
     let mut summary = match mode {
         Mode::Pd => crate::run_pd::run(scene, &ctx)?,
@@ -97,12 +99,28 @@ pub fn run_scene_with(
             scene.file_label().display()
         );
     }
+    record_provenance(scene, &ctx, &provenance, &mut summary)?;
     report::write_all(scene, &ctx, &mut summary)?;
     ctx.writer
         .commit()
         .with_context(|| format!("cannot move outputs into {}", out_dir.display()))?;
     crate::growth::checkpoint::RunCheckpoint::remove(out_dir);
     Ok(summary)
+}
+
+/// `scene.ron` (the resolved scene) and `provenance` in the summary.
+fn record_provenance(
+    scene: &Scene,
+    ctx: &RunContext,
+    p: &crate::provenance::Provenance,
+    summary: &mut RunSummary,
+) -> anyhow::Result<()> {
+    let ron = crate::provenance::resolved_scene_ron(scene, p).context("writing scene.ron")?;
+    ctx.writer.write_bytes("scene.ron", ron.as_bytes())?;
+    summary
+        .extra
+        .insert("provenance".into(), serde_json::to_value(p)?);
+    Ok(())
 }
 
 /// Growth: the scene's `growth.mode` picks the solver; every mode's history goes through

@@ -74,7 +74,7 @@ pub fn geometry_plot(scene: &Scene, summary: Option<&RunSummary>) -> GeometryPlo
             .iter()
             .map(|(_, h)| h.polygon().iter().map(xy).collect()),
     );
-    let tips = match summary {
+    let tips: Vec<(String, (f64, f64))> = match summary {
         Some(s) if !s.tips.is_empty() => s
             .tips
             .iter()
@@ -86,10 +86,18 @@ pub fn geometry_plot(scene: &Scene, summary: Option<&RunSummary>) -> GeometryPlo
         Some(s) if scene.outputs.show_mesh => s.plot_nodes.clone(),
         _ => Vec::new(),
     };
-    let infinite = if geo.outline.is_none() {
-        " (infinite plate)"
-    } else {
-        ""
+    let (arrows, supports) = super::marks::boundary_marks(scene);
+    let infinite = match geo.remote {
+        Some(r) => {
+            let parts: Vec<String> = ["sxx", "syy", "sxy"]
+                .iter()
+                .zip(r)
+                .filter(|(_, v)| *v != 0.0)
+                .map(|(k, v)| format!("{k} = {} Pa", crate::plot::ticks::human(v, 4)))
+                .collect();
+            format!(" (infinite plate, remote {})", parts.join(", "))
+        }
+        None => String::new(),
     };
     GeometryPlot {
         title: format!("{}{infinite}", scene.name),
@@ -101,8 +109,12 @@ pub fn geometry_plot(scene: &Scene, summary: Option<&RunSummary>) -> GeometryPlo
             .map(|c| (c.name.clone(), c.points.iter().map(xy).collect()))
             .collect(),
         nodes,
+        tip_directions: super::marks::tip_directions(scene, &tips),
         tips,
         extra: Vec::new(),
+        arrows,
+        supports,
+        windows: super::marks::window_outlines(scene),
     }
 }
 
@@ -225,7 +237,7 @@ pub fn sent_curves(sigma: f64, width: f64) -> XyPlot {
     p.series
         .push(Series::new("Tada formula", tada, SeriesStyle::Line));
     p.series.push(Series::new(
-        "FEM table (REFERENCES.md)",
+        "FEM table (converged, 0.1 <= a/W <= 0.8)",
         fem,
         SeriesStyle::Markers,
     ));

@@ -3,6 +3,7 @@
 //! Entry points: [`Scene::load`] (read, parse, validate, normalise),
 //! [`Scene::from_ron_str`] (the same for inline text), [`Scene::validate`],
 //! [`path::with_overrides`] (set dotted paths for sweeps),
+//! [`schema::scene_schema`] (every struct field and enum variant the parser accepts),
 //! [`shapes::SceneGeometry::of`] (points for meshing and plotting).
 //!
 //! Sections: `material` ([`material`]), `body` ([`body`]), `cracks`
@@ -42,6 +43,7 @@ pub mod outputs;
 pub mod path;
 pub mod pd;
 pub mod reference;
+pub mod schema;
 pub mod shapes;
 pub mod validate;
 
@@ -133,6 +135,7 @@ impl Scene {
         let mut scene = Scene::parse(text, file.as_ref())?;
         scene.validate()?;
         scene.normalise();
+        scene.note_inert_fields();
         Ok(scene)
     }
 
@@ -191,6 +194,20 @@ impl Scene {
                     self.notes
                         .push(format!("body.holes.{i}: points reversed to run clockwise"));
                 }
+            }
+        }
+    }
+
+    /// Notes on fields the scene sets but no solver reads (no silent garbage):
+    /// `material.fracture.s0` (the PD failure law is `pd.failure`).
+    pub fn note_inert_fields(&mut self) {
+        let s0 = self.material.fracture.as_ref().and_then(|f| f.s0);
+        let failure = self.pd.as_ref().map(|p| &p.failure);
+        if let Some(s0) = s0 {
+            if failure != Some(&Failure::CriticalStretch(s0)) {
+                self.notes.push(format!(
+                    "material.fracture.s0 = {s0} is not read by any solver: the PD failure law is pd.failure (use CriticalStretch({s0}))"
+                ));
             }
         }
     }

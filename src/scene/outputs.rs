@@ -56,7 +56,7 @@ pub enum PlotFormat {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Grid {
-    /// Name used in file names (`field_<name>.csv`).
+    /// Name used in file names (`grid_<name>.csv`).
     pub name: String,
     /// Lower-left corner (m).
     pub from: Pt,

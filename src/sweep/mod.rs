@@ -159,11 +159,7 @@ pub fn run_rows(
     quiet: bool,
 ) -> Vec<SweepRow> {
     let combos = grid(varies);
-    let bar = if quiet {
-        indicatif::ProgressBar::hidden()
-    } else {
-        indicatif::ProgressBar::new(indices.len() as u64)
-    };
+    let bar = crate::runner::context::progress_bar(indices.len() as u64, quiet);
     let mut rows = Vec::new();
     for &k in indices {
         let combo = &combos[k];

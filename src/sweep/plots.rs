@@ -183,7 +183,21 @@ pub fn error_against_time(rows: &[SweepRow]) -> XyPlot {
             SeriesStyle::Markers,
         ));
     }
-    XyPlot::error_vs_time("error against wall time", "relative error (-)", series)
+    let mut p = XyPlot::error_vs_time("error against wall time", "relative error (-)", series);
+    p.point_labels = point_labels(rows);
+    p
+}
+
+/// Each successful run's parameter values at its K_I error point (the first tip's).
+fn point_labels(rows: &[SweepRow]) -> Vec<((f64, f64), String)> {
+    rows.iter()
+        .filter_map(|r| {
+            let s = r.summary.as_ref()?;
+            let t = s.tips.first()?;
+            let e = t.k1_err_fem.or(t.k1_err)?;
+            Some(((s.wall_time_s, e.abs()), r.params.join(", ")))
+        })
+        .collect()
 }
 
 /// Points of one tip over the successful rows.

@@ -4,7 +4,7 @@
 //! 10^16 points or a sampling line from -1e308. The memory of the models themselves is
 //! bounded by the size budget ([`crate::setup::estimate`]), not here.
 //!
-//! Names used in output file names (cracks: `path_<tip>.csv`; grids: `field_<name>.csv`;
+//! Names used in output file names (cracks: `path_<tip>.csv`; grids: `grid_<name>.csv`;
 //! lines: `line_<name>.csv`) are safe file names.
 
 use super::Checker;
@@ -133,7 +133,7 @@ fn check_samplers(c: &mut Checker, scene: &Scene) {
     let o = &scene.outputs;
     for (i, g) in o.grids.iter().enumerate() {
         let path = format!("outputs.grids.{i}");
-        file_name(c, &format!("{path}.name"), &g.name, "field_<name>.csv");
+        file_name(c, &format!("{path}.name"), &g.name, "grid_<name>.csv");
         let points = g.nx.saturating_mul(g.ny);
         if points > MAX_GRID_POINTS {
             c.fail(
