@@ -78,7 +78,8 @@ fn strip_times(v: &Value) -> Value {
     match v {
         Value::Object(m) => Value::Object(
             m.iter()
-                .filter(|(k, _)| !is_time(k))
+                // `provenance`: start time and command line (`--resume`) of the run.
+                .filter(|(k, _)| !is_time(k) && k.as_str() != "provenance")
                 .map(|(k, x)| (k.clone(), strip_times(x)))
                 .collect(),
         ),
@@ -115,7 +116,8 @@ fn outputs(dir: &Path) -> Vec<String> {
 }
 
 /// Asserts two run folders hold the same outputs, bit for bit except wall times (JSON
-/// keys and CSV columns ending in `_s`). Nothing of pdbem's but the manifest is left.
+/// keys and CSV columns ending in `_s`) and provenance (the summary's `provenance`, the
+/// comment heading `scene.ron`). Nothing of pdbem's but the manifest is left.
 fn assert_same_outputs(a: &Path, b: &Path) {
     let (fa, fb) = (outputs(a), outputs(b));
     assert_eq!(fa, fb, "file lists");
@@ -144,6 +146,15 @@ fn assert_same_outputs(a: &Path, b: &Path) {
             assert_eq!(lines(&tx), lines(&ty), "{f}");
         } else if f.ends_with(".csv") {
             assert_eq!(csv_without_times(&tx), csv_without_times(&ty), "{f}");
+        } else if f == "scene.ron" {
+            // The header comment names the start time; the scene itself must agree.
+            let body = |t: &str| -> Vec<String> {
+                t.lines()
+                    .filter(|l| !l.trim_start().starts_with("//"))
+                    .map(String::from)
+                    .collect()
+            };
+            assert_eq!(body(&tx), body(&ty), "{f}");
         } else {
             panic!("{f} differs");
         }
