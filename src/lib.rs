@@ -17,6 +17,7 @@
 //! - [`cli`]: the `pdbem` command line; [`console`]: its printed run summaries.
 
 pub mod bench;
+pub mod cases;
 pub mod cli;
 pub mod console;
 pub use pdbem_geometry as geometry;

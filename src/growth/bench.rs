@@ -354,10 +354,10 @@ pub fn table(r: &GrowthBenchReport) -> String {
 }
 
 /// `bench growth` on `cases/<case>.ron` under the current folder, or a scene file
-/// (default [`CASE`]; [`crate::bench::case_path`]).
+/// (default [`CASE`]; [`crate::cases::case_path`]).
 pub fn run(out: &Path, quick: bool, case: Option<&str>) -> Result<()> {
     let case = case.unwrap_or(CASE);
-    let base = Scene::load(crate::bench::case_path(case)?)?;
+    let base = Scene::load(crate::cases::case_path(case)?)?;
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
     let modes = [GrowthMode::PdBem, GrowthMode::BemOnly, GrowthMode::FullPd];
     let mut runs = Vec::new();

@@ -189,7 +189,7 @@ pub fn save(
     engine: EngineState,
     observer: ObserverState,
 ) -> Result<bool> {
-    let log_path = ctx.writer.staging_path(super::log::LOG_FILE);
+    let log_path = ctx.writer.staging_path(super::LOG_FILE);
     let log = std::fs::read_to_string(&log_path).unwrap_or_default();
     RunCheckpoint::new(scene, mode, step, engine, observer, log).write(&ctx.out_dir)?;
     Ok(ctx.stop_after == Some(step))

@@ -26,8 +26,7 @@ use crate::scene::Scene;
 use pdbem_coupling::growth::checkpoint::EngineCheckpoint;
 use pdbem_coupling::growth::events::EngineObserver;
 
-/// File name of the log.
-pub const LOG_FILE: &str = "growth_log.jsonl";
+pub use super::LOG_FILE;
 
 /// The growth log of one run (usable through `&self`).
 #[derive(Debug)]

@@ -31,6 +31,9 @@ pub mod pd_bem;
 pub mod sif_record;
 pub mod vtk;
 
+/// File name of the growth log ([`log`]), which checkpoints carry ([`checkpoint`]).
+pub const LOG_FILE: &str = "growth_log.jsonl";
+
 pub use pdbem_coupling::growth::history::{
     FieldSnapshot, GrowthHistory, Overstrain, PathPoint, Relocation, StepRecord, TipPath,
     WindowOutline,

@@ -4,8 +4,8 @@
 //! uniform). Each walker counts without storing, so [`super::MeshBuilder::count`] can
 //! refuse a mesh of 1e12 elements before anything is allocated.
 
-use super::builder::{CrackSpec, MAX_ELEMENTS};
 use super::size_field::{march, SizeField};
+use super::spec::{CrackSpec, MAX_ELEMENTS};
 use super::{subdivide, V2};
 use crate::BemError;
 

@@ -15,6 +15,7 @@ mod builder;
 mod pieces;
 mod size_field;
 mod spacing;
+mod spec;
 pub mod stencil;
 
 pub use builder::{CrackSpec, FaceMode, LoopSpec, MeshBuilder, TipRefinement, MAX_ELEMENTS};

@@ -15,8 +15,9 @@ use pdbem_bem::V2;
 use crate::error::CouplingError;
 use crate::growth::driver::{build_geometry, Growth};
 use crate::growth::merge::{cover_box, merge_specs, resolve_overlaps};
+use crate::growth::observer::Observer;
 use crate::growth::polyline;
-use crate::growth::records::{Observer, RelocationPlan, RelocationRecord, Scenario};
+use crate::growth::records::{RelocationPlan, RelocationRecord, Scenario};
 use crate::growth::relocate::{extend_crack, moved_spec};
 use crate::growth::tips::{entry_point, hole_name, margins, towards_tip, TipEnd, TipState};
 use crate::growth::topology::cuts_body;
@@ -377,7 +378,7 @@ mod tests {
 
     use super::*;
     use crate::growth::fixtures::{plate_setup, PlateScenario};
-    use crate::growth::records::Silent;
+    use crate::growth::observer::Silent;
     use crate::growth::{GrowthParams, LoadSteps};
 
     /// A traced path through `pts`, every 0.05 m.

@@ -70,7 +70,8 @@
 //!   all produce.
 //! - [`summary`]: the PD-BEM run ([`Growth`], [`GrowthResult`]) as a [`history::GrowthHistory`]
 //!   ([`summary::history_of`]), with window damage snapshots.
-//! - [`records`]: the [`Scenario`] and [`Observer`] traits, the setup and the records.
+//! - [`records`]: the [`Scenario`] trait, the setup and the records.
+//! - [`observer`]: the progress [`Observer`] of PD-BEM growth.
 //! - [`params`]: [`GrowthParams`], [`LoadSteps`].
 //! - [`tips`]: tip specs and state, tracking, the margin and end tests.
 //! - [`relocate`]: the moved window and the extended crack (the geometry iteration).
@@ -90,10 +91,12 @@ pub mod full_pd;
 pub mod geometry;
 pub mod history;
 pub mod merge;
+pub mod observer;
 pub mod overstrain;
 pub mod params;
 pub mod polyline;
 pub mod records;
+pub use observer::{Observer, Silent};
 pub mod relocate;
 pub mod sif_path;
 pub mod summary;
@@ -105,8 +108,8 @@ pub mod verdict;
 pub use driver::Growth;
 pub use params::{GrowthParams, LoadSteps};
 pub use records::{
-    Failure, GrowthResult, GrowthSetup, IterationEvent, Observer, RelocationPlan, RelocationRecord,
-    Scenario, Silent, SolveOutcome, StepResult,
+    Failure, GrowthResult, GrowthSetup, IterationEvent, RelocationPlan, RelocationRecord, Scenario,
+    SolveOutcome, StepResult,
 };
 pub use tips::{TipEnd, TipSpec, TipState};
 pub use transfer::TransferInfo;

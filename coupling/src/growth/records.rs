@@ -1,19 +1,14 @@
-//! The data of a growth run: the scene-specific [`Scenario`], the progress
-//! [`Observer`], the initial [`GrowthSetup`] and the records a run produces
+//! The data of a growth run: the scene-specific [`Scenario`], the initial [`GrowthSetup`] and the records a run produces
 //! ([`StepResult`], [`RelocationRecord`], [`GrowthResult`], ...).
-
-use std::ops::ControlFlow;
 
 use pdbem_bem::post::Background;
 use pdbem_bem::{Bc, Material, Mesh, SolveParams, V2};
 
-use crate::growth::checkpoint::PdBemCheckpoint;
 use crate::growth::overstrain::Hotspot;
 use crate::growth::tips::TipSpec;
 use crate::growth::transfer::TransferInfo;
-use crate::iteration::{CoupledProblem, CoupledSolution};
 use crate::pd_window::EdgeCondition;
-use crate::setup::{Layout, WindowModel};
+use crate::setup::Layout;
 use crate::window::Window;
 
 /// The scene-specific parts of a growth run, all at load factor 1.
@@ -24,46 +19,6 @@ pub trait Scenario: Sync {
     /// Scene conditions on the sides of `window` that lie on the outline.
     fn outer_conditions(&self, window: &Window) -> Vec<EdgeCondition>;
 }
-
-/// Progress callbacks (all optional).
-pub trait Observer {
-    /// After every Algorithm 1 iteration.
-    fn iteration(&mut self, _event: &IterationEvent<'_>) {}
-    /// After every converged (or failed) load step.
-    fn step(&mut self, _step: &StepResult) {}
-    /// After every window relocation.
-    fn relocation(&mut self, _record: &RelocationRecord) {}
-    /// A message for the user (tip ended, windows merged, ...).
-    fn note(&mut self, _message: &str) {}
-    /// Just before a relocation, with the windows whose state triggered it.
-    fn before_relocation(&mut self, _step: usize, _windows: &[WindowModel]) {}
-    /// After every load step (just after [`Observer::step`]), with the coupled problem and
-    /// its last solution (None before the first solve of a rebuilt geometry), for field
-    /// snapshots.
-    fn state(
-        &mut self,
-        _step: &StepResult,
-        _problem: &CoupledProblem,
-        _solution: Option<&CoupledSolution>,
-    ) {
-    }
-    /// After every load step that does not end the run (just after [`Observer::state`]):
-    /// `save` builds the checkpoint of the run as it stands (call it only when one is
-    /// wanted: it copies the windows' state). `Break` stops the run there with
-    /// [`crate::CouplingError::Interrupted`] (a test's stand-in for a kill).
-    fn checkpoint(
-        &mut self,
-        _step: usize,
-        _save: &mut dyn FnMut() -> PdBemCheckpoint,
-    ) -> ControlFlow<()> {
-        ControlFlow::Continue(())
-    }
-}
-
-/// An observer that ignores everything.
-pub struct Silent;
-
-impl Observer for Silent {}
 
 /// One Algorithm 1 iteration, as seen by the observer.
 #[derive(Debug, Clone)]

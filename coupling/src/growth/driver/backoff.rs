@@ -17,7 +17,8 @@ use super::run::StepRun;
 use super::Growth;
 use crate::error::CouplingError;
 use crate::growth::checkpoint::GrowthState;
-use crate::growth::records::{GrowthResult, Observer, Scenario};
+use crate::growth::observer::Observer;
+use crate::growth::records::{GrowthResult, Scenario};
 use crate::iteration::{Acceleration, CouplingParams};
 
 /// Iteration cap factor of the retries.

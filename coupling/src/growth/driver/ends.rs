@@ -5,7 +5,8 @@ use pdbem_bem::V2;
 
 use super::Growth;
 use crate::error::CouplingError;
-use crate::growth::records::{Observer, Scenario};
+use crate::growth::observer::Observer;
+use crate::growth::records::Scenario;
 use crate::growth::tips::{
     cut_at_meeting, joined, ran_into, reached_boundary, towards_tip, track, TipEnd, TipState,
 };

@@ -9,10 +9,11 @@ use pdbem_bem::V2;
 
 use super::Growth;
 use crate::error::CouplingError;
+use crate::growth::observer::Observer;
 use crate::growth::overstrain::{self, Hotspot};
 use crate::growth::params::GrowthParams;
 use crate::growth::records::{
-    Failure, GrowthResult, IterationEvent, Observer, Scenario, SolveOutcome, StepResult,
+    Failure, GrowthResult, IterationEvent, Scenario, SolveOutcome, StepResult,
 };
 use crate::growth::tips::{passed_margin, reached_boundary, track, TipEnd, TipState};
 use crate::iteration::{solve_prepared, StepOptions};
