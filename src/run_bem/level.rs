@@ -65,17 +65,7 @@ pub fn solve_level_with(
     let raw = analyze_tips(&setup.mesh, &ev, &solution, &opts)
         .with_context(|| format!("{}: crack-tip post-processing", file.display()))?;
     let tips = raw.iter().map(|t| tip_result(&setup.mesh, t)).collect();
-    let cracks = setup
-        .mesh
-        .cracks
-        .iter()
-        .enumerate()
-        .map(|(i, c)| CrackResult {
-            name: c.name.clone(),
-            cmod: cmod(&setup.mesh, &solution, i),
-            ..Default::default()
-        })
-        .collect();
+    let cracks = crack_results(&setup.mesh, &solution);
     Ok(Level {
         info: sys.info().clone(),
         setup,
@@ -132,4 +122,18 @@ fn interaction_fallback(name: String, t: &pdbem_bem::post::TipResult) -> TipResu
         notes: vec![note],
         ..Default::default()
     }
+}
+
+/// One result per crack of `mesh`: its name and, for a crack with a mouth on the outline,
+/// its CMOD in `solution`.
+pub fn crack_results(mesh: &pdbem_bem::Mesh, solution: &Solution) -> Vec<CrackResult> {
+    mesh.cracks
+        .iter()
+        .enumerate()
+        .map(|(i, c)| CrackResult {
+            name: c.name.clone(),
+            cmod: cmod(mesh, solution, i),
+            ..Default::default()
+        })
+        .collect()
 }

@@ -21,7 +21,7 @@ use std::time::Instant;
 
 use crate::geometry::point_segment_projection;
 use anyhow::{Context, Result};
-use pdbem_bem::post::sif::{analyze_tips, cmod, SifOptions};
+use pdbem_bem::post::sif::{analyze_tips, SifOptions};
 use pdbem_bem::post::FieldEvaluator;
 use pdbem_bem::V2;
 use pdbem_coupling::post::{WindowContour, WindowTipSif};
@@ -33,7 +33,7 @@ use crate::output::csv::{num, CsvTable};
 use crate::plot::{ScatterField, Series, SeriesStyle, XyPlot};
 use crate::runner::context::RunContext;
 use crate::runner::report::save_plot;
-use crate::runner::summary::{CrackResult, RunSummary, TipResult};
+use crate::runner::summary::{RunSummary, TipResult};
 use crate::scene::shapes::SceneGeometry;
 use crate::scene::Scene;
 use crate::setup::coupled::{prepare, CoupledSetup, WindowTip};
@@ -146,17 +146,7 @@ pub fn summarize(scene: &Scene, out: &CoupledOutcome) -> Result<RunSummary> {
     for t in analyze_tips(&pb.mesh, &ev, sol, &opts).context("BEM tips")? {
         tips.push(crate::run_bem::tip_result(&pb.mesh, &t));
     }
-    let cracks = pb
-        .mesh
-        .cracks
-        .iter()
-        .enumerate()
-        .map(|(i, c)| CrackResult {
-            name: c.name.clone(),
-            cmod: cmod(&pb.mesh, sol, i),
-            ..Default::default()
-        })
-        .collect();
+    let cracks = crate::run_bem::level::crack_results(&pb.mesh, sol);
     let pd_nodes: usize = pb.windows.iter().map(|w| w.model.n_real()).sum();
     let info = &out.info;
     let mut summary = RunSummary {
