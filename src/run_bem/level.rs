@@ -95,6 +95,7 @@ pub fn tip_result(mesh: &pdbem_bem::Mesh, t: &pdbem_bem::post::TipResult) -> Tip
         k2_cod: Some(t.k2_cod),
         k1_j: Some(t.k1_m),
         k2_j: Some(t.k2_m),
+        j: Some(t.j),
         ..Default::default()
     }
 }
@@ -119,6 +120,7 @@ fn interaction_fallback(name: String, t: &pdbem_bem::post::TipResult) -> TipResu
         kink_deg: pdbem_bem::post::kink_angle(t.k1_m, t.k2_m).to_degrees(),
         k1_j: Some(t.k1_m),
         k2_j: Some(t.k2_m),
+        j: Some(t.j),
         notes: vec![note],
         ..Default::default()
     }

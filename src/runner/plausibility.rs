@@ -13,7 +13,11 @@
 //!    $\sqrt{(K_I^{cod} - K_I^{J})^2 + (K_{II}^{cod} - K_{II}^{J})^2} >
 //!    \epsilon\,K_{eq}$ with $K_{eq} = \max(\sqrt{K_I^2 + K_{II}^2})$ over the two
 //!    estimates and $\epsilon$ = [`COD_J_DISAGREEMENT`];
-//! 5. notes a BEM condition estimate above [`CONDITION_LIMIT`].
+//! 5. notes a BEM condition estimate above [`CONDITION_LIMIT`];
+//! 6. sets every tip's energy release rate $G = (K_I^2 + K_{II}^2) / E'$ from its
+//!    reported K and notes a tip whose contour J-integral (computed from the solved
+//!    field alone) differs from it by more than [`J_G_DISAGREEMENT`] of G: in linear
+//!    elastic fracture mechanics $J = G$ on any contour around the tip.
 
 use serde_json::Value;
 
@@ -29,6 +33,12 @@ use crate::scene::Scene;
 /// twice as long reach 4.6 to 5.3 % on the central and inclined cracks, where the
 /// interaction integral has moved by up to 4 % from its fine value: 2 % separates the two.
 pub const COD_J_DISAGREEMENT: f64 = 0.02;
+
+/// Largest relative difference |J - G| / G between the contour J-integral and the energy
+/// release rate of the reported K that passes without a note. G is quadratic in K, so the
+/// 2 % of [`COD_J_DISAGREEMENT`] between two K estimates is about 4 % in G. Measured on
+/// the BEM-only cases of `cases/`: at most 0.57 % (`sent_bem_a8`).
+pub const J_G_DISAGREEMENT: f64 = 0.04;
 
 /// Largest 1-norm condition estimate of the scaled BEM system that passes without a
 /// note. Measured on every case of `cases/` solved by the BEM alone: 11 (Kirsch hole) to
@@ -57,6 +67,11 @@ pub fn review(scene: &Scene, summary: &mut RunSummary) {
     notes.extend(crack_overlap(scene, summary));
     notes.extend(summary.tips.iter().filter_map(disagreement));
     notes.extend(condition(summary));
+    let e_prime = scene.material.e_prime();
+    for t in &mut summary.tips {
+        t.g = Some((t.k1 * t.k1 + t.k2 * t.k2) / e_prime);
+    }
+    notes.extend(summary.tips.iter().filter_map(j_against_g));
     summary.notes.extend(notes);
 }
 
@@ -117,6 +132,24 @@ fn crack_overlap(scene: &Scene, summary: &RunSummary) -> Vec<String> {
         }
     }
     out
+}
+
+/// The note of a tip whose contour J differs from G of its K by more than
+/// [`J_G_DISAGREEMENT`] of G.
+fn j_against_g(t: &TipResult) -> Option<String> {
+    let (j, g) = (t.j?, t.g?);
+    let diff = (j - g).abs();
+    (diff > J_G_DISAGREEMENT * g.abs()).then(|| {
+        format!(
+            "tip {}: the contour J-integral ({j:.6e} J/m^2) and G = (K_I^2 + K_II^2) / E' of \
+             the reported K ({g:.6e} J/m^2) differ by {:.2} % of G, more than {:.0} %: the \
+             contour field is not resolved; refine the crack mesh or move the contour \
+             (bem.j_contour) off other boundaries",
+            t.name,
+            100.0 * diff / g.abs().max(f64::MIN_POSITIVE),
+            100.0 * J_G_DISAGREEMENT
+        )
+    })
 }
 
 /// The note of a tip whose two SIF estimates disagree by more than

@@ -55,6 +55,14 @@ pub struct TipResult {
     /// K_II from the interaction integral.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub k2_j: Option<f64>,
+    /// J-integral on the tip's contour (J/m^2), from the solved field alone (no auxiliary
+    /// field): a check on `g`, equal to it in linear elastic fracture mechanics.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub j: Option<f64>,
+    /// Energy release rate of the reported K, G = (k1^2 + k2^2) / E' (J/m^2); set by the
+    /// runner for every tip ([`crate::runner::plausibility::review`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub g: Option<f64>,
     /// Reference K_I.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub k1_ref: Option<f64>,
