@@ -331,8 +331,9 @@ fn snapshot_plot(scene: &Scene, h: &GrowthHistory, s: &FieldSnapshot) -> Scatter
     }
 }
 
-/// What a snapshot shows, in words, load steps counted from 1: `damage_window0_step1_reloc7`
-/// is "damage in PD window 0, load step 2, after relocation 7".
+/// What a snapshot shows, in words, with the 0-based load step of the file names and the
+/// CSVs: `damage_window0_step1_reloc7` is "damage in PD window 0, load step 1, after
+/// relocation 7".
 fn snapshot_title(s: &FieldSnapshot) -> String {
     let (mut field, mut window, mut reloc, mut step) = (Vec::new(), None, None, s.step);
     for part in s.label.split('_') {
@@ -352,7 +353,7 @@ fn snapshot_title(s: &FieldSnapshot) -> String {
     if let Some(w) = window {
         text.push_str(&format!(" in PD window {w}"));
     }
-    text.push_str(&format!(", load step {}", step + 1));
+    text.push_str(&format!(", load step {step}"));
     if let Some(r) = reloc {
         text.push_str(&format!(", after relocation {r}"));
     }
@@ -411,7 +412,7 @@ mod tests {
     use crate::growth::{PathPoint, StepRecord};
 
     #[test]
-    fn snapshot_titles_count_load_steps_from_one() {
+    fn snapshot_titles_use_the_file_names_step_numbers() {
         let snap = |label: &str, step| FieldSnapshot {
             step,
             label: label.into(),
@@ -420,9 +421,9 @@ mod tests {
         };
         assert_eq!(
             snapshot_title(&snap("damage_window0_step1_reloc7", 1)),
-            "damage in PD window 0, load step 2, after relocation 7"
+            "damage in PD window 0, load step 1, after relocation 7"
         );
-        assert_eq!(snapshot_title(&snap("displacement", 0)), "|u|, load step 1");
+        assert_eq!(snapshot_title(&snap("displacement", 0)), "|u|, load step 0");
     }
 
     fn pp(x: f64, y: f64, step: usize, load: f64) -> PathPoint {

@@ -107,7 +107,7 @@ impl Observer for Progress<'_> {
     fn relocation(&mut self, r: &RelocationRecord) {
         let msg = format!(
             "load step {} (load factor {}): window of {} moved ({:.4}, {:.4}) -> ({:.4}, {:.4}), tip at ({:.4}, {:.4}), +{} BEM elements per face, {} elements ({:.0} % of the pairs reused), rebuild {:.2} s{}",
-            r.step + 1, human(r.load, 4), r.tip, r.from.x, r.from.y, r.to.x, r.to.y, r.tip_at.x, r.tip_at.y,
+            r.step, human(r.load, 4), r.tip, r.from.x, r.from.y, r.to.x, r.to.y, r.tip_at.x, r.tip_at.y,
             r.elements_added, r.elements, 100.0 * r.bem_pairs_reused,
             r.rebuild_s * r.rebuild_shared_by as f64,
             if r.rebuild_shared_by > 1 {
