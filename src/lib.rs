@@ -12,7 +12,8 @@
 //! - [`provenance`]: version, commit, threads, command line, start time, resolved `scene.ron`;
 //! - [`plot`]: report plots (geometry, value vs parameter, error vs time, scatter fields);
 //! - [`sweep`]: `pdbem sweep` (grid of dotted-path overrides);
-//! - [`vtk`]: ParaView files (`outputs.vtk`);
+//! - [`vtk`]: ParaView files (`outputs.vtk`); [`load_displacement`]: boundary forces and
+//!   displacements of PD and coupled runs;
 //! - [`bench`](mod@bench): `pdbem bench`;
 //! - [`cli`]: the `pdbem` command line; [`console`]: its printed run summaries.
 
@@ -22,6 +23,7 @@ pub mod cli;
 pub mod console;
 pub use pdbem_geometry as geometry;
 pub mod growth;
+pub mod load_displacement;
 pub mod output;
 pub mod plot;
 pub mod provenance;

@@ -17,6 +17,7 @@
 //! the one at the top middle: x) so the implicit tangent is regular; the loads are
 //! self-equilibrated, so the pins carry no reaction.
 
+use crate::load_displacement::LoadDisplacement;
 use crate::output::csv::{num, CsvTable};
 use crate::plot::ScatterField;
 use crate::runner::context::RunContext;
@@ -24,7 +25,7 @@ use crate::runner::report::save_plot;
 use crate::runner::summary::RunSummary;
 use crate::scene::shapes::SceneGeometry;
 use crate::scene::{Component, Failure, PdSolver, Scene};
-use crate::setup::pd::problem_from_scene;
+use crate::setup::pd::labelled_problem_from_scene;
 use anyhow::{Context, Result};
 use pdbem_pd::measure::{crack_tips, kink_angle, ramp_to_initiation, RampParams};
 use pdbem_pd::solvers::{adr, implicit, switching, Convergence};
@@ -51,7 +52,7 @@ fn traction_scale(scene: &Scene) -> Option<f64> {
 pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     let t0 = Instant::now();
     ctx.log(&format!("{}: PD solve", scene.name));
-    let (mut summary, model) = solve(scene)?;
+    let (mut summary, model, ld) = solve_recorded(scene)?;
     ctx.log(&format!(
         "{}: {} real nodes, {} bonds, {} broken",
         scene.name,
@@ -60,6 +61,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
         model.broken_bonds()
     ));
     write_fields(scene, ctx, &model, &mut summary)?;
+    crate::load_displacement::write(scene, ctx, &ld, &mut summary)?;
     summary.wall_time_s = t0.elapsed().as_secs_f64();
     Ok(summary)
 }
@@ -67,9 +69,15 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
 /// Solves `scene` with peridynamics over the whole body without writing anything: the
 /// summary and the final model.
 pub fn solve(scene: &Scene) -> Result<(RunSummary, PdModel)> {
+    let (summary, model, _) = solve_recorded(scene)?;
+    Ok((summary, model))
+}
+
+/// [`solve`] and the load-displacement record of its load steps.
+pub fn solve_recorded(scene: &Scene) -> Result<(RunSummary, PdModel, LoadDisplacement)> {
     let t0 = Instant::now();
     let file = scene.file_label();
-    let problem = problem_from_scene(scene)?;
+    let (problem, labels) = labelled_problem_from_scene(scene)?;
     let mut model = PdModel::new(&problem).with_context(|| format!("{}: pd", file.display()))?;
     let pd = scene.pd.as_ref().context("no pd section")?;
     let factors = scene.load.factors();
@@ -201,8 +209,9 @@ pub fn solve(scene: &Scene) -> Result<(RunSummary, PdModel)> {
         json!({"implicit": info.time_implicit_s, "explicit": info.time_explicit_s,
                "assembly": info.time_assembly_s, "factorization": info.time_factorization_s}),
     );
+    let ld = LoadDisplacement::from_pd(&labels, &info.steps);
     summary.wall_time_s = t0.elapsed().as_secs_f64();
-    Ok((summary, model))
+    Ok((summary, model, ld))
 }
 
 /// Node CSV and damage / displacement plots.

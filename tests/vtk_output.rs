@@ -88,7 +88,7 @@ fn pd_nodes_with_displacement_and_damage() {
 }
 
 #[test]
-fn coupled_window_nodes() {
+fn coupled_window_nodes_and_bem_body() {
     let dir = temp("coupled");
     let s = case(
         "coupled_sent_a5",
@@ -100,6 +100,13 @@ fn coupled_window_nodes() {
         p.num_points() as u64,
         summary.extra["pd_nodes"].as_u64().expect("pd_nodes")
     );
+    // The BEM body: one cell per element; under the SENT tension the crack's faces open
+    // (displacements of both signs across the crack) and the loaded edges carry traction.
+    let b = piece(&dir.join("boundary.vtu"));
+    assert_eq!(b.cells.types.len(), summary.elements.expect("elements"));
+    let t = array(&b.data.cell, "traction");
+    assert_eq!(t.len(), 3 * b.cells.types.len());
+    assert!(t.iter().all(|v| v.is_finite()) && t.iter().any(|v| v.abs() > 0.4));
     let _ = std::fs::remove_dir_all(&dir);
 }
 

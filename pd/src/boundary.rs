@@ -24,6 +24,25 @@ pub struct Boundary {
     pub base: Vec<P2>,
     /// Body force density at load factor 1 (N/m^3).
     pub body: Vec<P2>,
+    /// The nodes of every boundary condition, in the problem's order
+    /// ([`crate::reaction`]).
+    pub groups: Vec<BcGroup>,
+}
+
+/// The nodes one boundary condition acts on.
+#[derive(Clone, Debug, Default)]
+pub struct BcGroup {
+    /// Prescribed components (a displacement condition), or none (a load).
+    pub fixed: [bool; 2],
+    /// Selected nodes; load layers may overlap.
+    pub nodes: Vec<usize>,
+    /// Per node of `nodes`, the components whose reaction this condition carries: those
+    /// it prescribes that no earlier condition prescribed (so that no reaction is
+    /// counted twice). Empty for a load.
+    pub claimed: Vec<[bool; 2]>,
+    /// Body force density of the load on each node at load factor 1 (N/m^3); zero for
+    /// a displacement condition.
+    pub body: P2,
 }
 
 /// Resolve the problem's boundary conditions on the grid.
@@ -34,7 +53,9 @@ pub fn resolve(p: &PdProblem, grid: &Grid) -> Result<Boundary, PdError> {
         fixed: vec![[false; 2]; n],
         base: vec![[0.0; 2]; n],
         body: vec![[0.0; 2]; n],
+        groups: Vec::with_capacity(p.boundary.len()),
     };
+    let mut held = vec![[false; 2]; n];
     for (k, bc) in p.boundary.iter().enumerate() {
         match bc {
             BoundaryCondition::Displacement { on, ux, uy, layer } => {
@@ -43,9 +64,20 @@ pub fn resolve(p: &PdProblem, grid: &Grid) -> Result<Boundary, PdError> {
                     Layer::Real => 0..grid.n_real,
                 };
                 let mut count = 0;
+                let mut group = BcGroup {
+                    fixed: [ux.is_some(), uy.is_some()],
+                    ..Default::default()
+                };
                 for i in range {
                     if on.contains(grid.pos[i], delta) {
                         count += 1;
+                        let mut claim = [false; 2];
+                        for c in 0..2 {
+                            claim[c] = group.fixed[c] && !held[i][c];
+                            held[i][c] |= claim[c];
+                        }
+                        group.nodes.push(i);
+                        group.claimed.push(claim);
                         for (c, v) in [ux, uy].iter().enumerate() {
                             if let Some(v) = v {
                                 bd.fixed[i][c] = true;
@@ -60,6 +92,7 @@ pub fn resolve(p: &PdProblem, grid: &Grid) -> Result<Boundary, PdError> {
                         format!("the selection holds no {layer:?} node (horizon {delta:.3e} m)"),
                     ));
                 }
+                bd.groups.push(group);
             }
             BoundaryCondition::Force { on, force } => {
                 let sel: Vec<usize> = (0..grid.n_real)
@@ -104,9 +137,16 @@ fn spread(
         ));
     }
     let v = sel.len() as f64 * volume;
+    let b = [force[0] / v, force[1] / v];
     for &i in sel {
-        bd.body[i][0] += force[0] / v;
-        bd.body[i][1] += force[1] / v;
+        bd.body[i][0] += b[0];
+        bd.body[i][1] += b[1];
     }
+    bd.groups.push(BcGroup {
+        fixed: [false; 2],
+        nodes: sel.to_vec(),
+        claimed: Vec::new(),
+        body: b,
+    });
     Ok(())
 }

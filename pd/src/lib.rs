@@ -41,6 +41,7 @@ pub mod material;
 pub mod measure;
 pub mod model;
 pub mod problem;
+pub mod reaction;
 pub mod solvers;
 pub mod surface;
 pub mod tangent;

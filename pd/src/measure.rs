@@ -198,6 +198,7 @@ pub fn ramp_to_initiation(
             max_stretch: model.stretch_stats().max_stretch,
             measure: 0.0,
             kind: crate::solvers::PhaseKind::Implicit,
+            resultants: model.bc_resultants(),
         });
         if out.initiation_load.is_some() {
             break;

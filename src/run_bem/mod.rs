@@ -46,6 +46,7 @@ fn extrapolate(coarse: &Level, fine: &Level) -> (Vec<TipResult>, Vec<CrackResult
                 k2_cod: Some(k2),
                 k1_j: exo(c.k1_j, f.k1_j),
                 k2_j: exo(c.k2_j, f.k2_j),
+                j: exo(c.j, f.j),
                 ..Default::default()
             }
         })
@@ -196,9 +197,18 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
         }
     }
     write_samples(scene, ctx, &ev, &mut summary)?;
+    let ld = crate::load_displacement::LoadDisplacement::from_bem(
+        scene,
+        &level.setup.mesh,
+        &level.solution,
+        final_factor(scene),
+    );
+    crate::load_displacement::write(scene, ctx, &ld, &mut summary)?;
     if scene.outputs.vtk {
-        ctx.writer
-            .write_bytes("boundary.vtu", &boundary_vtu(&level)?)?;
+        ctx.writer.write_bytes(
+            "boundary.vtu",
+            &boundary_vtu(&level.setup.mesh, &level.solution)?,
+        )?;
     }
     if !scene.bem.interior_points.is_empty() {
         let pts: Vec<V2> = scene
@@ -351,10 +361,9 @@ fn von_mises(v: [f64; 3]) -> f64 {
 }
 
 /// The boundary elements as line cells with displacement, traction and group index
-/// (ParaView, `outputs.vtk`).
-fn boundary_vtu(level: &Level) -> Result<Vec<u8>> {
+/// (ParaView, `outputs.vtk`; static BEM and coupled runs).
+pub fn boundary_vtu(mesh: &pdbem_bem::Mesh, solution: &pdbem_bem::Solution) -> Result<Vec<u8>> {
     use crate::vtk::Field;
-    let mesh = &level.setup.mesh;
     let ends: Vec<([f64; 2], [f64; 2])> = mesh
         .elements
         .iter()
@@ -364,8 +373,8 @@ fn boundary_vtu(level: &Level) -> Result<Vec<u8>> {
     crate::vtk::segments(
         &ends,
         vec![
-            ("displacement", Field::Vectors(level.solution.u.clone())),
-            ("traction", Field::Vectors(level.solution.t.clone())),
+            ("displacement", Field::Vectors(solution.u.clone())),
+            ("traction", Field::Vectors(solution.t.clone())),
             ("group", Field::Scalars(group)),
         ],
     )

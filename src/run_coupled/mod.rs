@@ -89,6 +89,14 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     if scene.outputs.plots {
         write_plots(scene, ctx, &out, &mut summary)?;
     }
+    let pb = &out.setup.problem;
+    let ld = crate::load_displacement::LoadDisplacement::from_bem(
+        scene,
+        &pb.mesh,
+        &out.solution.solution,
+        out.setup.factor,
+    );
+    crate::load_displacement::write(scene, ctx, &ld, &mut summary)?;
     Ok(summary)
 }
 
@@ -119,7 +127,7 @@ pub fn summarize(scene: &Scene, out: &CoupledOutcome) -> Result<RunSummary> {
     let mut tips = Vec::new();
     let mut notes = Vec::new();
     for t in &out.setup.tips {
-        let WindowTipSif { k1, k2, .. } = match window_tip_sif(out, scene, t) {
+        let WindowTipSif { k1, k2, j, .. } = match window_tip_sif(out, scene, t) {
             Ok(sif) => sif,
             Err(e) => {
                 notes.push(format!("tip {}: no K reported: {e}", t.name));
@@ -134,6 +142,7 @@ pub fn summarize(scene: &Scene, out: &CoupledOutcome) -> Result<RunSummary> {
             kink_deg: pdbem_bem::post::kink_angle(k1, k2).to_degrees(),
             k1_j: Some(k1),
             k2_j: Some(k2),
+            j: Some(j),
             ..Default::default()
         });
     }
@@ -239,7 +248,8 @@ fn write_tables(ctx: &RunContext, out: &CoupledOutcome) -> Result<()> {
 }
 
 /// `pd_nodes.vtu`: the real nodes of every window with displacement, damage and window
-/// index (ParaView, `outputs.vtk`).
+/// index, and `boundary.vtu`: the BEM body's elements (outline, holes, cracks and the
+/// window interfaces) with displacement, traction and group (ParaView, `outputs.vtk`).
 fn write_vtk(ctx: &RunContext, out: &CoupledOutcome) -> Result<()> {
     use crate::vtk::Field;
     let (mut x, mut u, mut d, mut w) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
@@ -260,6 +270,9 @@ fn write_vtk(ctx: &RunContext, out: &CoupledOutcome) -> Result<()> {
     )
     .map_err(anyhow::Error::msg)?;
     ctx.writer.write_bytes("pd_nodes.vtu", &bytes)?;
+    let pb = &out.setup.problem;
+    let body = crate::run_bem::boundary_vtu(&pb.mesh, &out.solution.solution)?;
+    ctx.writer.write_bytes("boundary.vtu", &body)?;
     Ok(())
 }
 

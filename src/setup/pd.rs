@@ -52,6 +52,33 @@ fn group_polylines(scene: &Scene, geo: &SceneGeometry, name: &str) -> Vec<Vec<P>
     out
 }
 
+/// The force (N, thickness included) the traction conditions of boundary group `name` put
+/// on the body at load factor 1: the traction vector of each condition on the group plus
+/// its normal traction along the right-hand normal of each piece (as the PD loads are
+/// built), integrated over the group's outline edges, patches and holes.
+pub fn applied_resultant(scene: &Scene, name: &str) -> [f64; 2] {
+    let geo = SceneGeometry::of(scene);
+    let lines = group_polylines(scene, &geo, name);
+    let mut f = [0.0; 2];
+    for bc in scene.boundary.iter().filter(|b| b.on == name) {
+        let trac = |c: Component| match c {
+            Component::Traction(v) => v,
+            _ => 0.0,
+        };
+        let t = [trac(bc.x), trac(bc.y)];
+        for line in &lines {
+            for w in line.windows(2) {
+                let (dx_, dy_) = (w[1][0] - w[0][0], w[1][1] - w[0][1]);
+                let l = dx_.hypot(dy_);
+                let tn = bc.normal.unwrap_or(0.0);
+                f[0] += (t[0] * l + tn * dy_) * scene.material.thickness;
+                f[1] += (t[1] * l - tn * dx_) * scene.material.thickness;
+            }
+        }
+    }
+    f
+}
+
 /// Pre-crack polyline of a crack: an end on the outline (within `tol`) is carried on
 /// outwards by `reach` (just under the horizon, the depth of the layer, which the PD
 /// problem accepts as the farthest a crack may reach out) along the crack, so that no bond
@@ -173,6 +200,13 @@ fn outward_strip(line: &[P], delta: f64, corners: &[P]) -> Selection {
 
 /// The PD problem of a scene at its own spacing (`pd.dx`, or the outline's width / `pd.nx`).
 pub fn problem_from_scene(scene: &Scene) -> Result<PdProblem> {
+    Ok(labelled_problem_from_scene(scene)?.0)
+}
+
+/// [`problem_from_scene`] and, for each of the problem's boundary conditions, the name of
+/// the scene's boundary group it comes from (`pin` for the two pins of a pure-traction
+/// scene).
+pub fn labelled_problem_from_scene(scene: &Scene) -> Result<(PdProblem, Vec<String>)> {
     let (pd, geo) = pd_and_geometry(scene)?;
     let o = geo.outline.as_ref().map(|o| &o.points[..]).unwrap_or(&[]);
     let (lo, hi) = (
@@ -184,7 +218,7 @@ pub fn problem_from_scene(scene: &Scene) -> Result<PdProblem> {
         (None, Some(nx)) => (hi - lo) / nx as f64,
         (None, None) => bail!("{}: pd: give `dx` or `nx`", scene.file_label().display()),
     };
-    problem_at(scene, dx)
+    labelled_problem_at(scene, dx)
 }
 
 /// The PD problem of full-PD growth: the whole body at the windows' spacing
@@ -208,6 +242,12 @@ fn pd_and_geometry(scene: &Scene) -> Result<(&ScenePd, SceneGeometry)> {
 
 /// The PD problem of a scene at grid spacing `dx` (m).
 pub fn problem_at(scene: &Scene, dx: f64) -> Result<PdProblem> {
+    Ok(labelled_problem_at(scene, dx)?.0)
+}
+
+/// [`problem_at`] with the boundary conditions' group names
+/// ([`labelled_problem_from_scene`]).
+fn labelled_problem_at(scene: &Scene, dx: f64) -> Result<(PdProblem, Vec<String>)> {
     let (pd, geo) = pd_and_geometry(scene)?;
     let Some(outline) = &geo.outline else {
         bail!(
@@ -244,6 +284,7 @@ pub fn problem_at(scene: &Scene, dx: f64) -> Result<PdProblem> {
         .map(|c| through_boundary_layer(&geo, &c.points, 0.99 * delta, 1e-6 * dx))
         .collect();
     let mut boundary = Vec::new();
+    let mut labels = Vec::new();
     let mut has_displacement = false;
     let corners: Vec<P> = geo
         .outline
@@ -267,6 +308,7 @@ pub fn problem_at(scene: &Scene, dx: f64) -> Result<PdProblem> {
             let (ux, uy) = (disp(bc.x), disp(bc.y));
             if ux.is_some() || uy.is_some() {
                 has_displacement = true;
+                labels.push(bc.on.clone());
                 boundary.push(PdBc::Displacement {
                     on: outward_strip(&line, delta, &corners),
                     ux,
@@ -288,6 +330,7 @@ pub fn problem_at(scene: &Scene, dx: f64) -> Result<PdProblem> {
             if t != [0.0, 0.0] {
                 // One node column deep (seed 000 section 2.3): a deeper layer moves the
                 // resultant inward (a cantilever tip load over delta deflects ~4 % less).
+                labels.push(bc.on.clone());
                 boundary.push(PdBc::Traction {
                     edge: line.clone(),
                     traction: t,
@@ -303,6 +346,7 @@ pub fn problem_at(scene: &Scene, dx: f64) -> Result<PdProblem> {
         let xc = snap(0.5 * (lo[0] + hi[0]), lo[0]);
         let (yb, yt) = (snap(lo[1] + 0.5 * dx, lo[1]), snap(hi[1] - 0.5 * dx, lo[1]));
         let r = 0.25 * dx;
+        labels.extend(["pin".to_string(), "pin".to_string()]);
         boundary.push(PdBc::Displacement {
             on: Selection::Circle {
                 centre: [xc, yb],
@@ -322,7 +366,7 @@ pub fn problem_at(scene: &Scene, dx: f64) -> Result<PdProblem> {
             layer: Layer::Real,
         });
     }
-    Ok(PdProblem {
+    let problem = PdProblem {
         region: Region {
             outline: pts,
             holes,
@@ -338,5 +382,6 @@ pub fn problem_at(scene: &Scene, dx: f64) -> Result<PdProblem> {
         surface_correction: pd.surface_correction,
         crack_face_correction: pd.crack_face_correction.unwrap_or(false),
         ..Default::default()
-    })
+    };
+    Ok((problem, labels))
 }

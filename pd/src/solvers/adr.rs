@@ -473,6 +473,7 @@ pub fn solve(model: &mut PdModel, params: &AdrParams) -> Result<SolveInfo, PdErr
                 max_stretch: st.max_stretch,
                 measure: m,
                 kind: PhaseKind::Explicit,
+                resultants: model.bc_resultants(),
             });
         }
     }

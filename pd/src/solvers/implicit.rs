@@ -308,6 +308,7 @@ impl Newton {
                     max_stretch: st.max_stretch,
                     measure: m,
                     kind: PhaseKind::Implicit,
+                    resultants: model.bc_resultants(),
                 });
                 return Ok(iters);
             }

@@ -109,6 +109,9 @@ pub struct StepRecord {
     pub measure: f64,
     /// Solver kind of the step.
     pub kind: PhaseKind,
+    /// Force and displacement of every boundary condition at the end of the step
+    /// ([`crate::reaction`]): the load-displacement record.
+    pub resultants: Vec<crate::reaction::BcResultant>,
 }
 
 /// What a solve did.

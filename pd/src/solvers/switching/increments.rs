@@ -47,6 +47,7 @@ impl<'p> Switcher<'p> {
             max_stretch: inc.stats.max_stretch,
             measure: inc.measure,
             kind: inc.kind,
+            resultants: model.bc_resultants(),
         });
         self.info.push_phase(
             inc.kind,

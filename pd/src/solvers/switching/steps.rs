@@ -194,6 +194,7 @@ impl<'p> Switcher<'p> {
                     max_stretch: st.max_stretch,
                     measure: meas,
                     kind: PhaseKind::Implicit,
+                    resultants: model.bc_resultants(),
                 });
                 info.push_phase(
                     PhaseKind::Implicit,
