@@ -266,6 +266,7 @@ fn write_fields(
         range: Some((0.0, 1.0)),
         loops: loops.clone(),
         marker_px: 0,
+        ..Default::default()
     };
     save_plot(
         &ctx.writer,
@@ -283,6 +284,7 @@ fn write_fields(
         range: None,
         loops,
         marker_px: 0,
+        ..Default::default()
     };
     save_plot(
         &ctx.writer,

@@ -133,12 +133,14 @@ fn growth_snapshots_paths_and_collection() {
                 label: "damage_window0_step0".into(),
                 points: vec![[0.0, 0.0], [0.1, 0.0]],
                 values: vec![0.0, 0.4],
+                tips: Vec::new(),
             },
             FieldSnapshot {
                 step: 2,
                 label: "displacement".into(),
                 points: vec![[0.0, 0.0]],
                 values: vec![1e-3],
+                tips: Vec::new(),
             },
         ],
         ..Default::default()

@@ -17,6 +17,7 @@ use super::log::GrowthLog;
 use super::{FieldSnapshot, GrowthHistory, TipPath};
 use crate::geometry::P2;
 use crate::output::csv::{num, opt, CsvTable};
+use crate::plot::field::{Mark, Polyline};
 use crate::plot::{PathGroup, PathsPlot, ScatterField, Series, SeriesStyle, XyPlot};
 use crate::runner::context::RunContext;
 use crate::runner::report::save_plot;
@@ -292,17 +293,20 @@ fn load_extension_plot(scene: &Scene, h: &GrowthHistory) -> XyPlot {
     p
 }
 
-/// A field snapshot as a scatter plot: damage in [0, 1], other fields scaled by a power
-/// of 1000 so the colour bar reads well; drawn over the body outline and holes (the field
-/// itself shows the cracks) except window snapshots (`*window*` labels: the window is
-/// small against the body).
+/// A field snapshot as a scatter plot in the body frame: damage in [0, 1], other fields
+/// scaled by a power of 1000 so the colour bar reads well; the body outline and holes,
+/// the crack paths so far ([`path_so_far`]) and the tips on top. A window snapshot
+/// (`*window*` labels) shows its window and a margin of a tenth of its size around it
+/// (the window is small against the body), with the outline where it passes.
 fn snapshot_plot(scene: &Scene, h: &GrowthHistory, s: &FieldSnapshot) -> ScatterField {
     let damage = s.label.starts_with("damage");
-    let loops = if s.label.contains("window") {
-        Vec::new()
-    } else {
-        body_loops(&SceneGeometry::of(scene))
-    };
+    let loops = body_loops(&SceneGeometry::of(scene));
+    let view = s
+        .label
+        .contains("window")
+        .then(|| window_view(&s.points))
+        .flatten();
+    let (paths, marks) = path_so_far(h, s);
     let (label, range, scale) = if damage {
         ("damage phi (-)".to_string(), Some((0.0, 1.0)), 1.0)
     } else {
@@ -328,12 +332,81 @@ fn snapshot_plot(scene: &Scene, h: &GrowthHistory, s: &FieldSnapshot) -> Scatter
         range,
         loops,
         marker_px: 0,
+        paths,
+        marks,
+        view,
     }
 }
 
+/// The box around a window's nodes with a margin of a tenth of its larger side.
+fn window_view(points: &[[f64; 2]]) -> Option<((f64, f64), (f64, f64))> {
+    let first = points.first()?;
+    let (mut lo, mut hi) = ((first[0], first[1]), (first[0], first[1]));
+    for p in points {
+        lo = (lo.0.min(p[0]), lo.1.min(p[1]));
+        hi = (hi.0.max(p[0]), hi.1.max(p[1]));
+    }
+    let m = 0.1 * (hi.0 - lo.0).max(hi.1 - lo.1);
+    Some(((lo.0 - m, lo.1 - m), (hi.0 + m, hi.1 + m)))
+}
+
+/// The crack paths as far as they had grown when `s` was taken, and the tips then, named.
+/// A snapshot taken at the end of load step k shows the points reached by step k; one
+/// taken before a window relocation in step k carries the tip that triggered it
+/// ([`FieldSnapshot::tips`]): each such tip ends the path whose points come nearest to
+/// it, cut at that nearest point, and every other path shows its points before step k.
+pub fn path_so_far(h: &GrowthHistory, s: &FieldSnapshot) -> (Vec<Polyline>, Vec<Mark>) {
+    let (mut paths, mut marks) = (Vec::new(), Vec::new());
+    let nearest = |p: &TipPath, t: [f64; 2]| {
+        p.points
+            .iter()
+            .enumerate()
+            .map(|(i, q)| (i, (q.x - t[0]).hypot(q.y - t[1])))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+    };
+    for p in &h.paths {
+        let tip = s
+            .tips
+            .iter()
+            .filter_map(|t| nearest(p, *t).map(|(i, d)| (i, d, *t)))
+            .filter(|(_, d, t)| {
+                // This path's tip, not another's: no other path comes nearer.
+                h.paths
+                    .iter()
+                    .all(|o| nearest(o, *t).is_none_or(|(_, od)| od >= *d))
+            })
+            .min_by(|a, b| a.1.total_cmp(&b.1));
+        let mut pts: Vec<(f64, f64)> = match tip {
+            Some((i, _, _)) => p.points[..=i].iter().map(|q| (q.x, q.y)).collect(),
+            None if s.tips.is_empty() => p
+                .points
+                .iter()
+                .filter(|q| q.step <= s.step)
+                .map(|q| (q.x, q.y))
+                .collect(),
+            None => p
+                .points
+                .iter()
+                .filter(|q| q.step < s.step)
+                .map(|q| (q.x, q.y))
+                .collect(),
+        };
+        if let Some((_, _, t)) = tip {
+            pts.push((t[0], t[1]));
+        }
+        if let Some(last) = pts.last() {
+            marks.push((*last, format!(" {}", p.name)));
+        }
+        if pts.len() > 1 {
+            paths.push(pts);
+        }
+    }
+    (paths, marks)
+}
+
 /// What a snapshot shows, in words, with the 0-based load step of the file names and the
-/// CSVs: `damage_window0_step1_reloc7` is "damage in PD window 0, load step 1, after
-/// relocation 7".
+/// CSVs: `damage_window0_step1_reloc7` is "damage in PD window 0, load step 1, before
+/// window relocation 7" (the state that made the window move for the 7th time).
 fn snapshot_title(s: &FieldSnapshot) -> String {
     let (mut field, mut window, mut reloc, mut step) = (Vec::new(), None, None, s.step);
     for part in s.label.split('_') {
@@ -355,7 +428,7 @@ fn snapshot_title(s: &FieldSnapshot) -> String {
     }
     text.push_str(&format!(", load step {step}"));
     if let Some(r) = reloc {
-        text.push_str(&format!(", after relocation {r}"));
+        text.push_str(&format!(", before window relocation {r}"));
     }
     text
 }
@@ -418,10 +491,11 @@ mod tests {
             label: label.into(),
             points: Vec::new(),
             values: Vec::new(),
+            tips: Vec::new(),
         };
         assert_eq!(
             snapshot_title(&snap("damage_window0_step1_reloc7", 1)),
-            "damage in PD window 0, load step 1, after relocation 7"
+            "damage in PD window 0, load step 1, before window relocation 7"
         );
         assert_eq!(snapshot_title(&snap("displacement", 0)), "|u|, load step 0");
     }
@@ -493,5 +567,37 @@ mod tests {
         assert!(!growth_summary(&scene, &h)
             .extra
             .contains_key("bem_overstrain"));
+    }
+
+    #[test]
+    fn snapshots_show_the_path_as_far_as_it_had_grown() {
+        let pt = |y: f64, step| PathPoint {
+            x: 0.0,
+            y,
+            step,
+            load: 1.0,
+        };
+        let h = GrowthHistory {
+            paths: vec![TipPath {
+                name: "c.end".into(),
+                points: vec![pt(0.0, 0), pt(1.0, 1), pt(2.0, 1), pt(3.0, 2)],
+                ended: None,
+            }],
+            ..Default::default()
+        };
+        let mut s = FieldSnapshot {
+            step: 1,
+            label: "damage_window0_step1".into(),
+            ..Default::default()
+        };
+        // End of step 1: the points reached by step 1, the tip at the last.
+        let (paths, marks) = path_so_far(&h, &s);
+        assert_eq!(paths, vec![vec![(0.0, 0.0), (0.0, 1.0), (0.0, 2.0)]]);
+        assert_eq!(marks[0].0, (0.0, 2.0));
+        // Before a relocation in step 1 with the tip at y = 1.1: cut at the nearest point.
+        s.tips = vec![[0.0, 1.1]];
+        let (paths, marks) = path_so_far(&h, &s);
+        assert_eq!(paths, vec![vec![(0.0, 0.0), (0.0, 1.0), (0.0, 1.1)]]);
+        assert_eq!(marks[0].0, (0.0, 1.1));
     }
 }

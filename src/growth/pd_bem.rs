@@ -105,6 +105,14 @@ impl Observer for Progress<'_> {
     }
 
     fn relocation(&mut self, r: &RelocationRecord) {
+        // The damage snapshots taken just before this relocation show this tip.
+        let tag = format!("_reloc{}", self.relocations);
+        for snap in self.snapshots.iter_mut().rev() {
+            if !snap.label.ends_with(&tag) {
+                break;
+            }
+            snap.tips.push([r.tip_at.x, r.tip_at.y]);
+        }
         let msg = format!(
             "load step {} (load factor {}): window of {} moved ({:.4}, {:.4}) -> ({:.4}, {:.4}), tip at ({:.4}, {:.4}), +{} BEM elements per face, {} elements ({:.0} % of the pairs reused), rebuild {:.2} s{}",
             r.step, human(r.load, 4), r.tip, r.from.x, r.from.y, r.to.x, r.to.y, r.tip_at.x, r.tip_at.y,

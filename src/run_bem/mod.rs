@@ -310,6 +310,7 @@ fn write_samples(
                 range: None,
                 loops: loops.clone(),
                 marker_px: 0,
+                ..Default::default()
             };
             let umag = fig(
                 "displacement magnitude",

@@ -225,6 +225,10 @@ pub struct FieldSnapshot {
     pub points: Vec<[f64; 2]>,
     /// Values at the points.
     pub values: Vec<f64>,
+    /// Where the tip of a window snapshot was when it was taken (before a relocation:
+    /// the tip that triggered it); empty where the paths tell (end of a load step).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub tips: Vec<[f64; 2]>,
 }
 
 #[cfg(test)]

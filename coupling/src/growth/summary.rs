@@ -28,6 +28,7 @@ pub fn damage_snapshots(step: usize, windows: &[WindowModel], tag: &str) -> Vec<
                 label: format!("damage_window{i}_step{step}{tag}"),
                 points: w.model.positions()[..n].to_vec(),
                 values: w.model.damage()[..n].to_vec(),
+                tips: Vec::new(),
             }
         })
         .collect()

@@ -177,6 +177,7 @@ fn displacement_snapshot(
         label: "displacement".into(),
         points: pts.iter().map(|p| [p.x, p.y]).collect(),
         values: u.iter().map(|v| f * v[0].hypot(v[1])).collect(),
+        tips: Vec::new(),
     }
 }
 

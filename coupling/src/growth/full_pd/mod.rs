@@ -272,12 +272,14 @@ fn snapshots(model: &PdModel, step: usize) -> [FieldSnapshot; 2] {
             label: "damage".into(),
             points: points.clone(),
             values: model.damage()[..n].to_vec(),
+            tips: Vec::new(),
         },
         FieldSnapshot {
             step,
             label: "displacement".into(),
             points,
             values: (0..n).map(|i| u[i][0].hypot(u[i][1])).collect(),
+            tips: Vec::new(),
         },
     ]
 }
