@@ -90,7 +90,7 @@ impl Load {
         (0..self
             .count
             .min(crate::scene::validate::limits::MAX_LOAD_STEPS))
-            .map(|k| self.initial + k as f64 * self.step)
+            .map(|k| pdbem_coupling::growth::params::load_factor(self.initial, self.step, k))
             .collect()
     }
 }

@@ -20,8 +20,16 @@ pub struct LoadSteps {
 impl LoadSteps {
     /// Load factor of step `k`.
     pub fn factor(&self, k: usize) -> f64 {
-        self.initial + k as f64 * self.step
+        load_factor(self.initial, self.step, k)
     }
+}
+
+/// `initial + k step` rounded to 12 significant digits, so that the factors the scene
+/// means (3.35, not 3.3499999999999996) are the ones solved, logged and printed; the
+/// rounding moves a factor by at most 5e-13 of itself.
+pub fn load_factor(initial: f64, step: f64, k: usize) -> f64 {
+    let f = initial + k as f64 * step;
+    format!("{f:.11e}").parse().unwrap_or(f)
 }
 
 /// Parameters of [`crate::growth::Growth`].
@@ -158,5 +166,15 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("move_distance"));
+    }
+}
+
+#[cfg(test)]
+mod load_tests {
+    #[test]
+    fn load_factors_are_the_decimal_ones() {
+        assert_eq!(super::load_factor(3.3, 0.05, 1), 3.35);
+        assert_eq!(super::load_factor(0.1, 0.2, 1), 0.3);
+        assert_eq!(super::load_factor(1e6, 0.0, 7), 1e6);
     }
 }
