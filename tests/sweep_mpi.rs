@@ -1,7 +1,8 @@
 //! MPI sweeps (issue 22). With `--features mpi` (`.ci/run` installs OpenMPI and runs
 //! this file so): `mpirun --oversubscribe -np 2 pdbem sweep ...` gives the serial sweep's
 //! table (wall times aside), failed runs included, with every run done exactly once and
-//! both ranks working; the README's mpirun command runs as written. Without the feature:
+//! both ranks working; a sweep folder in use stops every rank before any run; the
+//! README's mpirun command runs as written. Without the feature:
 //! a pdbem started as one of several MPI ranks refuses the sweep instead of letting every
 //! rank run all of it.
 
@@ -173,6 +174,21 @@ mod with_mpi {
         for r in &rec.runs {
             assert!(r.start_s <= r.end_s && r.end_s <= rec.makespan_s, "{r:?}");
         }
+
+        // A folder another live pdbem holds (pid 1 stands for it): every rank stops
+        // before any run, and mpirun fails.
+        let locked = root.join("locked");
+        std::fs::create_dir_all(&locked).unwrap();
+        std::fs::write(locked.join(".pdbem-lock"), "1").unwrap();
+        let refused = mpirun()
+            .args(["--oversubscribe", "-np", "2", BIN])
+            .args(sweep_args(&scene, &locked))
+            .output()
+            .expect("mpirun starts");
+        let err = String::from_utf8_lossy(&refused.stderr);
+        assert!(!refused.status.success(), "{err}");
+        assert!(err.contains("in use by pdbem process 1"), "{err}");
+        assert!(!locked.join("run_000").exists() && !locked.join("sweep.csv").exists());
         let _ = std::fs::remove_dir_all(&root);
     }
 
