@@ -9,6 +9,11 @@
 //! Outputs: `<out>/sweep.csv`, `<out>/sweep_k.{png,svg}`, `<out>/sweep_error_time.{png,svg}`,
 //! and for a sweep over `bem.tolerance` `<out>/sweep_tolerance.{png,svg}` and
 //! `<out>/sweep_tolerance_time.{png,svg}` ([`plots`]).
+//!
+//! Spread over machines: [`shard`] (`--shard I/N`, `--collect`), or the ranks of
+//! `mpirun` (`src/sweep/mpi.rs`, feature `mpi`; [`ranks`] for the launcher's environment
+//! and threads per rank, [`schedule`] for the load-balance measures, [`bench`] for
+//! `pdbem bench sweep-mpi`).
 
 pub mod bench;
 #[cfg(feature = "mpi")]
@@ -215,7 +220,7 @@ fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
 }
 
 /// Runs the sweep in this process, or over the ranks when an MPI launcher started it
-/// (`mpirun -np K pdbem sweep ...`, [`mpi`], feature `mpi`). Returns the rows on the
+/// (`mpirun -np K pdbem sweep ...`, `src/sweep/mpi.rs`, feature `mpi`). Returns the rows on the
 /// process that wrote the table (rank 0), `None` on the other ranks. A pdbem built
 /// without the feature refuses to run as one of several ranks: each would run the whole
 /// sweep into the same folder.
