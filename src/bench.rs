@@ -34,6 +34,9 @@ pub enum BenchKind {
     Coupling,
     /// Growth: PD-BEM against BEM-only and full PD (issue 5).
     Growth,
+    /// A growth sweep over `mpirun -np 2` against one process of 2 threads (issue 22;
+    /// needs `--features mpi`).
+    SweepMpi,
 }
 
 /// `bench.json` of `bench bem`.
@@ -76,6 +79,7 @@ pub fn run(kind: BenchKind, out: &Path, quick: bool, case: Option<&str>) -> Resu
         BenchKind::Pd => bench_pd(out, quick),
         BenchKind::Coupling => bench_coupling(out, quick),
         BenchKind::Growth => crate::growth::bench::run(out, quick, case),
+        BenchKind::SweepMpi => crate::sweep::bench::run(out, quick),
     }
 }
 

@@ -451,8 +451,16 @@ fn sweep(
         .collect::<Result<Vec<_>, _>>()
         .map_err(anyhow::Error::msg)?;
     let out = out.unwrap_or_else(|| default_out(&scene, "-sweep"));
+    if part != SweepPart::All && crate::sweep::ranks::launcher_world_size().is_some_and(|n| n > 1) {
+        anyhow::bail!("--shard and --collect run in one process, not under mpirun");
+    }
     let rows = match part {
-        SweepPart::All => crate::sweep::run_sweep(&scene, &varies, &out, quiet)?,
+        SweepPart::All => {
+            match crate::sweep::run_sweep_launched(&scene, &varies, &out, quiet)? {
+                Some(rows) => rows,
+                None => return Ok(()), // an MPI rank other than 0: rank 0 reports
+            }
+        }
         SweepPart::Shard(s) => {
             let rows = crate::sweep::shard::run_shard(&scene, &varies, &out, s, quiet)?;
             let failed = rows.iter().filter(|r| r.error.is_some()).count();

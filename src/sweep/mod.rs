@@ -9,8 +9,18 @@
 //! Outputs: `<out>/sweep.csv`, `<out>/sweep_k.{png,svg}`, `<out>/sweep_error_time.{png,svg}`,
 //! and for a sweep over `bem.tolerance` `<out>/sweep_tolerance.{png,svg}` and
 //! `<out>/sweep_tolerance_time.{png,svg}` ([`plots`]).
+//!
+//! Spread over machines: [`shard`] (`--shard I/N`, `--collect`), or the ranks of
+//! `mpirun` (`src/sweep/mpi.rs`, feature `mpi`; [`ranks`] for the launcher's environment
+//! and threads per rank, [`schedule`] for the load-balance measures, [`bench`] for
+//! `pdbem bench sweep-mpi`).
 
+pub mod bench;
+#[cfg(feature = "mpi")]
+pub mod mpi;
 pub mod plots;
+pub mod ranks;
+pub mod schedule;
 pub mod shard;
 
 use std::path::Path;
@@ -158,36 +168,103 @@ pub fn run_rows(
     indices: &[usize],
     quiet: bool,
 ) -> Vec<SweepRow> {
-    let combos = grid(varies);
     let bar = crate::runner::context::progress_bar(indices.len() as u64, quiet);
     let mut rows = Vec::new();
     for &k in indices {
-        let combo = &combos[k];
-        let params: Vec<String> = varies
-            .iter()
-            .zip(combo)
-            .map(|(v, i)| v.raw[*i].clone())
-            .collect();
-        let run_dir = out_dir.join(format!("run_{k:03}"));
-        let result = with_overrides(scene, &overrides(varies, combo))
-            .map_err(anyhow::Error::from)
-            .and_then(|s| run_scene(&s, &run_dir, true));
-        rows.push(match result {
-            Ok(s) => SweepRow {
-                params,
-                summary: Some(s),
-                error: None,
-            },
-            Err(e) => SweepRow {
-                params,
-                summary: None,
-                error: Some(format!("{e:#}")),
-            },
-        });
+        rows.push(run_one(scene, varies, out_dir, k));
         bar.inc(1);
     }
     bar.finish_and_clear();
     rows
+}
+
+/// Runs combination `k` of the grid into `<out>/run_<k>/`: its row, with the error of a
+/// run that fails (a panic included: one run must not end a sweep).
+pub fn run_one(scene: &Scene, varies: &[Vary], out_dir: &Path, k: usize) -> SweepRow {
+    let combo = &grid(varies)[k];
+    let params: Vec<String> = varies
+        .iter()
+        .zip(combo)
+        .map(|(v, i)| v.raw[*i].clone())
+        .collect();
+    let run_dir = out_dir.join(format!("run_{k:03}"));
+    let run = || {
+        with_overrides(scene, &overrides(varies, combo))
+            .map_err(anyhow::Error::from)
+            .and_then(|s| run_scene(&s, &run_dir, true))
+    };
+    let result = match std::panic::catch_unwind(std::panic::AssertUnwindSafe(run)) {
+        Ok(r) => r,
+        Err(p) => Err(anyhow::anyhow!("the run panicked: {}", panic_text(&*p))),
+    };
+    match result {
+        Ok(s) => SweepRow {
+            params,
+            summary: Some(s),
+            error: None,
+        },
+        Err(e) => SweepRow {
+            params,
+            summary: None,
+            error: Some(format!("{e:#}")),
+        },
+    }
+}
+
+/// The message of a panic payload.
+fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
+    p.downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| p.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "(no message)".into())
+}
+
+/// Runs the sweep in this process, or over the ranks when an MPI launcher started it
+/// (`mpirun -np K pdbem sweep ...`, `src/sweep/mpi.rs`, feature `mpi`). Returns the rows on the
+/// process that wrote the table (rank 0), `None` on the other ranks. A pdbem built
+/// without the feature refuses to run as one of several ranks: each would run the whole
+/// sweep into the same folder.
+pub fn run_sweep_launched(
+    scene: &Scene,
+    varies: &[Vary],
+    out_dir: &Path,
+    quiet: bool,
+) -> anyhow::Result<Option<Vec<SweepRow>>> {
+    match ranks::launcher_world_size() {
+        None => run_sweep(scene, varies, out_dir, quiet).map(Some),
+        Some(n) => launched(scene, varies, out_dir, quiet, n),
+    }
+}
+
+#[cfg(feature = "mpi")]
+fn launched(
+    scene: &Scene,
+    varies: &[Vary],
+    out_dir: &Path,
+    quiet: bool,
+    _ranks: usize,
+) -> anyhow::Result<Option<Vec<SweepRow>>> {
+    mpi::run_mpi_sweep(scene, varies, out_dir, quiet)
+}
+
+#[cfg(not(feature = "mpi"))]
+fn launched(
+    scene: &Scene,
+    varies: &[Vary],
+    out_dir: &Path,
+    quiet: bool,
+    ranks: usize,
+) -> anyhow::Result<Option<Vec<SweepRow>>> {
+    if ranks == 1 {
+        return run_sweep(scene, varies, out_dir, quiet).map(Some);
+    }
+    anyhow::bail!(
+        "started as one of {ranks} MPI ranks, but this pdbem was built without the `mpi` \
+         feature: every rank would run the whole sweep into {}. Build with \
+         `cargo build --release --features mpi`, or split the sweep with --shard I/N \
+         (docs/cluster.md)",
+        out_dir.display()
+    )
 }
 
 /// Paths must exist in the scene (values may still be invalid per combination).

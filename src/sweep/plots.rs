@@ -35,7 +35,10 @@ pub fn write_plots(
     let formats = &scene.outputs.formats;
     let mut dummy = RunSummary::default();
     let k_plot = k_against_parameter(scene, &varies[0], rows);
-    report::save_plot(w, "sweep_k", &k_plot, formats, &mut dummy)?;
+    // Growth runs report no K in their summary: no empty axes.
+    if k_plot.series.iter().any(|s| !s.points.is_empty()) {
+        report::save_plot(w, "sweep_k", &k_plot, formats, &mut dummy)?;
+    }
     let e_plot = error_against_time(rows);
     if e_plot.series.iter().any(|s| !s.points.is_empty()) {
         report::save_plot(w, "sweep_error_time", &e_plot, formats, &mut dummy)?;
