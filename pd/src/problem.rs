@@ -27,6 +27,21 @@ pub enum Plane {
     Strain,
 }
 
+/// The constitutive model of the PD body.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, Default)]
+pub enum PdMaterial {
+    /// Bond-based prototype microelastic brittle model (seed 002 Eqs. 3-5): Poisson's
+    /// ratio fixed at 1/3 (plane stress) or 1/4 (plane strain).
+    #[default]
+    Pmb,
+    /// Ordinary state-based PD (seed 004 Eqs. 3-8, [`crate::state_based`]) with the
+    /// given Poisson's ratio, in (-1, 1/2).
+    StateBased {
+        /// Poisson's ratio nu (-).
+        poisson_ratio: f64,
+    },
+}
+
 /// A hole in the region (a free surface; no nodes inside).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -270,6 +285,8 @@ pub struct PdProblem {
     /// Grid origin (a cell corner); default: the lower-left corner of the
     /// outline's bounding box in the grid frame.
     pub grid_origin: Option<P2>,
+    /// Constitutive model; default [`PdMaterial::Pmb`].
+    pub material: PdMaterial,
 }
 
 impl Default for PdProblem {
@@ -288,6 +305,7 @@ impl Default for PdProblem {
             crack_face_correction: false,
             grid_angle: 0.0,
             grid_origin: None,
+            material: PdMaterial::Pmb,
         }
     }
 }
@@ -333,6 +351,14 @@ impl PdProblem {
         }
         positive("thickness", self.thickness)?;
         positive("youngs_modulus", self.youngs_modulus)?;
+        if let PdMaterial::StateBased { poisson_ratio: nu } = self.material {
+            if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
+                return Err(PdError::invalid(
+                    "material.poisson_ratio",
+                    format!("state-based PD needs a Poisson ratio in (-1, 0.5) (positive bulk and shear moduli), got {nu}"),
+                ));
+            }
+        }
         if !self.grid_angle.is_finite() {
             return Err(PdError::invalid("grid_angle", "must be finite"));
         }
