@@ -60,9 +60,11 @@
 //! Files: `mod.rs` (constants, calibration, [`StateBased`]), `dispatch.rs` (the
 //! [`crate::PdModel`] methods the solvers call for either model), `forces.rs` (the
 //! two-pass force gather), `tangent.rs` (the tangent rows, their sparse assembly and the
-//! ADR density bound).
+//! ADR density bound), `dual_horizon.rs` (particles of different sizes, seed 004
+//! section 2.2).
 
 mod dispatch;
+pub mod dual_horizon;
 mod forces;
 mod tangent;
 
