@@ -17,13 +17,14 @@ use crate::geometry::{dist_point_polygon_boundary, point_in_polygon, rotate, sig
 /// 3.2-5.3, seed 001 section 6, seed 002 section 3).
 pub const DEFAULT_HORIZON_FACTOR: f64 = 3.015;
 
-/// Plane stress or plane strain (selects the micromodulus, seed 002 Eq. 5).
+/// Plane stress or plane strain (selects the PMB micromodulus, seed 002 Eq. 5, or the
+/// state-based bulk modulus, [`crate::state_based::moduli`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
 pub enum Plane {
-    /// Plane stress: `c = 9E/(pi t delta^3)`, Poisson's ratio fixed at 1/3.
+    /// Plane stress: PMB `c = 9E/(pi t delta^3)`, Poisson's ratio fixed at 1/3.
     #[default]
     Stress,
-    /// Plane strain: `c = 48E/(5 pi t delta^3)`, Poisson's ratio fixed at 1/4.
+    /// Plane strain: PMB `c = 48E/(5 pi t delta^3)`, Poisson's ratio fixed at 1/4.
     Strain,
 }
 
@@ -274,10 +275,14 @@ pub struct PdProblem {
     /// Boundary conditions, applied in order (a later one overrides an
     /// earlier one on the same component).
     pub boundary: Vec<BoundaryCondition>,
-    /// Apply the Madenci-Oterkus energy surface correction; default false.
+    /// Apply the surface correction; default false. PMB: the Madenci-Oterkus energy
+    /// method ([`crate::surface`]); state-based: the fourth-moment fit of
+    /// [`crate::state_based`] (the node's energy density is the bulk one for every
+    /// homogeneous strain).
     pub surface_correction: bool,
     /// Stiffen the bonds around pre-crack faces by the energy-method factor of the bonds
-    /// the pre-cracks removed ([`crate::surface::apply_crack_face_correction`]); default
+    /// the pre-cracks removed ([`crate::surface::apply_crack_face_correction`]; the
+    /// state-based model fits the node's constants to its uncut family instead); default
     /// false.
     pub crack_face_correction: bool,
     /// Grid rotation (radians, counter-clockwise); default 0.
