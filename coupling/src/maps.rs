@@ -26,7 +26,6 @@
 
 use pdbem_bem::post::{Background, FieldEvaluator};
 use pdbem_bem::{Material, Mesh, Solution, V2};
-use pdbem_pd::material::{degradation, BondLaw};
 use pdbem_pd::PdModel;
 
 use crate::interface::Interface;
@@ -148,35 +147,16 @@ pub fn pd_to_tractions(
 
 /// Sums, per element, the force each crossing bond's virtual node exerts on its real node.
 fn crossing_forces(model: &PdModel, iface: &Interface, f: &mut [[f64; 2]]) {
-    let bonds = model.bonds();
-    let u = model.displacements();
     let intact = model.bond_intact();
     let v = model.grid().volume;
-    let law = model.law();
-    let s_hist = match law {
-        BondLaw::Degrading { .. } => model.state().s_hist,
-        _ => Vec::new(),
-    };
     let force = |i: usize, b: usize| -> Option<[f64; 2]> {
         if intact[b] == 0 {
             return None;
         }
-        let j = bonds.nbr[b] as usize;
-        let y = [
-            bonds.xi[b][0] + (u[j][0] - u[i][0]),
-            bonds.xi[b][1] + (u[j][1] - u[i][1]),
-        ];
-        let l = y[0].hypot(y[1]);
-        let s = l * bonds.inv_len[b] - 1.0;
-        let t = match law {
-            BondLaw::Degrading { s_m, s_c, beta } => {
-                degradation(s.max(s_hist[b]), s_m, s_c, beta).0
-            }
-            _ => 1.0,
-        };
-        let c = bonds.k[b] * t * s / l * v;
-        // Force on j from i: minus the force density on i from j, times its volume.
-        Some([-c * y[0], -c * y[1]])
+        // Force on j from i: minus the force density on i from the pair (PMB bond or
+        // state-based t_ij - t_ji), times its volume.
+        let g = model.pair_force(i, b);
+        Some([-v * g[0], -v * g[1]])
     };
     for &(i, b, slot, share) in &iface.crossings {
         if let Some(g) = force(i, b) {

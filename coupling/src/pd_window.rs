@@ -17,7 +17,9 @@
 //! factor would be about 2).
 
 use pdbem_bem::V2;
-use pdbem_pd::{BoundaryCondition, Failure, Layer, PdModel, PdProblem, Plane, Region, Selection};
+use pdbem_pd::{
+    BoundaryCondition, Failure, Layer, PdMaterial, PdModel, PdProblem, Plane, Region, Selection,
+};
 
 use crate::window::{SideKind, Window};
 
@@ -28,15 +30,19 @@ pub struct PdSettings {
     pub youngs_modulus: f64,
     /// Thickness (m); PD forces are in N for this thickness.
     pub thickness: f64,
-    /// Plane stress (nu = 1/3) or plane strain (nu = 1/4).
+    /// Plane stress or plane strain (PMB: nu = 1/3 or 1/4; the state-based model takes
+    /// its own nu).
     pub plane: Plane,
+    /// Constitutive model: PMB, or state-based PD with the BEM body's Poisson ratio.
+    pub material: PdMaterial,
     /// Bond failure law (static coupled solves normally use `Failure::None`).
     pub failure: Failure,
     /// Madenci-Oterkus surface correction (useful on outer free sides; it stiffens the
     /// bonds to the outermost virtual nodes, see the module docs).
     pub surface_correction: bool,
-    /// Scale E by [`bulk_stiffness_factor`]. Leave it off with `surface_correction`, which
-    /// already contains the bulk factor.
+    /// Scale E by [`bulk_stiffness_factor`] (PMB only: the state-based constants are
+    /// calibrated on the lattice). Leave it off with `surface_correction`, which already
+    /// contains the bulk factor.
     pub bulk_correction: bool,
     /// Stiffen the bonds around pre-crack faces (`pdbem_pd::surface`): the crack faces of
     /// a PD window then match the traction-free LEFM faces of the BEM crack.
@@ -135,7 +141,7 @@ pub fn build_problem(
     outer: &[EdgeCondition],
 ) -> PdProblem {
     let (lx, ly) = w.size();
-    let e = if s.bulk_correction {
+    let e = if s.bulk_correction && s.material == PdMaterial::Pmb {
         s.youngs_modulus * bulk_stiffness_factor(w.spec.dx, w.spec.horizon_factor, s.plane)
     } else {
         s.youngs_modulus
@@ -198,6 +204,7 @@ pub fn build_problem(
         crack_face_correction: s.crack_face_correction,
         grid_angle: w.spec.angle,
         grid_origin: Some(p2(w.corners()[0])),
+        material: s.material,
     }
 }
 

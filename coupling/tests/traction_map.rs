@@ -63,6 +63,7 @@ fn window(angle_deg: f64) -> (pdbem_bem::Mesh, WindowModel) {
             failure: Failure::None,
             surface_correction: false,
             bulk_correction: true,
+            material: pdbem_pd::PdMaterial::Pmb,
             crack_face_correction: false,
         },
     };

@@ -6,8 +6,11 @@
 //!
 //! - `threads`: rayon threads; `protocol`: how the comparison is made (text).
 //! - `kernel[]` ([`KernelBench`]), grids of about 1e4, 1e5 and 1e6 directed
-//!   bonds: `nodes`, `bonds` (directed), `bond_evals_per_s` (directed bond
-//!   force evaluations per second, both directions of a pair counted),
+//!   bonds, each for the bond-based and the state-based model (`model`: `Pmb`,
+//!   `StateBased` with nu = 0.3; the state-based pass is two sweeps over the bonds and
+//!   its tangent has the two-hop stencil): `nodes`, `bonds` (directed),
+//!   `bond_evals_per_s` (directed bond force evaluations per second, both directions
+//!   of a pair counted; a state-based evaluation is the bond's share of both passes),
 //!   `bytes_per_bond` (static bond data plus bond state per directed bond),
 //!   `factorization_s` (one numeric sparse Cholesky of the free-DOF tangent,
 //!   symbolic analysis excluded), `solve_s` (one pair of triangular solves
@@ -32,10 +35,10 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::cases::{plate_hole, three_point_bend, PdCase};
-use crate::forces::History;
+use crate::forces::{History, TangentKind};
 use crate::geometry::to_g_all;
 use crate::model::PdModel;
-use crate::problem::{PdProblem, Region};
+use crate::problem::{PdMaterial, PdProblem, Region};
 use crate::solvers::{adr, switching, PhaseKind, SolveInfo};
 use crate::tangent::Tangent;
 
@@ -55,6 +58,8 @@ pub struct BenchOptions {
 /// Force-kernel measurement on one grid.
 #[derive(Clone, Debug, Serialize)]
 pub struct KernelBench {
+    /// Constitutive model: `Pmb`, or `StateBased` (nu = 0.3).
+    pub model: String,
     /// Nodes.
     pub nodes: usize,
     /// Directed bonds.
@@ -163,7 +168,9 @@ pub struct BenchReport {
 }
 
 /// Bytes of bond data per directed bond: the static CSR arrays and the
-/// bond state (intact flag, stretch history).
+/// bond state (intact flag, stretch history), plus the state-based constants and
+/// scratch (per bond: dilatation and deviatoric weights, reverse index, factor `T`; per
+/// node: `a` and the dilatation).
 fn bytes_per_bond(m: &PdModel) -> f64 {
     use std::mem::size_of_val;
     let b = m.bonds();
@@ -176,19 +183,33 @@ fn bytes_per_bond(m: &PdModel) -> f64 {
         + size_of_val(b.k.as_slice())
         + size_of_val(b.meta.as_slice())
         + size_of_val(m.intact.as_slice())
-        + size_of_val(m.s_hist.as_slice());
+        + size_of_val(m.s_hist.as_slice())
+        + m.osb.as_ref().map_or(0, |sb| {
+            size_of_val(sb.a.as_slice())
+                + size_of_val(sb.omega.as_slice())
+                + size_of_val(sb.beta.as_slice())
+                + size_of_val(sb.rev.as_slice())
+                + size_of_val(sb.theta.as_slice())
+                + size_of_val(sb.tfac.as_slice())
+        });
     bytes as f64 / b.len() as f64
 }
 
 /// Force-kernel throughput, bytes per bond and one numeric factorisation on
 /// an `n x n` unit square (28 bonds per interior node), timing force passes
-/// for at least `min_time` seconds.
+/// for at least `min_time` seconds, PMB.
 pub fn kernel(n: usize, min_time: f64) -> KernelBench {
+    kernel_of(n, min_time, PdMaterial::Pmb)
+}
+
+/// [`kernel`] for the constitutive model `material`.
+pub fn kernel_of(n: usize, min_time: f64, material: PdMaterial) -> KernelBench {
     let p = PdProblem {
         region: Region::rectangle([0.0, 0.0], [1.0, 1.0]),
         dx: 1.0 / n as f64,
         youngs_modulus: 1e9,
         failure: crate::problem::Failure::CriticalStretch { s0: 1.0 },
+        material,
         ..Default::default()
     };
     let mut m = PdModel::new(&p).expect("unit square");
@@ -204,6 +225,10 @@ pub fn kernel(n: usize, min_time: f64) -> KernelBench {
     let dt = t0.elapsed().as_secs_f64();
     let (factorization_s, solve_s, factor_entries) = factorization(&m);
     KernelBench {
+        model: match material {
+            PdMaterial::Pmb => "Pmb".into(),
+            PdMaterial::StateBased { .. } => "StateBased".into(),
+        },
         nodes: m.n_nodes(),
         bonds: m.n_bonds(),
         bond_evals_per_s: (m.n_bonds() * reps) as f64 / dt,
@@ -221,10 +246,15 @@ fn factorization(m: &PdModel) -> (f64, f64, usize) {
     let mut fixed = vec![[false; 2]; m.n_nodes()];
     fixed[0] = [true, true];
     fixed[1] = [false, true];
-    let Ok(mut t) = Tangent::new(&m.bonds, &fixed) else {
+    let t = if m.osb.is_some() {
+        Tangent::from_stencil(crate::state_based::stencil(&m.bonds), &fixed)
+    } else {
+        Tangent::new(&m.bonds, &fixed)
+    };
+    let Ok(mut t) = t else {
         return (f64::NAN, f64::NAN, 0);
     };
-    t.assemble(&m.bonds, m.law, &m.intact, &m.s_hist, &m.u);
+    m.assemble_tangent(&mut t, TangentKind::Consistent);
     if t.factorize().is_err() {
         return (f64::NAN, f64::NAN, 0);
     }
@@ -387,7 +417,11 @@ pub fn run_bench(opts: BenchOptions) -> BenchReport {
     } else {
         (&[19, 60, 189], 1.0)
     };
-    let kernel = sizes.iter().map(|&n| kernel(n, min_time)).collect();
+    let osb = PdMaterial::StateBased { poisson_ratio: 0.3 };
+    let kernel = sizes
+        .iter()
+        .flat_map(|&n| [kernel(n, min_time), kernel_of(n, min_time, osb)])
+        .collect();
     let (plate, bend, repeats) = if opts.quick {
         ((plate_hole(20), 60), (three_point_bend(48, 12), 40), 1)
     } else {
@@ -414,13 +448,21 @@ pub fn table(r: &BenchReport) -> String {
     let _ = writeln!(s, "PD benchmark ({} threads)", r.threads);
     let _ = writeln!(
         s,
-        "{:>8} {:>9} {:>15} {:>10} {:>10} {:>9} {:>12}",
-        "nodes", "bonds", "bond_evals/s", "bytes/bond", "factor_s", "solve_s", "factor_nnz"
+        "{:<10} {:>8} {:>9} {:>15} {:>10} {:>10} {:>9} {:>12}",
+        "model",
+        "nodes",
+        "bonds",
+        "bond_evals/s",
+        "bytes/bond",
+        "factor_s",
+        "solve_s",
+        "factor_nnz"
     );
     for k in &r.kernel {
         let _ = writeln!(
             s,
-            "{:>8} {:>9} {:>15.3e} {:>10.1} {:>10.4} {:>9.5} {:>12}",
+            "{:<10} {:>8} {:>9} {:>15.3e} {:>10.1} {:>10.4} {:>9.5} {:>12}",
+            k.model,
             k.nodes,
             k.bonds,
             k.bond_evals_per_s,
@@ -538,6 +580,22 @@ mod tests {
         // per node over about 27 bonds per node): measured 62.3.
         assert!(
             (62.0..63.0).contains(&k.bytes_per_bond),
+            "{}",
+            k.bytes_per_bond
+        );
+    }
+
+    #[test]
+    fn state_based_kernel_bench_reports_throughput() {
+        let k = kernel_of(60, 0.05, PdMaterial::StateBased { poisson_ratio: 0.3 });
+        eprintln!("{k:#?}");
+        assert_eq!(k.model, "StateBased");
+        assert!(k.bond_evals_per_s.is_finite() && k.bond_evals_per_s > 0.0);
+        assert!(k.factorization_s.is_finite() && k.solve_s.is_finite());
+        // PMB's 62.3 plus omega, beta 8 each, the reverse index 4, T 8 (28 bytes) and
+        // a, theta per node (16 bytes over about 27 bonds): measured 90.9.
+        assert!(
+            (90.0..92.0).contains(&k.bytes_per_bond),
             "{}",
             k.bytes_per_bond
         );

@@ -7,6 +7,9 @@
 //! - [`grid`], [`bonds`], [`surface`], [`boundary`]: discretisation (regular
 //!   grid with fictitious layers, CSR bond families with partial volumes,
 //!   surface correction, boundary data).
+//! - [`state_based`]: ordinary state-based PD (seed 004 section 2.1), any Poisson
+//!   ratio, chosen by [`PdProblem::material`]; the solvers call the model-agnostic
+//!   methods of [`PdModel`] (`new_tangent`, `assemble_tangent`, ...).
 //! - [`material`], [`forces`], [`damage`]: PMB micromodulus, critical stretch,
 //!   tanh degradation; parallel force gather; damage `phi`.
 //! - [`model`]: [`PdModel`], the state and the operations the solvers and the
@@ -43,10 +46,13 @@ pub mod model;
 pub mod problem;
 pub mod reaction;
 pub mod solvers;
+pub mod state_based;
 pub mod surface;
 pub mod tangent;
 
 pub use error::PdError;
 pub use model::{ModelState, PdModel};
-pub use problem::{BoundaryCondition, Failure, Hole, Layer, PdProblem, Plane, Region, Selection};
+pub use problem::{
+    BoundaryCondition, Failure, Hole, Layer, PdMaterial, PdProblem, Plane, Region, Selection,
+};
 pub use solvers::{Convergence, SolveInfo};

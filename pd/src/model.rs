@@ -18,7 +18,8 @@ use crate::forces::{
 use crate::geometry::P2;
 use crate::grid::{build_grid, Grid};
 use crate::material::{micromodulus, BondLaw};
-use crate::problem::PdProblem;
+use crate::problem::{Failure, PdMaterial, PdProblem};
+use crate::state_based::{self, StateBased};
 use crate::surface::{apply_crack_face_correction, apply_surface_correction};
 
 /// A snapshot of the mutable state, for roll-back (switching solver) and
@@ -49,6 +50,8 @@ pub struct PdModel {
     pub(crate) load: f64,
     pub(crate) force: Vec<P2>,
     pub(crate) cut: usize,
+    /// The state-based constants ([`crate::state_based`]); `None` for PMB.
+    pub(crate) osb: Option<StateBased>,
 }
 
 impl PdModel {
@@ -58,16 +61,18 @@ impl PdModel {
         let grid = build_grid(p)?;
         let mut bonds = build_bonds(&grid, &p.region);
         let c = micromodulus(p.plane, p.youngs_modulus, p.thickness, grid.delta);
-        if p.surface_correction {
+        let pmb = p.material == PdMaterial::Pmb;
+        if p.surface_correction && pmb {
             apply_surface_correction(&mut bonds, c, grid.volume, p.youngs_modulus, p.plane);
         }
         bonds.set_coefficients(c, grid.volume);
         let mut intact = vec![1u8; bonds.len()];
         let cut = cut_cracks(&grid, &bonds, &p.cracks, &mut intact);
-        if p.crack_face_correction && cut > 0 {
+        if p.crack_face_correction && cut > 0 && pmb {
             apply_crack_face_correction(&mut bonds, &intact);
             bonds.set_coefficients(c, grid.volume);
         }
+        let osb = state_based::for_problem(p, &grid, &mut bonds, &intact);
         if !p.cracks.is_empty() && cut == 0 {
             return Err(PdError::invalid(
                 "cracks",
@@ -75,7 +80,12 @@ impl PdModel {
             ));
         }
         let bc = resolve(p, &grid)?;
-        let law = BondLaw::from_failure(p.failure, p.plane, p.youngs_modulus, grid.delta);
+        let law = match (&osb, p.failure) {
+            (Some(sb), Failure::FractureEnergy { g_c }) => BondLaw::Brittle {
+                s0: state_based::critical_stretch(sb.kappa, sb.mu, g_c, grid.delta),
+            },
+            _ => BondLaw::from_failure(p.failure, p.plane, p.youngs_modulus, grid.delta),
+        };
         let n = grid.len();
         let nb = bonds.len();
         Ok(PdModel {
@@ -90,6 +100,7 @@ impl PdModel {
             load: 0.0,
             force: vec![[0.0; 2]; n],
             cut,
+            osb,
         })
     }
 
@@ -279,12 +290,7 @@ impl PdModel {
                     if j >= n_real || self.intact[b] == 0 {
                         continue;
                     }
-                    let j = j as usize;
-                    let y = [
-                        self.bonds.xi[b][0] + (self.u[j][0] - self.u[i][0]),
-                        self.bonds.xi[b][1] + (self.u[j][1] - self.u[i][1]),
-                    ];
-                    let t = self.bond_force(b, y);
+                    let t = self.pair_force(i, b);
                     // Force on j from i is minus the force on i from j.
                     f[0] -= v * t[0];
                     f[1] -= v * t[1];
@@ -294,7 +300,7 @@ impl PdModel {
             .collect()
     }
 
-    fn bond_force(&self, b: usize, y: P2) -> P2 {
+    pub(crate) fn bond_force(&self, b: usize, y: P2) -> P2 {
         let l = y[0].hypot(y[1]);
         let s = l * self.bonds.inv_len[b] - 1.0;
         let t = match self.law {
@@ -316,6 +322,21 @@ impl PdModel {
 
     /// Compute the force densities into the scratch buffer.
     pub(crate) fn compute_forces(&mut self, history: History) -> ForceStats {
+        if let Some(sb) = self.osb.as_mut() {
+            return state_based::internal_forces(
+                sb,
+                &self.bonds,
+                self.law,
+                BondState {
+                    intact: &mut self.intact,
+                    s_hist: &mut self.s_hist,
+                },
+                &self.u,
+                &mut self.force,
+                history,
+                self.grid.volume,
+            );
+        }
         internal_forces(
             &self.bonds,
             self.law,
@@ -420,8 +441,20 @@ impl PdModel {
         (dead - self.cut) / 2
     }
 
-    /// Elastic bond energy (J) of the intact bonds at the current state.
+    /// Elastic energy (J) at the current state: of the intact bonds (PMB), or
+    /// $\sum_k V W_k$ with the history frozen (state-based).
     pub fn energy(&self) -> f64 {
+        if let Some(sb) = &self.osb {
+            return state_based::elastic_energy(
+                sb,
+                &self.bonds,
+                self.law,
+                &self.intact,
+                &self.s_hist,
+                &self.u,
+                self.grid.volume,
+            );
+        }
         elastic_energy(&self.bonds, &self.intact, &self.u, self.grid.volume)
     }
 
@@ -474,6 +507,9 @@ impl PdModel {
     /// Dense tangent `K = -dF/du` over all `2n` DOFs (DOF `2i + c`), force
     /// densities, history frozen. A testing aid for small models only.
     pub fn tangent_dense(&self) -> Vec<Vec<f64>> {
+        if let Some(r) = self.osb_rows(crate::forces::TangentKind::Consistent) {
+            return state_based::dense_tangent(&r);
+        }
         let n = self.n_nodes();
         let mut k = vec![vec![0.0; 2 * n]; 2 * n];
         for i in 0..n {

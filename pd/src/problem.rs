@@ -17,14 +17,30 @@ use crate::geometry::{dist_point_polygon_boundary, point_in_polygon, rotate, sig
 /// 3.2-5.3, seed 001 section 6, seed 002 section 3).
 pub const DEFAULT_HORIZON_FACTOR: f64 = 3.015;
 
-/// Plane stress or plane strain (selects the micromodulus, seed 002 Eq. 5).
+/// Plane stress or plane strain (selects the PMB micromodulus, seed 002 Eq. 5, or the
+/// state-based bulk modulus, [`crate::state_based::moduli`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
 pub enum Plane {
-    /// Plane stress: `c = 9E/(pi t delta^3)`, Poisson's ratio fixed at 1/3.
+    /// Plane stress: PMB `c = 9E/(pi t delta^3)`, Poisson's ratio fixed at 1/3.
     #[default]
     Stress,
-    /// Plane strain: `c = 48E/(5 pi t delta^3)`, Poisson's ratio fixed at 1/4.
+    /// Plane strain: PMB `c = 48E/(5 pi t delta^3)`, Poisson's ratio fixed at 1/4.
     Strain,
+}
+
+/// The constitutive model of the PD body.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, Default)]
+pub enum PdMaterial {
+    /// Bond-based prototype microelastic brittle model (seed 002 Eqs. 3-5): Poisson's
+    /// ratio fixed at 1/3 (plane stress) or 1/4 (plane strain).
+    #[default]
+    Pmb,
+    /// Ordinary state-based PD (seed 004 Eqs. 3-8, [`crate::state_based`]) with the
+    /// given Poisson's ratio, in (-1, 1/2).
+    StateBased {
+        /// Poisson's ratio nu (-).
+        poisson_ratio: f64,
+    },
 }
 
 /// A hole in the region (a free surface; no nodes inside).
@@ -259,10 +275,14 @@ pub struct PdProblem {
     /// Boundary conditions, applied in order (a later one overrides an
     /// earlier one on the same component).
     pub boundary: Vec<BoundaryCondition>,
-    /// Apply the Madenci-Oterkus energy surface correction; default false.
+    /// Apply the surface correction; default false. PMB: the Madenci-Oterkus energy
+    /// method ([`crate::surface`]); state-based: the fourth-moment fit of
+    /// [`crate::state_based`] (the node's energy density is the bulk one for every
+    /// homogeneous strain).
     pub surface_correction: bool,
     /// Stiffen the bonds around pre-crack faces by the energy-method factor of the bonds
-    /// the pre-cracks removed ([`crate::surface::apply_crack_face_correction`]); default
+    /// the pre-cracks removed ([`crate::surface::apply_crack_face_correction`]; the
+    /// state-based model fits the node's constants to its uncut family instead); default
     /// false.
     pub crack_face_correction: bool,
     /// Grid rotation (radians, counter-clockwise); default 0.
@@ -270,6 +290,8 @@ pub struct PdProblem {
     /// Grid origin (a cell corner); default: the lower-left corner of the
     /// outline's bounding box in the grid frame.
     pub grid_origin: Option<P2>,
+    /// Constitutive model; default [`PdMaterial::Pmb`].
+    pub material: PdMaterial,
 }
 
 impl Default for PdProblem {
@@ -288,6 +310,7 @@ impl Default for PdProblem {
             crack_face_correction: false,
             grid_angle: 0.0,
             grid_origin: None,
+            material: PdMaterial::Pmb,
         }
     }
 }
@@ -333,6 +356,14 @@ impl PdProblem {
         }
         positive("thickness", self.thickness)?;
         positive("youngs_modulus", self.youngs_modulus)?;
+        if let PdMaterial::StateBased { poisson_ratio: nu } = self.material {
+            if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
+                return Err(PdError::invalid(
+                    "material.poisson_ratio",
+                    format!("state-based PD needs a Poisson ratio in (-1, 0.5) (positive bulk and shear moduli), got {nu}"),
+                ));
+            }
+        }
         if !self.grid_angle.is_finite() {
             return Err(PdError::invalid("grid_angle", "must be finite"));
         }

@@ -59,7 +59,9 @@ pub use crack::{Crack, CrackForm, Faces};
 pub use error::{Issue, SceneError};
 pub use material::{Fracture, Material, Plane};
 pub use outputs::{Grid, Line, Outputs, PlotFormat};
-pub use pd::{AdrParams, Failure, ImplicitParams, PdSettings, PdSolver, SwitchingParams};
+pub use pd::{
+    AdrParams, Failure, ImplicitParams, PdModelKind, PdSettings, PdSolver, SwitchingParams,
+};
 pub use reference::Reference;
 
 /// One study: geometry, material, loading and the optional solver sections.
@@ -199,8 +201,25 @@ impl Scene {
     }
 
     /// Notes on fields the scene sets but no solver reads (no silent garbage):
-    /// `material.fracture.s0` (the PD failure law is `pd.failure`).
+    /// `material.fracture.s0` (the PD failure law is `pd.failure`), and `material.nu`
+    /// where the bond-based PD model (`pd.model: Pmb`) fixes its own.
     pub fn note_inert_fields(&mut self) {
+        if self
+            .pd
+            .as_ref()
+            .is_some_and(|p| p.model == PdModelKind::Pmb)
+        {
+            let (pmb_nu, label) = match self.material.plane {
+                Plane::Stress => (1.0 / 3.0, "1/3 in plane stress"),
+                Plane::Strain => (0.25, "1/4 in plane strain"),
+            };
+            let nu = self.material.nu;
+            if (nu - pmb_nu).abs() > 1e-6 {
+                self.notes.push(format!(
+                    "material.nu = {nu} is not the PD model's: bond-based PD (pd.model: Pmb) has nu = {label}, so the PD part runs with that ratio; pd.model: StateBased uses material.nu"
+                ));
+            }
+        }
         let s0 = self.material.fracture.as_ref().and_then(|f| f.s0);
         let failure = self.pd.as_ref().map(|p| &p.failure);
         if let Some(s0) = s0 {

@@ -20,6 +20,10 @@ pub struct PdSettings {
     /// `dx` or `nx`.
     #[serde(default)]
     pub nx: Option<usize>,
+    /// Constitutive model. Default `Pmb` (bond-based: nu is 1/3 in plane stress, 1/4 in
+    /// plane strain, whatever `material.nu` says).
+    #[serde(default)]
+    pub model: PdModelKind,
     /// Horizon factor m, delta = m dx, in [2, 6] (where the PD calibration holds). Default
     /// 3.015 (seed 000 section 3.2).
     #[serde(default = "default_horizon_factor")]
@@ -41,6 +45,17 @@ pub struct PdSettings {
     /// Names of scene cracks cut as pre-cracks. Default: all scene cracks.
     #[serde(default)]
     pub pre_cracks: Option<Vec<String>>,
+}
+
+/// PD constitutive model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum PdModelKind {
+    /// Bond-based prototype microelastic brittle model (seed 002 Eqs. 3-5): Poisson's
+    /// ratio 1/3 (plane stress) or 1/4 (plane strain).
+    #[default]
+    Pmb,
+    /// Ordinary state-based PD (seed 004 section 2.1) with `material.nu`.
+    StateBased,
 }
 
 /// PD solver choice.

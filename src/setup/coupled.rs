@@ -19,7 +19,7 @@ use pdbem_pd::solvers::{adr, implicit, Convergence};
 
 use super::bem::{face_mode, material};
 use super::sizing::Sizing;
-use super::{final_factor, pd_failure, pd_plane};
+use super::{final_factor, pd_failure, pd_material, pd_plane};
 use crate::scene::shapes::SceneGeometry;
 use crate::scene::{
     Component, Coupling, DisplacementMap, PdSettings as ScenePd, PdSolver, Placement, Relaxation,
@@ -273,6 +273,7 @@ pub fn pd_settings(scene: &Scene, pd: &ScenePd) -> Result<PdSettings> {
         youngs_modulus: scene.material.e,
         thickness: scene.material.thickness,
         plane: pd_plane(scene),
+        material: pd_material(scene, pd),
         failure: pd_failure(scene, pd)?,
         surface_correction: pd.surface_correction,
         // The surface correction already includes the bulk factor.

@@ -19,7 +19,7 @@
 //!   and bonds), computed from the same models before any solve ([`footprint::of`]).
 //!
 //! Shared conversions of scene enums to library ones live here: [`pd_failure`],
-//! [`pd_plane`].
+//! [`pd_material`], [`pd_plane`].
 
 pub mod balance;
 pub mod bem;
@@ -32,7 +32,7 @@ pub mod sizing;
 
 use anyhow::{Context, Result};
 
-use crate::scene::{Failure, PdSettings, Plane, Scene};
+use crate::scene::{Failure, PdModelKind, PdSettings, Plane, Scene};
 
 /// The PD failure law of a scene's `pd.failure` (`FromGc` takes `material.fracture.g_c`).
 pub fn pd_failure(scene: &Scene, pd: &PdSettings) -> Result<pdbem_pd::Failure> {
@@ -59,6 +59,16 @@ pub fn pd_failure(scene: &Scene, pd: &PdSettings) -> Result<pdbem_pd::Failure> {
             beta: *beta,
         },
     })
+}
+
+/// The PD constitutive model of a scene: PMB, or state-based PD with `material.nu`.
+pub fn pd_material(scene: &Scene, pd: &PdSettings) -> pdbem_pd::PdMaterial {
+    match pd.model {
+        PdModelKind::Pmb => pdbem_pd::PdMaterial::Pmb,
+        PdModelKind::StateBased => pdbem_pd::PdMaterial::StateBased {
+            poisson_ratio: scene.material.nu,
+        },
+    }
 }
 
 /// The PD plane condition of a scene's material.

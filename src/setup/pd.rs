@@ -3,7 +3,7 @@
 //! tractions as body forces one node column deep (seed 000 section 2.3), and two pins for
 //! pure-traction scenes. Full-PD growth builds its model here too.
 
-use super::{pd_failure, pd_plane};
+use super::{pd_failure, pd_material, pd_plane};
 use crate::scene::shapes::{HoleShape, SceneGeometry};
 use crate::scene::{Component, PdSettings as ScenePd, Scene};
 use anyhow::{bail, Context, Result};
@@ -376,6 +376,7 @@ fn labelled_problem_at(scene: &Scene, dx: f64) -> Result<(PdProblem, Vec<String>
         thickness: scene.material.thickness,
         youngs_modulus: scene.material.e,
         plane: pd_plane(scene),
+        material: pd_material(scene, pd),
         failure,
         cracks,
         boundary,

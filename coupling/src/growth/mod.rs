@@ -245,6 +245,7 @@ pub(crate) mod fixtures {
                 }),
                 surface_correction: false,
                 bulk_correction: false,
+                material: pdbem_pd::PdMaterial::Pmb,
                 crack_face_correction: false,
             },
         };

@@ -128,6 +128,7 @@ mod tests {
                 failure: pdbem_pd::Failure::None,
                 surface_correction: false,
                 bulk_correction: false,
+                material: pdbem_pd::PdMaterial::Pmb,
                 crack_face_correction: false,
             },
         };

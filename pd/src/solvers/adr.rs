@@ -141,18 +141,25 @@ impl Adr {
     pub fn new(model: &PdModel, safety: f64) -> Self {
         let n = model.n_nodes();
         let b = &model.bonds;
+        // The state-based model bounds its rows itself (its tangent is not bond by bond).
+        let rows = model.stiffness_row_sums();
         let mass = (0..n)
             .map(|i| {
                 // Group-ordered sum: mirror nodes get bitwise equal masses.
-                let [rx, ry] = group_sum(&b.meta, b.row(i), |bb| {
-                    let kl = b.k[bb] * b.inv_len[bb];
-                    let ex = b.xi[bb][0] * b.inv_len[bb];
-                    let ey = b.xi[bb][1] * b.inv_len[bb];
-                    [
-                        2.0 * kl * (ex * ex + (ex * ey).abs()),
-                        2.0 * kl * (ey * ey + (ex * ey).abs()),
-                    ]
-                });
+                let [rx, ry] = rows.as_ref().map_or_else(
+                    || {
+                        group_sum(&b.meta, b.row(i), |bb| {
+                            let kl = b.k[bb] * b.inv_len[bb];
+                            let ex = b.xi[bb][0] * b.inv_len[bb];
+                            let ey = b.xi[bb][1] * b.inv_len[bb];
+                            [
+                                2.0 * kl * (ex * ex + (ex * ey).abs()),
+                                2.0 * kl * (ey * ey + (ex * ey).abs()),
+                            ]
+                        })
+                    },
+                    |r| r[i],
+                );
                 (0.25 * safety * rx.max(ry)).max(f64::MIN_POSITIVE)
             })
             .collect();

@@ -17,7 +17,7 @@ use serde::{Deserialize, Serialize};
 
 use super::{norm2_free, residual_norms, Convergence, PhaseKind, SolveInfo, StepRecord};
 use crate::error::PdError;
-use crate::forces::History;
+use crate::forces::{History, TangentKind};
 use crate::geometry::P2;
 use crate::model::PdModel;
 use crate::tangent::{Factorization, Tangent};
@@ -64,7 +64,7 @@ pub struct Newton {
 impl Newton {
     /// Build the tangent pattern for `model`.
     pub fn new(model: &PdModel) -> Result<Self, PdError> {
-        let tangent = Tangent::new(&model.bonds, &model.bc.fixed)?;
+        let tangent = model.new_tangent()?;
         let nf = tangent.n_free;
         Ok(Newton {
             tangent,
@@ -111,13 +111,7 @@ impl Newton {
                 });
             }
             let ta = Instant::now();
-            self.tangent.assemble(
-                &model.bonds,
-                model.law,
-                &model.intact,
-                &model.s_hist,
-                &model.u,
-            );
+            model.assemble_tangent(&mut self.tangent, TangentKind::Consistent);
             let tf = Instant::now();
             info.time_assembly_s += (tf - ta).as_secs_f64();
             // Right-hand side: residual F + lambda b at the free DOFs.
@@ -223,17 +217,18 @@ impl Newton {
             return Ok(());
         }
         let ta = Instant::now();
-        self.tangent.assemble(
-            &model.bonds,
-            model.law,
-            &model.intact,
-            &model.s_hist,
-            &model.u,
-        );
+        model.assemble_tangent(&mut self.tangent, TangentKind::Consistent);
         info.time_assembly_s += ta.elapsed().as_secs_f64();
         self.rhs.iter_mut().for_each(|r| *r = 0.0);
         let b = &model.bonds;
-        for i in 0..model.n_nodes() {
+        let du: Vec<P2> = model
+            .bc
+            .base
+            .iter()
+            .map(|x| [dl * x[0], dl * x[1]])
+            .collect();
+        let osb = model.add_prescribed_coupling(&self.tangent.dof, &du, &mut self.rhs);
+        for i in (0..model.n_nodes()).filter(|_| !osb) {
             for bb in b.row(i) {
                 if model.intact[bb] == 0 {
                     continue;

@@ -9,10 +9,16 @@
 //! is computed once and reused for every Newton iteration. Values are
 //! filled in parallel, each node writing only its own columns.
 //!
+//! Tangents that are not a sum of bond blocks (the state-based model's) fill the same
+//! layout row by row on a node stencil ([`Tangent::from_stencil`]).
+//!
 //! Solve: sparse $LL^T$; if a pivot is not positive (compressed or softening
 //! bonds), sparse LU on the full matrix.
 
 mod cholesky;
+mod stencil;
+
+pub use stencil::Block;
 
 use faer::linalg::solvers::Solve;
 use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMat, Triplet};
@@ -55,6 +61,8 @@ pub struct Tangent {
     /// Fall back to sparse LU when Cholesky finds a non-positive pivot
     /// (default); otherwise that is a [`PdError::LinearSolve`] error.
     pub allow_lu: bool,
+    /// Node stencil `(offsets, nodes)` of a [`Tangent::from_stencil`] pattern.
+    stencil: Option<(Vec<usize>, Vec<u32>)>,
 }
 
 impl Tangent {
@@ -132,6 +140,7 @@ impl Tangent {
             values: vec![0.0; nnz],
             llt: None,
             allow_lu: true,
+            stencil: None,
         })
     }
 

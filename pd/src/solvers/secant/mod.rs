@@ -144,14 +144,7 @@ impl SecantSolver {
         info: &mut SolveInfo,
     ) -> Result<(), PdError> {
         let ta = Instant::now();
-        tangent.assemble_in(
-            &model.bonds,
-            model.law,
-            &model.intact,
-            &model.s_hist,
-            &model.u,
-            kind,
-        );
+        model.assemble_tangent(tangent, kind);
         let tf = Instant::now();
         info.time_assembly_s += (tf - ta).as_secs_f64();
         let res = tangent.factorize();

@@ -1,0 +1,264 @@
+//! The state-based force gather in two parallel passes over the nodes (no atomics):
+//!
+//! 1. per node $k$: each bond's stretch and failure factor $T$ (the same decisions as the
+//!    PMB pass [`crate::forces::internal_forces`]: break at `s0` or `s_c` in
+//!    [`History::Update`], `T(max(s, s_hist))`, `T(s_hist)` in [`History::Secant`]),
+//!    written in row $k$ only, and the dilatation $\theta_k = \sum_j \omega_{kj} T s V'_j$;
+//! 2. per node $k$: $F_k = \sum_j (\tau_{kj} + \tau_{jk})\, e_{kj} V'_j$ with
+//!    $\tau_{kj} = T(2a_k\omega_{kj}\theta_k/|\xi| + \beta_{kj} s)$ (module docs of
+//!    [`super`]), summed group by group in the mirror-symmetric order of [`crate::bonds`].
+//!
+//! Both directions of a bond see bitwise identical stretches, so they take the same
+//! decision and the same $T$.
+
+use rayon::prelude::*;
+
+use super::StateBased;
+use crate::bonds::{group_sum, Bonds};
+use crate::forces::{BondState, ForceStats, History, RowPtr, NO_FAIL};
+use crate::geometry::P2;
+use crate::material::{degradation, BondLaw};
+
+/// Stretch, current length and deformed bond vector of bond `b` of node `i`.
+#[inline(always)]
+pub(super) fn stretch(bonds: &Bonds, u: &[P2], i: usize, b: usize) -> (f64, f64, P2) {
+    let j = bonds.nbr[b] as usize;
+    let y = [
+        bonds.xi[b][0] + (u[j][0] - u[i][0]),
+        bonds.xi[b][1] + (u[j][1] - u[i][1]),
+    ];
+    let l = y[0].hypot(y[1]);
+    (l * bonds.inv_len[b] - 1.0, l, y)
+}
+
+/// Failure factor `T` of an intact bond of stretch `s` (updating its flags and history
+/// in [`History::Update`]), as in the PMB pass.
+#[inline(always)]
+fn factor(law: BondLaw, h: History, s: f64, ip: &mut u8, hp: &mut f64, st: &mut ForceStats) -> f64 {
+    match law {
+        BondLaw::Elastic => 1.0,
+        BondLaw::Brittle { s0 } => {
+            if s >= s0 && *ip != NO_FAIL {
+                st.growing += 1;
+                if h == History::Update {
+                    *ip = 0;
+                    st.newly_broken += 1;
+                    return 0.0;
+                }
+            }
+            1.0
+        }
+        BondLaw::Degrading { s_m, s_c, beta } => {
+            if *ip == NO_FAIL {
+                return 1.0;
+            }
+            let hv = *hp;
+            if s > s_m && s > hv {
+                st.growing += 1;
+                st.max_growth = st.max_growth.max(s - hv.max(s_m));
+                if h == History::Update {
+                    *hp = s;
+                    if s >= s_c {
+                        *ip = 0;
+                        st.newly_broken += 1;
+                        return 0.0;
+                    }
+                }
+            }
+            let arg = if h == History::Secant { hv } else { s.max(hv) };
+            degradation(arg, s_m, s_c, beta).0
+        }
+    }
+}
+
+/// Force density of every node into `out` (pass 1 fills `sb.theta` and `sb.tfac`).
+pub fn internal_forces(
+    sb: &mut StateBased,
+    bonds: &Bonds,
+    law: BondLaw,
+    state: BondState<'_>,
+    u: &[P2],
+    out: &mut [P2],
+    history: History,
+    volume: f64,
+) -> ForceStats {
+    let intact = RowPtr(state.intact.as_mut_ptr());
+    let s_hist = RowPtr(state.s_hist.as_mut_ptr());
+    let tfac = RowPtr(sb.tfac.as_mut_ptr());
+    let omega = &sb.omega;
+    let stats = sb
+        .theta
+        .par_iter_mut()
+        .enumerate()
+        .with_min_len(64)
+        .map(|(k, th)| {
+            let (ip, hp, tp) = (intact, s_hist, tfac);
+            let mut st = ForceStats::default();
+            let mut smax = f64::NEG_INFINITY;
+            let mut sum = 0.0;
+            for b in bonds.row(k) {
+                // SAFETY: node k touches only the bond slots of its own row.
+                let (flag, hist, t) =
+                    unsafe { (&mut *ip.0.add(b), &mut *hp.0.add(b), &mut *tp.0.add(b)) };
+                *t = 0.0;
+                if *flag == 0 {
+                    continue;
+                }
+                let (s, _, _) = stretch(bonds, u, k, b);
+                let f = factor(law, history, s, flag, hist, &mut st);
+                if f != 0.0 || *flag != 0 {
+                    smax = smax.max(s);
+                }
+                *t = f;
+                sum += omega[b] * f * s * bonds.vol_factor[b];
+            }
+            *th = sum * volume;
+            st.max_stretch = smax.max(0.0);
+            st
+        })
+        .reduce(ForceStats::default, merge);
+    let sb = &*sb;
+    out.par_iter_mut()
+        .enumerate()
+        .with_min_len(64)
+        .for_each(|(k, f)| {
+            *f = group_sum(&bonds.meta, bonds.row(k), |b| {
+                let t = sb.tfac[b];
+                if t == 0.0 {
+                    return [0.0; 2];
+                }
+                let (s, l, y) = stretch(bonds, u, k, b);
+                let c = t * volume * bonds.vol_factor[b] * pair_scalar(sb, bonds, k, b, s) / l;
+                [c * y[0], c * y[1]]
+            });
+        });
+    stats
+}
+
+/// $\tau_{kj} + \tau_{jk}$ per unit factor $T$ with the dilatations `th_k`, `th_j`:
+/// $2(a_k\omega_{kj}\theta_k + a_j\omega_{jk}\theta_j)/|\xi| + (\beta_{kj} + \beta_{jk}) s$.
+#[inline(always)]
+pub(super) fn pair_base(
+    sb: &StateBased,
+    bonds: &Bonds,
+    k: usize,
+    b: usize,
+    s: f64,
+    th_k: f64,
+    th_j: f64,
+) -> f64 {
+    let j = bonds.nbr[b] as usize;
+    let r = sb.rev[b] as usize;
+    2.0 * (sb.a[k] * sb.omega[b] * th_k + sb.a[j] * sb.omega[r] * th_j) * bonds.inv_len[b]
+        + (sb.beta[b] + sb.beta[r]) * s
+}
+
+#[inline(always)]
+fn pair_scalar(sb: &StateBased, bonds: &Bonds, k: usize, b: usize, s: f64) -> f64 {
+    let j = bonds.nbr[b] as usize;
+    pair_base(sb, bonds, k, b, s, sb.theta[k], sb.theta[j])
+}
+
+fn merge(a: ForceStats, b: ForceStats) -> ForceStats {
+    ForceStats {
+        max_stretch: a.max_stretch.max(b.max_stretch),
+        growing: a.growing + b.growing,
+        newly_broken: a.newly_broken + b.newly_broken,
+        max_growth: a.max_growth.max(b.max_growth),
+    }
+}
+
+/// Failure factor of bond `b` with the history frozen (`T(max(s, s_hist))`; 1 for
+/// elastic, brittle and no-fail bonds; 0 if broken).
+#[inline]
+pub(super) fn frozen_factor(law: BondLaw, intact: u8, s_hist: f64, s: f64) -> f64 {
+    if intact == 0 {
+        return 0.0;
+    }
+    match law {
+        BondLaw::Degrading { s_m, s_c, beta } if intact != NO_FAIL => {
+            degradation(s.max(s_hist), s_m, s_c, beta).0
+        }
+        _ => 1.0,
+    }
+}
+
+/// Dilatation of node `k` with the history frozen.
+pub(super) fn dilatation_at(
+    sb: &StateBased,
+    bonds: &Bonds,
+    law: BondLaw,
+    intact: &[u8],
+    s_hist: &[f64],
+    u: &[P2],
+    k: usize,
+    volume: f64,
+) -> f64 {
+    let mut sum = 0.0;
+    for b in bonds.row(k) {
+        if intact[b] == 0 {
+            continue;
+        }
+        let (s, _, _) = stretch(bonds, u, k, b);
+        sum += sb.omega[b] * frozen_factor(law, intact[b], s_hist[b], s) * s * bonds.vol_factor[b];
+    }
+    sum * volume
+}
+
+/// Force density (N/m^3) on node `i` from the pair of bond `b` ($i \to j$):
+/// $(t_{ij} - t_{ji}) V'_j$, history frozen, dilatations computed afresh at `u`. The
+/// coupling's interface forces read it bond by bond.
+#[allow(clippy::too_many_arguments)]
+pub fn pair_force(
+    sb: &StateBased,
+    bonds: &Bonds,
+    law: BondLaw,
+    intact: &[u8],
+    s_hist: &[f64],
+    u: &[P2],
+    i: usize,
+    b: usize,
+    volume: f64,
+) -> P2 {
+    let (s, l, y) = stretch(bonds, u, i, b);
+    let t = frozen_factor(law, intact[b], s_hist[b], s);
+    if t == 0.0 {
+        return [0.0; 2];
+    }
+    let j = bonds.nbr[b] as usize;
+    let th_i = dilatation_at(sb, bonds, law, intact, s_hist, u, i, volume);
+    let th_j = dilatation_at(sb, bonds, law, intact, s_hist, u, j, volume);
+    let phi = pair_base(sb, bonds, i, b, s, th_i, th_j);
+    let c = t * phi * bonds.vol_factor[b] * volume / l;
+    [c * y[0], c * y[1]]
+}
+
+/// Strain energy (J) $\sum_k V W_k$ at `u` with the history frozen (the elastic energy
+/// for frozen factors $T$).
+pub fn elastic_energy(
+    sb: &StateBased,
+    bonds: &Bonds,
+    law: BondLaw,
+    intact: &[u8],
+    s_hist: &[f64],
+    u: &[P2],
+    volume: f64,
+) -> f64 {
+    (0..u.len())
+        .into_par_iter()
+        .map(|k| {
+            let (mut sum_th, mut sum_dev) = (0.0, 0.0);
+            for b in bonds.row(k) {
+                if intact[b] == 0 {
+                    continue;
+                }
+                let (s, _, _) = stretch(bonds, u, k, b);
+                let t = frozen_factor(law, intact[b], s_hist[b], s);
+                let v = bonds.vol_factor[b] * volume;
+                sum_th += sb.omega[b] * t * s * v;
+                sum_dev += sb.beta[b] * t * s * s / bonds.inv_len[b] * v;
+            }
+            volume * (sb.a[k] * sum_th * sum_th + 0.5 * sum_dev)
+        })
+        .sum()
+}

@@ -1,0 +1,68 @@
+//! `pd.model: StateBased` in a stand-alone PD scene (src/run_pd.rs): a free plate under
+//! uniaxial tension with nu = 0.3 runs with the default solver (the explicit-implicit
+//! switch) and contracts laterally by nu; the same scene with the bond-based model gets
+//! a note that it ignores material.nu.
+
+use pdbem::scene::Scene;
+
+fn plate(model: &str) -> String {
+    format!(
+        r#"(name: "osb", material: (E: 2e11, nu: 0.3, plane: Stress),
+           body: (outline: Rectangle(x0: 0, y0: 0, width: 2, height: 1)),
+           boundary: [(on: "left", x: Traction(-1e6)), (on: "right", x: Traction(1e6))],
+           pd: (model: {model}, failure: Elastic, dx: 0.05, surface_correction: true))"#
+    )
+}
+
+#[test]
+fn state_based_plate_contracts_by_nu() {
+    let scene = Scene::from_ron_str(&plate("StateBased"), "osb.ron").unwrap();
+    assert!(scene.notes.is_empty(), "{:?}", scene.notes);
+    let (_, model) = pdbem::run_pd::solve(&scene).unwrap();
+    let (x, u) = (model.positions(), model.displacements());
+    // Strains from the displacement differences over the middle of the plate.
+    let near = |p: [f64; 2]| {
+        (0..model.n_real())
+            .min_by(|&a, &b| {
+                let d = |k: usize| (x[k][0] - p[0]).hypot(x[k][1] - p[1]);
+                d(a).total_cmp(&d(b))
+            })
+            .unwrap()
+    };
+    let (l, r, b, t) = (
+        near([0.7, 0.5]),
+        near([1.3, 0.5]),
+        near([1.0, 0.3]),
+        near([1.0, 0.7]),
+    );
+    let exx = (u[r][0] - u[l][0]) / (x[r][0] - x[l][0]);
+    let eyy = (u[t][1] - u[b][1]) / (x[t][1] - x[b][1]);
+    let (e, nu) = (1e6 / exx, -eyy / exx);
+    println!("E {e:.4e}, nu {nu:.4}");
+    // Measured: E = 1.988e11 (-0.59 %) and nu = 0.3027 (+0.9 %), 40 x 20 cells, strains
+    // from node pairs 0.6 m and 0.4 m apart.
+    assert!((e / 2e11 - 1.0).abs() < 0.01, "E {e}");
+    assert!((nu / 0.3 - 1.0).abs() < 0.02, "nu {nu}");
+}
+
+#[test]
+fn the_bond_based_model_notes_that_it_ignores_nu() {
+    let scene = Scene::from_ron_str(&plate("Pmb"), "pmb.ron").unwrap();
+    assert!(
+        scene
+            .notes
+            .iter()
+            .any(|n| n.contains("material.nu = 0.3") && n.contains("pd.model: StateBased")),
+        "{:?}",
+        scene.notes
+    );
+}
+
+#[test]
+fn an_unknown_model_is_refused_naming_the_field() {
+    let err = Scene::from_ron_str(&plate("Lps"), "lps.ron")
+        .unwrap_err()
+        .to_string();
+    println!("{err}");
+    assert!(err.contains("Lps") && err.contains("StateBased"), "{err}");
+}
