@@ -198,6 +198,8 @@ pub fn build_problem(
         crack_face_correction: s.crack_face_correction,
         grid_angle: w.spec.angle,
         grid_origin: Some(p2(w.corners()[0])),
+        // Windows carry no scene tractions (the BEM loads them by displacement).
+        traction: pdbem_pd::TractionLoad::BodyForceLayer,
     }
 }
 

@@ -8,12 +8,16 @@
 //!   layer's volume). A traction $t$ on an edge of length $L$ becomes the
 //!   total force $t L h$ ($h$ the thickness), spread over the layer.
 //!
+//! - Or, with [`PdProblem::traction`] = [`TractionLoad::TransferFunction`],
+//!   tractions through seed 001's transfer functions ([`crate::traction`]).
+//!
 //! Every base value is multiplied by the model's load factor.
 
 use crate::error::PdError;
 use crate::geometry::{dist_point_polyline, polyline_length, P2};
 use crate::grid::Grid;
 use crate::problem::{BoundaryCondition, Layer, PdProblem};
+use crate::traction::{self, TractionLoad};
 
 /// Boundary data per node.
 #[derive(Clone, Debug)]
@@ -35,6 +39,9 @@ pub fn resolve(p: &PdProblem, grid: &Grid) -> Result<Boundary, PdError> {
         base: vec![[0.0; 2]; n],
         body: vec![[0.0; 2]; n],
     };
+    let transfer = p.traction == TractionLoad::TransferFunction;
+    // Seed 001 Eq. 17, shared by every loaded edge.
+    let k_decay = traction::decay_k(traction::region_area(p), traction::loaded_length(p), delta);
     for (k, bc) in p.boundary.iter().enumerate() {
         match bc {
             BoundaryCondition::Displacement { on, ux, uy, layer } => {
@@ -71,7 +78,7 @@ pub fn resolve(p: &PdProblem, grid: &Grid) -> Result<Boundary, PdError> {
                 edge,
                 traction,
                 depth,
-            } => {
+            } if !transfer => {
                 let d = depth.unwrap_or(grid.dx) * (1.0 + 1e-9);
                 let sel: Vec<usize> = (0..grid.n_real)
                     .filter(|&i| dist_point_polyline(grid.pos[i], edge) <= d)
@@ -84,6 +91,19 @@ pub fn resolve(p: &PdProblem, grid: &Grid) -> Result<Boundary, PdError> {
                     grid.volume,
                     k,
                 )?;
+            }
+            BoundaryCondition::Traction {
+                edge,
+                traction,
+                depth,
+            } => {
+                if depth.is_some() {
+                    return Err(PdError::invalid(
+                        format!("boundary[{k}].depth"),
+                        "a layer depth applies to the body-force layer only: the transfer functions spread the traction over the horizon",
+                    ));
+                }
+                traction::spread(grid, edge, *traction, p.thickness, k_decay, &mut bd.body, k)?;
             }
         }
     }

@@ -7,6 +7,8 @@
 //! - [`grid`], [`bonds`], [`surface`], [`boundary`]: discretisation (regular
 //!   grid with fictitious layers, CSR bond families with partial volumes,
 //!   surface correction, boundary data).
+//! - [`traction`]: tractions on the boundary surface through seed 001's
+//!   transfer functions (the alternative to the body-force layer).
 //! - [`material`], [`forces`], [`damage`]: PMB micromodulus, critical stretch,
 //!   tanh degradation; parallel force gather; damage `phi`.
 //! - [`model`]: [`PdModel`], the state and the operations the solvers and the
@@ -44,8 +46,10 @@ pub mod problem;
 pub mod solvers;
 pub mod surface;
 pub mod tangent;
+pub mod traction;
 
 pub use error::PdError;
 pub use model::{ModelState, PdModel};
 pub use problem::{BoundaryCondition, Failure, Hole, Layer, PdProblem, Plane, Region, Selection};
 pub use solvers::{Convergence, SolveInfo};
+pub use traction::TractionLoad;

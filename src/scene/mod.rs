@@ -59,7 +59,9 @@ pub use crack::{Crack, CrackForm, Faces};
 pub use error::{Issue, SceneError};
 pub use material::{Fracture, Material, Plane};
 pub use outputs::{Grid, Line, Outputs, PlotFormat};
-pub use pd::{AdrParams, Failure, ImplicitParams, PdSettings, PdSolver, SwitchingParams};
+pub use pd::{
+    AdrParams, Failure, ImplicitParams, PdSettings, PdSolver, PdTraction, SwitchingParams,
+};
 pub use reference::Reference;
 
 /// One study: geometry, material, loading and the optional solver sections.
