@@ -120,6 +120,9 @@ pub fn solve(scene: &Scene) -> Result<(RunSummary, PdModel)> {
         summary
             .extra
             .insert("initiation_load_factor".into(), json!(init.initiation_load));
+        summary
+            .extra
+            .insert("unstable_growth".into(), json!(init.unstable));
         let kinks: Vec<Option<f64>> = tips
             .iter()
             .map(|t| kink_angle(&model, *t, delta, 4.0 * delta))
