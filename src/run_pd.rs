@@ -1,7 +1,8 @@
 //! Stand-alone PD solve of a scene (issue 3): grid the body, cut the pre-cracks, apply the
 //! scene's conditions (displacements on fictitious layers of depth delta, tractions as body
-//! forces in a boundary layer one node column deep, seed 000 section 2.3), solve with the scene's solver, and
-//! report (`mode: "pd"`).
+//! forces in a boundary layer one node column deep, seed 000 section 2.3, or through seed
+//! 001's transfer functions with `pd.traction: TransferFunction`), solve with the scene's
+//! solver, and report (`mode: "pd"`, `traction` names the choice).
 //!
 //! Three kinds of scene:
 //! - elastic (`failure: Elastic`): one equilibrium at the final load factor;
@@ -127,6 +128,9 @@ pub fn solve_recorded(scene: &Scene) -> Result<(RunSummary, PdModel, LoadDisplac
         summary
             .extra
             .insert("initiation_load_factor".into(), json!(init.initiation_load));
+        summary
+            .extra
+            .insert("unstable_growth".into(), json!(init.unstable));
         let kinks: Vec<Option<f64>> = tips
             .iter()
             .map(|t| kink_angle(&model, *t, delta, 4.0 * delta))
@@ -190,6 +194,7 @@ pub fn solve_recorded(scene: &Scene) -> Result<(RunSummary, PdModel, LoadDisplac
             json!(first_break.map(|f| f * scale)),
         );
     }
+    summary.extra.insert("traction".into(), json!(pd.traction));
     summary.extra.insert("nodes".into(), json!(model.n_real()));
     summary
         .extra

@@ -205,6 +205,8 @@ pub fn build_problem(
         grid_angle: w.spec.angle,
         grid_origin: Some(p2(w.corners()[0])),
         material: s.material,
+        // Windows carry no scene tractions (the BEM loads them by displacement).
+        traction: pdbem_pd::TractionLoad::BodyForceLayer,
     }
 }
 

@@ -8,12 +8,16 @@
 //!   layer's volume). A traction $t$ on an edge of length $L$ becomes the
 //!   total force $t L h$ ($h$ the thickness), spread over the layer.
 //!
+//! - Or, with [`PdProblem::traction`] = [`TractionLoad::TransferFunction`],
+//!   tractions through seed 001's transfer functions ([`crate::traction`]).
+//!
 //! Every base value is multiplied by the model's load factor.
 
 use crate::error::PdError;
 use crate::geometry::{dist_point_polyline, polyline_length, P2};
 use crate::grid::Grid;
 use crate::problem::{BoundaryCondition, Layer, PdProblem};
+use crate::traction::{self, TractionLoad};
 
 /// Boundary data per node.
 #[derive(Clone, Debug)]
@@ -40,8 +44,9 @@ pub struct BcGroup {
     /// it prescribes that no earlier condition prescribed (so that no reaction is
     /// counted twice). Empty for a load.
     pub claimed: Vec<[bool; 2]>,
-    /// Body force density of the load on each node at load factor 1 (N/m^3); zero for
-    /// a displacement condition.
+    /// Mean body force density of the load over `nodes` at load factor 1 (N/m^3), so
+    /// that the load's resultant is its node count times this times the node volume;
+    /// zero for a displacement condition.
     pub body: P2,
 }
 
@@ -56,6 +61,9 @@ pub fn resolve(p: &PdProblem, grid: &Grid) -> Result<Boundary, PdError> {
         groups: Vec::with_capacity(p.boundary.len()),
     };
     let mut held = vec![[false; 2]; n];
+    let transfer = p.traction == TractionLoad::TransferFunction;
+    // Seed 001 Eq. 17, shared by every loaded edge.
+    let k_decay = traction::decay_k(traction::region_area(p), traction::loaded_length(p), delta);
     for (k, bc) in p.boundary.iter().enumerate() {
         match bc {
             BoundaryCondition::Displacement { on, ux, uy, layer } => {
@@ -104,7 +112,7 @@ pub fn resolve(p: &PdProblem, grid: &Grid) -> Result<Boundary, PdError> {
                 edge,
                 traction,
                 depth,
-            } => {
+            } if !transfer => {
                 let d = depth.unwrap_or(grid.dx) * (1.0 + 1e-9);
                 let sel: Vec<usize> = (0..grid.n_real)
                     .filter(|&i| dist_point_polyline(grid.pos[i], edge) <= d)
@@ -117,6 +125,21 @@ pub fn resolve(p: &PdProblem, grid: &Grid) -> Result<Boundary, PdError> {
                     grid.volume,
                     k,
                 )?;
+            }
+            BoundaryCondition::Traction {
+                edge,
+                traction,
+                depth,
+            } => {
+                if depth.is_some() {
+                    return Err(PdError::invalid(
+                        format!("boundary[{k}].depth"),
+                        "a layer depth applies to the body-force layer only: the transfer functions spread the traction over the horizon",
+                    ));
+                }
+                let before = bd.body.clone();
+                traction::spread(grid, edge, *traction, p.thickness, k_decay, &mut bd.body, k)?;
+                bd.groups.push(transfer_group(&before, &bd.body));
             }
         }
     }
@@ -149,4 +172,24 @@ fn spread(
         body: b,
     });
     Ok(())
+}
+
+/// The group of a transfer-function traction: the nodes whose body force it changed
+/// and their mean added body force density (the spread itself varies with depth).
+fn transfer_group(before: &[P2], after: &[P2]) -> BcGroup {
+    let nodes: Vec<usize> = (0..after.len())
+        .filter(|&i| after[i] != before[i])
+        .collect();
+    let mut mean = [0.0; 2];
+    let n = nodes.len().max(1) as f64;
+    for &i in &nodes {
+        mean[0] += (after[i][0] - before[i][0]) / n;
+        mean[1] += (after[i][1] - before[i][1]) / n;
+    }
+    BcGroup {
+        fixed: [false; 2],
+        nodes,
+        claimed: Vec::new(),
+        body: mean,
+    }
 }

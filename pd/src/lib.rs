@@ -10,6 +10,8 @@
 //! - [`state_based`]: ordinary state-based PD (seed 004 section 2.1), any Poisson
 //!   ratio, chosen by [`PdProblem::material`]; the solvers call the model-agnostic
 //!   methods of [`PdModel`] (`new_tangent`, `assemble_tangent`, ...).
+//! - [`traction`]: tractions on the boundary surface through seed 001's
+//!   transfer functions (the alternative to the body-force layer).
 //! - [`material`], [`forces`], [`damage`]: PMB micromodulus, critical stretch,
 //!   tanh degradation; parallel force gather; damage `phi`.
 //! - [`model`]: [`PdModel`], the state and the operations the solvers and the
@@ -49,6 +51,7 @@ pub mod solvers;
 pub mod state_based;
 pub mod surface;
 pub mod tangent;
+pub mod traction;
 
 pub use error::PdError;
 pub use model::{ModelState, PdModel};
@@ -56,3 +59,4 @@ pub use problem::{
     BoundaryCondition, Failure, Hole, Layer, PdMaterial, PdProblem, Plane, Region, Selection,
 };
 pub use solvers::{Convergence, SolveInfo};
+pub use traction::TractionLoad;

@@ -50,7 +50,11 @@ pub fn crack_tips(line: &[P2], edge_start: bool) -> Vec<Tip> {
     tips
 }
 
-/// Largest extension (m) of the macro crack ahead of any of the tips.
+/// Largest extension (m) of the macro crack ahead of any of the tips. Each
+/// macro-cracked node counts for its nearest tip only: with several cracks,
+/// a node growing ahead of one crack would otherwise count, at the full
+/// distance between the cracks, for the tips of the others (two parallel
+/// cracks 25 mm apart "ran" at the first broken row).
 pub fn crack_extension(model: &PdModel, tips: &[Tip]) -> f64 {
     let phi = model.damage();
     let x = model.positions();
@@ -59,10 +63,14 @@ pub fn crack_extension(model: &PdModel, tips: &[Tip]) -> f64 {
         if phi[i] <= MACRO_CRACK_DAMAGE {
             continue;
         }
-        for t in tips {
+        let nearest = tips
+            .iter()
+            .map(|t| (t, (x[i][0] - t.at[0]).hypot(x[i][1] - t.at[1])))
+            .min_by(|a, b| a.1.total_cmp(&b.1));
+        if let Some((t, d)) = nearest {
             let r = [x[i][0] - t.at[0], x[i][1] - t.at[1]];
             if r[0] * t.dir[0] + r[1] * t.dir[1] > 0.0 {
-                ext = ext.max(r[0].hypot(r[1]));
+                ext = ext.max(d);
             }
         }
     }
@@ -134,6 +142,10 @@ pub struct Initiation {
     pub initiation_load: Option<f64>,
     /// Crack extension at the end (m).
     pub extension: f64,
+    /// The equilibrium was lost while bonds broke at the initiation load
+    /// (unstable growth under load control, e.g. the plate parted): the
+    /// ramp stopped there.
+    pub unstable: bool,
     /// Solver record (one step per equilibrium).
     pub info: SolveInfo,
 }
@@ -176,7 +188,17 @@ pub fn ramp_to_initiation(
     while lam <= p.max_load * (1.0 + 1e-12) {
         model.set_load_factor(lam);
         for _round in 0..p.max_rounds {
-            let (it, _) = newton.equilibrate(model, &ip, &mut out.info)?;
+            let it = match newton.equilibrate(model, &ip, &mut out.info) {
+                Ok((it, _)) => it,
+                // After bonds have broken, a lost equilibrium under load control is
+                // unstable growth: the crack ran at this load.
+                Err(_) if out.first_break_load.is_some() => {
+                    out.unstable = true;
+                    out.initiation_load.get_or_insert(lam);
+                    break;
+                }
+                Err(e) => return Err(e),
+            };
             out.info.iterations += it;
             let st = model.commit_history();
             if st.newly_broken > 0 && out.first_break_load.is_none() {

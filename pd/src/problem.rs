@@ -12,6 +12,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::PdError;
 use crate::geometry::{dist_point_polygon_boundary, point_in_polygon, rotate, signed_area, P2};
+use crate::traction::TractionLoad;
 
 /// Horizon factor `m = delta / dx` used by all seed papers (seed 000 sections
 /// 3.2-5.3, seed 001 section 6, seed 002 section 3).
@@ -275,6 +276,9 @@ pub struct PdProblem {
     /// Boundary conditions, applied in order (a later one overrides an
     /// earlier one on the same component).
     pub boundary: Vec<BoundaryCondition>,
+    /// How `Traction` conditions load the body: body-force layer (default) or
+    /// seed 001's transfer functions ([`crate::traction`]).
+    pub traction: TractionLoad,
     /// Apply the surface correction; default false. PMB: the Madenci-Oterkus energy
     /// method ([`crate::surface`]); state-based: the fourth-moment fit of
     /// [`crate::state_based`] (the node's energy density is the bulk one for every
@@ -306,6 +310,7 @@ impl Default for PdProblem {
             failure: Failure::None,
             cracks: Vec::new(),
             boundary: Vec::new(),
+            traction: TractionLoad::BodyForceLayer,
             surface_correction: false,
             crack_face_correction: false,
             grid_angle: 0.0,

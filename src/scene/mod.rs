@@ -60,7 +60,8 @@ pub use error::{Issue, SceneError};
 pub use material::{Fracture, Material, Plane};
 pub use outputs::{Grid, Line, Outputs, PlotFormat};
 pub use pd::{
-    AdrParams, Failure, ImplicitParams, PdModelKind, PdSettings, PdSolver, SwitchingParams,
+    AdrParams, Failure, ImplicitParams, PdModelKind, PdSettings, PdSolver, PdTraction,
+    SwitchingParams,
 };
 pub use reference::Reference;
 

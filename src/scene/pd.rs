@@ -45,6 +45,20 @@ pub struct PdSettings {
     /// Names of scene cracks cut as pre-cracks. Default: all scene cracks.
     #[serde(default)]
     pub pre_cracks: Option<Vec<String>>,
+    /// How the scene's tractions load the PD body. Default `BodyForceLayer`.
+    #[serde(default)]
+    pub traction: PdTraction,
+}
+
+/// How scene tractions enter stand-alone (and full-PD growth) PD models.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum PdTraction {
+    /// Body force in the node column next to the edge (seed 000 section 2.3).
+    #[default]
+    BodyForceLayer,
+    /// Seed 001's traction transfer functions (Eqs. 12, 16, 17, 23): the traction
+    /// is spread over the horizon with the weight q = 1 - r / (k delta).
+    TransferFunction,
 }
 
 /// PD constitutive model.

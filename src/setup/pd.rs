@@ -1,14 +1,15 @@
 //! From a scene to a stand-alone PD problem (issue 3): grid spacing, holes, pre-cracks
 //! carried through the boundary layer, displacement conditions on fictitious strips and
-//! tractions as body forces one node column deep (seed 000 section 2.3), and two pins for
+//! tractions as body forces one node column deep (seed 000 section 2.3) or through seed
+//! 001's transfer functions (`pd.traction`), and two pins for
 //! pure-traction scenes. Full-PD growth builds its model here too.
 
 use super::{pd_failure, pd_material, pd_plane};
 use crate::scene::shapes::{HoleShape, SceneGeometry};
-use crate::scene::{Component, PdSettings as ScenePd, Scene};
+use crate::scene::{Component, PdSettings as ScenePd, PdTraction, Scene};
 use anyhow::{bail, Context, Result};
 use pdbem_pd::problem::{BoundaryCondition as PdBc, Hole, Layer, Region, Selection};
-use pdbem_pd::PdProblem;
+use pdbem_pd::{PdProblem, TractionLoad};
 
 type P = [f64; 2];
 
@@ -330,11 +331,12 @@ fn labelled_problem_at(scene: &Scene, dx: f64) -> Result<(PdProblem, Vec<String>
             if t != [0.0, 0.0] {
                 // One node column deep (seed 000 section 2.3): a deeper layer moves the
                 // resultant inward (a cantilever tip load over delta deflects ~4 % less).
+                // The transfer functions spread over the horizon instead (seed 001).
                 labels.push(bc.on.clone());
                 boundary.push(PdBc::Traction {
                     edge: line.clone(),
                     traction: t,
-                    depth: Some(dx),
+                    depth: (pd.traction == PdTraction::BodyForceLayer).then_some(dx),
                 });
             }
         }
@@ -382,6 +384,10 @@ fn labelled_problem_at(scene: &Scene, dx: f64) -> Result<(PdProblem, Vec<String>
         boundary,
         surface_correction: pd.surface_correction,
         crack_face_correction: pd.crack_face_correction.unwrap_or(false),
+        traction: match pd.traction {
+            PdTraction::BodyForceLayer => TractionLoad::BodyForceLayer,
+            PdTraction::TransferFunction => TractionLoad::TransferFunction,
+        },
         ..Default::default()
     };
     Ok((problem, labels))

@@ -3,7 +3,7 @@
 use super::Checker;
 use crate::geometry::{bounding_box, direction, p2, point_in_polygon, P2};
 use crate::scene::shapes::outline_loop;
-use crate::scene::{Failure, GrowthMode, PdSolver, Placement, Relaxation, Scene};
+use crate::scene::{Failure, GrowthMode, PdSolver, PdTraction, Placement, Relaxation, Scene};
 
 /// Smallest horizon factor m = delta / dx where the PD calibration holds.
 pub const MIN_HORIZON_FACTOR: f64 = 2.0;
@@ -56,6 +56,16 @@ fn check_pd(c: &mut Checker, scene: &Scene, pd: &crate::scene::PdSettings) {
     }
     check_solver(c, &pd.solver);
     check_failure(c, scene, &pd.failure);
+    let full_pd = scene
+        .growth
+        .as_ref()
+        .is_some_and(|g| g.mode == GrowthMode::FullPd);
+    if pd.traction == PdTraction::TransferFunction && scene.coupling.is_some() && !full_pd {
+        c.fail_at(
+            "pd.traction",
+            "TransferFunction loads the scene's tractions on a stand-alone (or full-PD growth) PD body; PD-BEM windows take their loads from the BEM as displacements, so drop `coupling` or the field",
+        );
+    }
     if let Some(names) = &pd.pre_cracks {
         for (i, n) in names.iter().enumerate() {
             if !scene.cracks.iter().any(|cr| &cr.name == n) {
