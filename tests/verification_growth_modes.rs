@@ -423,7 +423,7 @@ fn snapshots_at_the_chosen_steps_in_every_mode() {
     let keys = snapshot_keys(&pdbem);
     assert!(keys.contains(&("displacement".into(), 0)), "{keys:?}");
     assert!(
-        keys.contains(&("damage_window0_step0".into(), 0)),
+        keys.contains(&("damage_window0_step000".into(), 0)),
         "{keys:?}"
     );
 }

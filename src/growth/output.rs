@@ -405,7 +405,7 @@ pub fn path_so_far(h: &GrowthHistory, s: &FieldSnapshot) -> (Vec<Polyline>, Vec<
 }
 
 /// What a snapshot shows, in words, with the 0-based load step of the file names and the
-/// CSVs: `damage_window0_step1_reloc7` is "damage in PD window 0, load step 1, before
+/// CSVs: `damage_window0_step001_reloc007` is "damage in PD window 0, load step 1, before
 /// window relocation 7" (the state that made the window move for the 7th time).
 fn snapshot_title(s: &FieldSnapshot) -> String {
     let (mut field, mut window, mut reloc, mut step) = (Vec::new(), None, None, s.step);
@@ -414,8 +414,11 @@ fn snapshot_title(s: &FieldSnapshot) -> String {
             window = Some(w.to_string());
         } else if let Some(k) = part.strip_prefix("step").and_then(|k| k.parse().ok()) {
             step = k;
-        } else if let Some(r) = part.strip_prefix("reloc") {
-            reloc = Some(r.to_string());
+        } else if let Some(r) = part
+            .strip_prefix("reloc")
+            .and_then(|r| r.parse::<usize>().ok())
+        {
+            reloc = Some(r);
         } else if part == "displacement" {
             field.push("|u|".to_string());
         } else {
@@ -494,7 +497,7 @@ mod tests {
             tips: Vec::new(),
         };
         assert_eq!(
-            snapshot_title(&snap("damage_window0_step1_reloc7", 1)),
+            snapshot_title(&snap("damage_window0_step001_reloc007", 1)),
             "damage in PD window 0, load step 1, before window relocation 7"
         );
         assert_eq!(snapshot_title(&snap("displacement", 0)), "|u|, load step 0");

@@ -13,8 +13,8 @@
 //! positions, logs every relocation (run log and `growth_log.jsonl`), and turns the result
 //! into a [`GrowthHistory`] ([`pdbem_coupling::growth::summary::history_of`]) with damage
 //! snapshots of the windows (just before each relocation, labels
-//! `damage_window<i>_step<k>_reloc<r>` with r counting relocations, since a load step can
-//! hold several; at the last step `damage_window<i>_step<k>`) and the displacement
+//! `damage_window<i>_step<kkk>_reloc<rrr>` (zero-padded, so the files sort in order) with r counting relocations, since a load step can
+//! hold several; at the last step `damage_window<i>_step<kkk>`) and the displacement
 //! magnitude over the PD nodes and BEM interior points at the last step (which needs the
 //! scene's geometry, so it stays here).
 
@@ -106,7 +106,7 @@ impl Observer for Progress<'_> {
 
     fn relocation(&mut self, r: &RelocationRecord) {
         // The damage snapshots taken just before this relocation show this tip.
-        let tag = format!("_reloc{}", self.relocations);
+        let tag = format!("_reloc{:03}", self.relocations);
         for snap in self.snapshots.iter_mut().rev() {
             if !snap.label.ends_with(&tag) {
                 break;
@@ -148,7 +148,7 @@ impl Observer for Progress<'_> {
 
     fn before_relocation(&mut self, step: usize, windows: &[WindowModel]) {
         self.relocations += 1;
-        let tag = format!("_reloc{}", self.relocations);
+        let tag = format!("_reloc{:03}", self.relocations);
         self.snapshots.extend(damage_snapshots(step, windows, &tag));
     }
 

@@ -122,19 +122,20 @@ impl ScatterField {
             mesh.x_labels(0).y_labels(0);
         }
         mesh.disable_mesh().draw().map_err(msg)?;
-        let r = if self.marker_px > 0 {
-            self.marker_px
+        let radii: Vec<u32> = if self.marker_px > 0 {
+            vec![self.marker_px; self.points.len()]
         } else {
-            auto_marker(self.points.len(), pw, ph)
+            auto_markers(&self.points, pw as f64 / (x1 - x0).max(1e-300))
         };
+        // Coarse points first, so a fine PD window over a coarse BEM grid stays on top.
+        let mut order: Vec<usize> = (0..self.points.len()).collect();
+        order.sort_by_key(|&i| std::cmp::Reverse(radii[i]));
         let scale = |v: f64| (v - vmin) / (vmax - vmin).max(1e-300);
         chart
-            .draw_series(
-                self.points
-                    .iter()
-                    .zip(&self.values)
-                    .map(|(p, v)| Circle::new(*p, r, viridis(scale(*v)).filled())),
-            )
+            .draw_series(order.iter().map(|&i| {
+                let c = viridis(scale(self.values[i])).filled();
+                Circle::new(self.points[i], radii[i], c)
+            }))
             .map_err(msg)?;
         let view = ((x0, y0), (x1, y1));
         for l in &self.loops {
@@ -255,10 +256,85 @@ fn caption_size(title: &str) -> u32 {
     (CAPTION_SIZE * 64 / n).clamp(16, CAPTION_SIZE)
 }
 
-/// Marker radius so that `n` points roughly tile a `w x h` area.
-fn auto_marker(n: usize, w: u32, h: u32) -> u32 {
-    let per = ((w as f64 * h as f64) / n.max(1) as f64).sqrt();
-    ((per * 0.5).round() as u32).clamp(1, 8)
+/// Marker radius (pixels) of every point from its local spacing: d1, the distance to its
+/// nearest neighbour, and d2, to the nearest one off that direction (the other side of a
+/// grid cell). Where the points are dense, the disc covers its cell (radius a little
+/// over half the cell's diagonal, at most 14 px), so a field reads as a field, not as a
+/// lattice of white dots; where they are sparse (a PD window of 20 x 20 nodes), each is
+/// a separate disc of 0.4 d1 (at most 12 px), so the nodes stay countable. Per point, so
+/// a fine PD window keeps its own size beside a coarse BEM grid. `px_per_unit` is the
+/// plot's scale.
+fn auto_markers(points: &[(f64, f64)], px_per_unit: f64) -> Vec<u32> {
+    local_spacings(points)
+        .into_iter()
+        .map(|d| match d {
+            Some((d1, d2)) => {
+                let cover = 0.51 * d1.hypot(d2) * px_per_unit;
+                let r = if cover <= 14.0 {
+                    cover
+                } else {
+                    (0.4 * d1 * px_per_unit).min(12.0)
+                };
+                r.round().max(1.0) as u32
+            }
+            None => 4,
+        })
+        .collect()
+}
+
+/// Per point, (d1, d2) of [`auto_markers`] (d2 = d1 when every neighbour lies along the
+/// first direction; None for a lone point).
+fn local_spacings(points: &[(f64, f64)]) -> Vec<Option<(f64, f64)>> {
+    let mut order: Vec<usize> = (0..points.len()).collect();
+    order.sort_by(|&a, &b| points[a].0.total_cmp(&points[b].0));
+    let first = |k: usize| nearest_in(points, &order, k, |_| true);
+    let mut out = vec![None; points.len()];
+    for (k, &i) in order.iter().enumerate() {
+        let Some((d1, v)) = first(k) else { continue };
+        // Off the first direction: more than 45 degrees from it, either way.
+        let off = |w: (f64, f64)| (w.0 * v.0 + w.1 * v.1).abs() < 0.7072 * d1 * w.0.hypot(w.1);
+        let d2 = nearest_in(points, &order, k, off).map_or(d1, |(d, _)| d);
+        out[i] = Some((d1, d2));
+    }
+    out
+}
+
+/// Nearest distinct neighbour of the point `order[k]` among those whose offset passes
+/// `keep`: distance and offset. Scans the x-sorted `order` outwards both ways until the
+/// x gap alone exceeds the best distance, or after 4096 points each way (the sizes of
+/// markers need no more, and points on one line would otherwise cost n^2).
+fn nearest_in(
+    points: &[(f64, f64)],
+    order: &[usize],
+    k: usize,
+    keep: impl Fn((f64, f64)) -> bool,
+) -> Option<(f64, (f64, f64))> {
+    let p = points[order[k]];
+    let mut best: Option<(f64, (f64, f64))> = None;
+    let mut visit = |j: usize| {
+        let q = points[order[j]];
+        let w = (q.0 - p.0, q.1 - p.1);
+        if best.is_some_and(|(d, _)| w.0.abs() > d) {
+            return false;
+        }
+        let d = w.0.hypot(w.1);
+        if d > 0.0 && keep(w) && best.is_none_or(|(b, _)| d < b) {
+            best = Some((d, w));
+        }
+        true
+    };
+    const REACH: usize = 4096;
+    for j in k + 1..order.len().min(k + 1 + REACH) {
+        if !visit(j) {
+            break;
+        }
+    }
+    for j in (k.saturating_sub(REACH)..k).rev() {
+        if !visit(j) {
+            break;
+        }
+    }
+    best
 }
 
 fn draw_colorbar<DB: DrawingBackend>(
@@ -329,5 +405,57 @@ mod clip_tests {
             ]
         );
         assert!(clip_polyline(&[(2.0, 2.0), (3.0, 3.0)], view).is_empty());
+    }
+}
+
+#[cfg(test)]
+mod marker_tests {
+    use super::{auto_markers, local_spacings};
+
+    /// A rectangular grid: d1 is the short side of its cell, d2 the long one; a lone
+    /// point has none; coincident points do not count as neighbours.
+    #[test]
+    fn local_spacings_of_a_grid_are_its_cell_sides() {
+        let mut pts: Vec<(f64, f64)> = Vec::new();
+        for i in 0..7 {
+            for j in 0..5 {
+                pts.push((0.3 * i as f64, 0.1 * j as f64));
+            }
+        }
+        for d in local_spacings(&pts) {
+            let (d1, d2) = d.unwrap();
+            assert!(
+                (d1 - 0.1).abs() < 1e-12 && (d2 - 0.3).abs() < 1e-12,
+                "{d1} {d2}"
+            );
+        }
+        assert_eq!(local_spacings(&[(1.0, 2.0)]), vec![None]);
+        let d = local_spacings(&[(0.0, 0.0), (0.0, 0.0), (0.0, 2.0)]);
+        assert_eq!(d, vec![Some((2.0, 2.0)); 3]);
+    }
+
+    /// A dense field covers its cells (radius over half the diagonal); a sparse grid
+    /// keeps separate discs; a fine patch keeps its own small size beside a coarse one.
+    #[test]
+    fn markers_cover_dense_fields_and_separate_sparse_nodes() {
+        let grid = |h: f64, x0: f64| {
+            let mut v = Vec::new();
+            for i in 0..4 {
+                for j in 0..4 {
+                    v.push((x0 + h * i as f64, h * j as f64));
+                }
+            }
+            v
+        };
+        // 10 px cells: radius 0.51 * 10 * sqrt(2) = 7.2 > 7.07, covers.
+        let dense = auto_markers(&grid(1.0, 0.0), 10.0);
+        assert!(dense.iter().all(|&r| r == 7), "{dense:?}");
+        // 30 px cells: separate discs of 0.4 * 30 = 12 px.
+        let sparse = auto_markers(&grid(1.0, 0.0), 30.0);
+        assert!(sparse.iter().all(|&r| r == 12), "{sparse:?}");
+        let mut mixed = grid(1.0, 0.0);
+        mixed.extend(grid(0.1, 100.0));
+        let r = auto_markers(&mixed, 10.0);
+        assert!(r[..16].iter().all(|&r| r == 7) && r[16..].iter().all(|&r| r == 1));
     }
 }

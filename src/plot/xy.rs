@@ -260,15 +260,18 @@ impl XyPlot {
                 let shape = marker_index;
                 marker_index += 1;
                 let ring = color.stroke_width(2);
+                let size = |r: i32| marker_size(r, pts.len());
                 let a = match shape % 4 {
-                    0 => chart.draw_series(pts.iter().map(|p| Circle::new(*p, 8, ring))),
-                    1 => chart.draw_series(pts.iter().map(|p| Circle::new(*p, 4, color.filled()))),
+                    0 => chart.draw_series(pts.iter().map(|p| Circle::new(*p, size(8), ring))),
+                    1 => chart
+                        .draw_series(pts.iter().map(|p| Circle::new(*p, size(4), color.filled()))),
                     2 => chart.draw_series(
                         pts.iter()
-                            .map(|p| TriangleMarker::new(*p, 7, color.filled())),
+                            .map(|p| TriangleMarker::new(*p, size(7), color.filled())),
                     ),
                     _ => chart.draw_series(pts.iter().map(|p| {
-                        EmptyElement::at(*p) + Rectangle::new([(-4, -4), (4, 4)], color.filled())
+                        let h = size(4);
+                        EmptyElement::at(*p) + Rectangle::new([(-h, -h), (h, h)], color.filled())
                     })),
                 }
                 .map_err(msg)?;
@@ -366,4 +369,15 @@ impl XyPlot {
         .min_by_key(|(_, n)| *n)
         .map_or(SeriesLabelPosition::UpperLeft, |(p, _)| p)
     }
+}
+
+/// Marker size (pixels) of a series of `n` points: `full` up to 40 points, smaller in
+/// proportion to 1/sqrt(n) beyond (at least 2 px), so a dense series (a load ramp of a
+/// hundred steps) reads as a curve of small marks, not a smear of rings.
+fn marker_size(full: i32, n: usize) -> i32 {
+    if n <= 40 {
+        return full;
+    }
+    let k = (40.0 / n as f64).sqrt().max(0.35);
+    ((full as f64 * k).round() as i32).max(2)
 }

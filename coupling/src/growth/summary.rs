@@ -16,7 +16,7 @@ use super::overstrain::Hotspot;
 use super::records::{GrowthResult, Scenario, StepResult};
 use crate::setup::WindowModel;
 
-/// Damage at the real nodes of every window (labels `damage_window<i>_step<k><tag>`).
+/// Damage at the real nodes of every window (labels `damage_window<i>_step<kkk><tag>`, the step zero-padded to 3 digits).
 pub fn damage_snapshots(step: usize, windows: &[WindowModel], tag: &str) -> Vec<FieldSnapshot> {
     windows
         .iter()
@@ -25,7 +25,7 @@ pub fn damage_snapshots(step: usize, windows: &[WindowModel], tag: &str) -> Vec<
             let n = w.model.n_real();
             FieldSnapshot {
                 step,
-                label: format!("damage_window{i}_step{step}{tag}"),
+                label: format!("damage_window{i}_step{step:03}{tag}"),
                 points: w.model.positions()[..n].to_vec(),
                 values: w.model.damage()[..n].to_vec(),
                 tips: Vec::new(),
