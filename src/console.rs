@@ -44,6 +44,9 @@ pub fn summary_lines(s: &RunSummary) -> Vec<String> {
     if s.mode == "growth" {
         out.extend(growth_lines(s));
     }
+    if s.mode == "pd" {
+        out.extend(pd_lines(s));
+    }
     out.extend(s.notes.iter().map(|n| format!("  note: {n}")));
     out
 }
@@ -73,6 +76,44 @@ fn describe_mode(s: &RunSummary) -> String {
         }
         other => other.to_string(),
     }
+}
+
+/// A stand-alone PD run's fracture result: first broken bond, crack initiation (Pa when
+/// the scene applies tractions, else the load factor), kink per tip.
+fn pd_lines(s: &RunSummary) -> Vec<String> {
+    let num = |k: &str| s.extra.get(k).and_then(Value::as_f64);
+    let unit = match s.extra.get("load_unit").and_then(Value::as_str) {
+        Some("Pa") => " Pa",
+        _ => " (load factor)",
+    };
+    let mut out = Vec::new();
+    if let Some(f) = num("first_break_load") {
+        out.push(format!("  first bonds broke at load {}{unit}", human(f, 4)));
+    }
+    if let Some(f) = num("initiation_load") {
+        let unstable = s.extra.get("unstable_growth").and_then(Value::as_bool);
+        let how = if unstable == Some(true) {
+            " (equilibrium lost: unstable growth)"
+        } else {
+            ""
+        };
+        out.push(format!(
+            "  crack initiation at load {}{unit}{how}",
+            human(f, 4)
+        ));
+    } else if s.extra.contains_key("initiation_load") {
+        out.push("  no crack initiation within the load ramp".into());
+    }
+    if let Some(Value::Array(k)) = s.extra.get("kink_deg_per_tip") {
+        let list: Vec<String> = k
+            .iter()
+            .map(|v| v.as_f64().map_or("-".into(), |d| human(d, 3)))
+            .collect();
+        if !list.is_empty() {
+            out.push(format!("  kink per tip: {} deg", list.join(", ")));
+        }
+    }
+    out
 }
 
 fn seconds(t: f64) -> String {
@@ -223,5 +264,21 @@ mod tests {
             "{text}"
         );
         assert!(!text.contains(" - elements"));
+        s.tips.clear();
+        s.extra.insert("first_break_load".into(), json!(13e6));
+        s.extra.insert("initiation_load".into(), json!(15e6));
+        s.extra.insert("load_unit".into(), json!("Pa"));
+        s.extra
+            .insert("kink_deg_per_tip".into(), json!([-46.27, null]));
+        let text = summary_lines(&s).join("\n");
+        assert!(
+            text.contains("  first bonds broke at load 1.3e7 Pa"),
+            "{text}"
+        );
+        assert!(
+            text.contains("  crack initiation at load 1.5e7 Pa"),
+            "{text}"
+        );
+        assert!(text.contains("  kink per tip: -46.3, - deg"), "{text}");
     }
 }

@@ -34,6 +34,12 @@ use pdbem_pd::PdModel;
 use serde_json::json;
 use std::time::Instant;
 
+/// `v` to 12 significant digits: a ramp's `start + k step` (14.999999999999993) written
+/// as the load it means (15).
+fn round12(v: f64) -> f64 {
+    format!("{v:.11e}").parse().unwrap_or(v)
+}
+
 /// Largest applied traction magnitude (Pa) at load factor 1.
 fn traction_scale(scene: &Scene) -> Option<f64> {
     scene
@@ -119,15 +125,16 @@ pub fn solve_recorded(scene: &Scene) -> Result<(RunSummary, PdModel, LoadDisplac
         let scale = traction_scale(scene).unwrap_or(1.0);
         summary.extra.insert(
             "first_break_load".into(),
-            json!(init.first_break_load.map(|f| f * scale)),
+            json!(init.first_break_load.map(|f| round12(f * scale))),
         );
         summary.extra.insert(
             "initiation_load".into(),
-            json!(init.initiation_load.map(|f| f * scale)),
+            json!(init.initiation_load.map(|f| round12(f * scale))),
         );
-        summary
-            .extra
-            .insert("initiation_load_factor".into(), json!(init.initiation_load));
+        summary.extra.insert(
+            "initiation_load_factor".into(),
+            json!(init.initiation_load.map(round12)),
+        );
         summary
             .extra
             .insert("unstable_growth".into(), json!(init.unstable));
@@ -191,9 +198,17 @@ pub fn solve_recorded(scene: &Scene) -> Result<(RunSummary, PdModel, LoadDisplac
         let scale = traction_scale(scene).unwrap_or(1.0);
         summary.extra.insert(
             "first_break_load".into(),
-            json!(first_break.map(|f| f * scale)),
+            json!(first_break.map(|f| round12(f * scale))),
         );
     }
+    // The unit of the loads above: the largest applied traction times the factor, or the
+    // factor alone when the scene applies no traction.
+    let unit = if traction_scale(scene).is_some() {
+        "Pa"
+    } else {
+        "-"
+    };
+    summary.extra.insert("load_unit".into(), json!(unit));
     summary.extra.insert("traction".into(), json!(pd.traction));
     summary.extra.insert("nodes".into(), json!(model.n_real()));
     summary
