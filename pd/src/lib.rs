@@ -25,6 +25,7 @@
 //! - [`measure`]: initiation load and kink angle from the damage field.
 //! - [`crack_path`]: tip tracking: the macro crack connected to an entry
 //!   point, its tip and smoothed path ([`crack_path::trace_crack`]).
+//! - [`edge_crack`]: seed 004's edge-crack plate (Table 2) and Irwin's opening.
 //! - [`cases`]: the seed cases as problem constructors (CLI tests, integration
 //!   tests, benchmarks).
 //! - `bench` (cargo feature `bench`): benchmarks for `pdbem bench pd` and the
@@ -38,6 +39,7 @@ pub mod breaking;
 pub mod cases;
 pub mod crack_path;
 pub mod damage;
+pub mod edge_crack;
 pub mod error;
 pub mod forces;
 pub mod geometry;
