@@ -10,6 +10,7 @@
 //! - [`state_based`]: ordinary state-based PD (seed 004 section 2.1), any Poisson
 //!   ratio, chosen by [`PdProblem::material`]; the solvers call the model-agnostic
 //!   methods of [`PdModel`] (`new_tangent`, `assemble_tangent`, ...).
+//! - [`refine`]: adaptive particle refinement on dual horizons (seed 004 section 3).
 //! - [`traction`]: tractions on the boundary surface through seed 001's
 //!   transfer functions (the alternative to the body-force layer).
 //! - [`material`], [`forces`], [`damage`]: PMB micromodulus, critical stretch,
@@ -49,6 +50,7 @@ pub mod measure;
 pub mod model;
 pub mod problem;
 pub mod reaction;
+pub mod refine;
 pub mod solvers;
 pub mod state_based;
 pub mod surface;
