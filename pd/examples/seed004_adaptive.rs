@@ -35,7 +35,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             },
         };
         let t = std::time::Instant::now();
-        let out = run(&p, &settings)?;
+        let out = run(&p, &settings, 1.0)?;
         let b = &out.body;
         let cod = mouth_opening(b.positions(), &b.u, HEIGHT).ok_or("no mouth particle")?;
         println!(

@@ -40,7 +40,7 @@ fn adaptive_opening_is_within_the_seeds_adaptive_error_of_irwin() {
     use pdbem_pd::refine::{run, Refinement};
     for r in [0.1, 0.3, 0.5] {
         let p = problem(1e-3, r, HEIGHT, TractionLoad::TransferFunction);
-        let out = run(&p, &Refinement::default()).expect("refined solve");
+        let out = run(&p, &Refinement::default(), 1.0).expect("refined solve");
         let b = &out.body;
         let split: usize = out.rounds.iter().map(|x| x.split).sum();
         let cod = mouth_opening(b.positions(), &b.u, HEIGHT).expect("mouth particles");

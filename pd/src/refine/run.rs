@@ -28,7 +28,7 @@ pub struct Round {
 /// The refined body at equilibrium and the record of its rounds.
 #[derive(Clone, Debug)]
 pub struct RefinedRun {
-    /// The body at load factor 1.
+    /// The body at the load factor of the run.
     pub body: Body,
     /// Round 0 (set-up refinement and the first solve), then the adaptive rounds.
     pub rounds: Vec<Round>,
@@ -56,8 +56,14 @@ pub fn flagged(body: &Body, r: &Refinement, with_regions: bool, with_strain: boo
         .collect()
 }
 
-/// Solve `p` with adaptive refinement `r` at load factor 1.
-pub fn run(p: &PdProblem, r: &Refinement) -> Result<RefinedRun, PdError> {
+/// Solve `p` with adaptive refinement `r` at load factor `load`.
+pub fn run(p: &PdProblem, r: &Refinement, load: f64) -> Result<RefinedRun, PdError> {
+    if !load.is_finite() {
+        return Err(PdError::invalid(
+            "load",
+            format!("must be finite, got {load}"),
+        ));
+    }
     r.validate()?;
     let mut body = Body::from_problem(p)?;
     if r.strain_factor.is_some() && body.critical_stretch(0).is_none() {
@@ -78,7 +84,7 @@ pub fn run(p: &PdProblem, r: &Refinement) -> Result<RefinedRun, PdError> {
     }
     let split_s = t.elapsed().as_secs_f64();
     let t = Instant::now();
-    let iterations = linear::solve(&mut body, 1.0, r.tolerance, MAX_CG)?;
+    let iterations = linear::solve(&mut body, load, r.tolerance, MAX_CG)?;
     let mut rounds = vec![Round {
         split,
         particles: body.len(),
@@ -95,7 +101,7 @@ pub fn run(p: &PdProblem, r: &Refinement) -> Result<RefinedRun, PdError> {
         let split = body.split(&f)?;
         let split_s = t.elapsed().as_secs_f64();
         let t = Instant::now();
-        let iterations = linear::solve(&mut body, 1.0, r.tolerance, MAX_CG)?;
+        let iterations = linear::solve(&mut body, load, r.tolerance, MAX_CG)?;
         rounds.push(Round {
             split,
             particles: body.len(),

@@ -241,11 +241,11 @@ fn validation_names_the_field() {
         strain_factor: Some(0.5),
         ..Default::default()
     };
-    let e = run(&square(Vec::new()), &r).unwrap_err().to_string();
+    let e = run(&square(Vec::new()), &r, 1.0).unwrap_err().to_string();
     assert!(e.contains("strain_factor"), "{e}");
     let mut p = square(Vec::new());
     p.material = PdMaterial::Pmb;
-    assert!(run(&p, &Refinement::default())
+    assert!(run(&p, &Refinement::default(), 1.0)
         .unwrap_err()
         .to_string()
         .contains("material"));
@@ -256,7 +256,7 @@ fn validation_names_the_field() {
         uy: None,
         layer: Layer::Fictitious,
     }];
-    assert!(run(&p, &Refinement::default())
+    assert!(run(&p, &Refinement::default(), 1.0)
         .unwrap_err()
         .to_string()
         .contains("boundary"));
