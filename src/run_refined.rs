@@ -41,6 +41,7 @@ pub fn settings(r: &PdRefinement, cracks: &[Vec<[f64; 2]>]) -> Refinement {
         max_level: r.max_level,
         max_rounds: 0,
         tolerance: r.tolerance,
+        keep_horizon: r.keep_horizon,
     }
 }
 

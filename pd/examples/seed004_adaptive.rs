@@ -1,6 +1,7 @@
 //! Seed 004 Table 2 with dual-horizon particles (`pdbem_pd::refine`): coarse (dx = 1 mm,
 //! no refinement), adaptive (dx = 1 mm, refined by Eq. 15 on the pre-crack, phi_c =
-//! 0.4, or a static region: the particles within `r` of the crack line and tip), fine
+//! 0.4, with `adaptive-keep` the children keep the parent's horizon as in the seed's
+//! Table 3, or a static region: the particles within `r` of the crack line and tip), fine
 //! (dx = 0.5 mm). Argument: `coarse`, `adaptive`, `region R` (m) or `fine`. Numbers in
 //! docs/seed004.md.
 //!
@@ -21,6 +22,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let p = problem(dx, r, HEIGHT, TractionLoad::TransferFunction);
         let settings = match mode {
             "adaptive" => Refinement::default(),
+            "adaptive-keep" => Refinement {
+                keep_horizon: true,
+                ..Default::default()
+            },
             "region" => Refinement {
                 critical_damage: None,
                 regions: vec![Selection::NearPolyline {

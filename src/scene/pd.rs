@@ -70,6 +70,9 @@ pub struct PdRefinement {
     pub max_level: u8,
     /// Relative residual of the conjugate-gradient solve, in (0, 1). Default 1e-10.
     pub tolerance: f64,
+    /// Children keep their parent's horizon (seed 004 Table 3, delta_2 = delta_1) instead
+    /// of halving it. Default false.
+    pub keep_horizon: bool,
 }
 
 impl Default for PdRefinement {
@@ -80,6 +83,7 @@ impl Default for PdRefinement {
             circles: Vec::new(),
             max_level: 1,
             tolerance: 1e-10,
+            keep_horizon: false,
         }
     }
 }

@@ -39,6 +39,9 @@ pub struct Body {
     pub moduli: (f64, f64),
     /// The failure law (for the critical stretch of Eq. 16).
     pub failure: Failure,
+    /// Children keep their parent's horizon (seed 004 Table 3, delta_2 = delta_1) instead
+    /// of halving it.
+    pub keep_horizon: bool,
 }
 
 impl Body {
@@ -96,6 +99,7 @@ impl Body {
             thickness: p.thickness,
             moduli: mods,
             failure: p.failure,
+            keep_horizon: false,
         })
     }
 

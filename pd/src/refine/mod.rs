@@ -22,7 +22,9 @@
 //! $\xi,\eta = \pm1$; the seed writes $\tfrac12\Delta_k$, which puts the children on
 //! the parent's cell corners; the quadrant centres are the placement that tiles the
 //! parent's cell with the children's. Mass and volume are $V_k/4$ (Eq. 30, $d_g = 1/4$),
-//! the spacing $\Delta_k/2$ and the horizon $\delta_k/2$; body-force density and
+//! the spacing $\Delta_k/2$ and the horizon $\delta_k/2$ (or $\delta_k$ with
+//! [`Refinement::keep_horizon`], the seed's Table 3; the families are then searched afresh,
+//! since a child's horizon reaches beyond its parent's family); body-force density and
 //! prescribed components are the parent's, so the load is conserved.
 //!
 //! **Neighbour lists** (Eqs. 20-23). A child's family is searched in its parent's family
@@ -77,6 +79,9 @@ pub struct Refinement {
     pub max_rounds: usize,
     /// Relative residual of the conjugate-gradient solve; default 1e-10.
     pub tolerance: f64,
+    /// Children keep their parent's horizon (seed 004 Table 3, delta_2 = delta_1) instead
+    /// of halving it (delta_2 = 0.5 delta_1, the default); default false.
+    pub keep_horizon: bool,
 }
 
 impl Default for Refinement {
@@ -88,6 +93,7 @@ impl Default for Refinement {
             max_level: 1,
             max_rounds: 10,
             tolerance: 1e-10,
+            keep_horizon: false,
         }
     }
 }

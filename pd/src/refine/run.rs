@@ -66,6 +66,7 @@ pub fn run(p: &PdProblem, r: &Refinement, load: f64) -> Result<RefinedRun, PdErr
     }
     r.validate()?;
     let mut body = Body::from_problem(p)?;
+    body.keep_horizon = r.keep_horizon;
     if r.strain_factor.is_some() && body.critical_stretch(0).is_none() {
         return Err(PdError::invalid(
             "refinement.strain_factor",

@@ -8,7 +8,7 @@ use rayon::prelude::*;
 use super::Body;
 use crate::error::PdError;
 use crate::geometry::{segment_crosses_crack, P2};
-use crate::state_based::dual_horizon::{bonds_from_rows, DualHorizon};
+use crate::state_based::dual_horizon::{bonds_from_rows, families, DualHorizon};
 
 /// Quadrant signs `(xi, eta)` of the four children.
 const SIGNS: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [-1.0, 1.0], [1.0, 1.0]];
@@ -70,9 +70,19 @@ impl Body {
             }
         }
         let volume: Vec<f64> = size.iter().map(|d| d * d * self.thickness).collect();
-        let delta: Vec<f64> = size.iter().map(|d| self.m * d).collect();
-        let rows = self.new_rows(&order, &fate, &ancestor, &pos, &delta);
-        let bonds = bonds_from_rows(&pos, &size, &volume, &delta, &rows);
+        let delta: Vec<f64> = if self.keep_horizon {
+            ancestor.iter().map(|&a| self.dh.delta[a]).collect()
+        } else {
+            size.iter().map(|d| self.m * d).collect()
+        };
+        // Children with their parent's horizon reach beyond the parent's family: a fresh
+        // search then (Eqs. 20-22 hold for the halved horizon).
+        let bonds = if self.keep_horizon {
+            families(&pos, &size, &volume, &delta)
+        } else {
+            let rows = self.new_rows(&order, &fate, &ancestor, &pos, &delta);
+            bonds_from_rows(&pos, &size, &volume, &delta, &rows)
+        };
         let intact = self.new_flags(&bonds, &ancestor, &pos, &size);
         let dh = DualHorizon::from_families(&pos, volume, delta, bonds, intact, self.moduli)
             .ok_or_else(|| {

@@ -132,27 +132,33 @@ fn children_take_the_parents_homogeneous_strain() {
     }
 }
 
+/// A refined disc (radius 4 spacings) in the patch under a homogeneous strain: the solved
+/// field against the exact one, children with halved horizons (measured 1.5e-2 of the
+/// largest displacement) and with their parent's (seed 004 Table 3; measured 2.3e-3).
 #[test]
 fn refined_patch_under_uniform_strain_keeps_the_uniform_field() {
-    let mut b = patch_body();
-    let centre: Vec<usize> = (0..b.len())
-        .filter(|&k| (b.dh.pos[k][0] - 12.0).hypot(b.dh.pos[k][1] - 12.0) < 4.0)
-        .collect();
-    b.split(&centre).unwrap();
-    b.u = vec![[0.0; 2]; b.len()];
-    linear::solve(&mut b, 1.0, 1e-12, 100_000).unwrap();
-    let umax =
-        b.dh.pos
-            .iter()
-            .map(|&p| exact(p)[0].hypot(exact(p)[1]))
-            .fold(0.0, f64::max);
-    let mut worst = 0.0f64;
-    for (k, &p) in b.dh.pos.iter().enumerate() {
-        let e = exact(p);
-        worst = worst.max((b.u[k][0] - e[0]).hypot(b.u[k][1] - e[1]) / umax);
+    for keep in [false, true] {
+        let mut b = patch_body();
+        b.keep_horizon = keep;
+        let centre: Vec<usize> = (0..b.len())
+            .filter(|&k| (b.dh.pos[k][0] - 12.0).hypot(b.dh.pos[k][1] - 12.0) < 4.0)
+            .collect();
+        b.split(&centre).unwrap();
+        b.u = vec![[0.0; 2]; b.len()];
+        linear::solve(&mut b, 1.0, 1e-12, 100_000).unwrap();
+        let umax =
+            b.dh.pos
+                .iter()
+                .map(|&p| exact(p)[0].hypot(exact(p)[1]))
+                .fold(0.0, f64::max);
+        let mut worst = 0.0f64;
+        for (k, &p) in b.dh.pos.iter().enumerate() {
+            let e = exact(p);
+            worst = worst.max((b.u[k][0] - e[0]).hypot(b.u[k][1] - e[1]) / umax);
+        }
+        eprintln!("refined patch (keep horizon {keep}): largest error {worst:.3e} of the largest displacement");
+        assert!(worst < 0.02, "{keep}: {worst}");
     }
-    eprintln!("refined patch: largest error {worst:.3e} of the largest displacement");
-    assert!(worst < 0.02, "{worst}");
 }
 
 #[test]
