@@ -31,6 +31,7 @@ pub mod refine;
 pub mod run_bem;
 pub mod run_coupled;
 pub mod run_pd;
+pub mod run_refined;
 pub mod runner;
 pub mod scene;
 pub mod setup;

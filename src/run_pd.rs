@@ -57,6 +57,9 @@ fn traction_scale(scene: &Scene) -> Option<f64> {
 /// Solves `scene` with peridynamics over the whole body and writes the node table and
 /// the damage and displacement plots through `ctx.writer`.
 pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
+    if scene.pd.as_ref().is_some_and(|pd| pd.refinement.is_some()) {
+        return crate::run_refined::run(scene, ctx);
+    }
     let t0 = Instant::now();
     ctx.log(&format!("{}: PD solve", scene.name));
     let (mut summary, model, ld) = solve_recorded(scene)?;
@@ -67,7 +70,9 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
         model.n_bonds() / 2,
         model.broken_bonds()
     ));
-    write_fields(scene, ctx, &model, &mut summary)?;
+    let n = model.n_real();
+    let (x, u, phi) = (model.positions(), model.displacements(), model.damage());
+    write_fields(scene, ctx, (&x[..n], &u[..n], &phi[..n]), &mut summary)?;
     crate::load_displacement::write(scene, ctx, &ld, &mut summary)?;
     summary.wall_time_s = t0.elapsed().as_secs_f64();
     Ok(summary)
@@ -87,6 +92,12 @@ pub fn solve_recorded(scene: &Scene) -> Result<(RunSummary, PdModel, LoadDisplac
     let (problem, labels) = labelled_problem_from_scene(scene)?;
     let mut model = PdModel::new(&problem).with_context(|| format!("{}: pd", file.display()))?;
     let pd = scene.pd.as_ref().context("no pd section")?;
+    if pd.refinement.is_some() {
+        anyhow::bail!(
+            "{}: pd.refinement runs through `pdbem run` (stand-alone PD), not this solver path",
+            file.display()
+        );
+    }
     let factors = scene.load.factors();
     let last = factors.last().copied().unwrap_or(1.0);
     let mut summary = RunSummary {
@@ -234,15 +245,15 @@ pub fn solve_recorded(scene: &Scene) -> Result<(RunSummary, PdModel, LoadDisplac
     Ok((summary, model, ld))
 }
 
-/// Node CSV and damage / displacement plots.
-fn write_fields(
+/// Node CSV and damage / displacement plots of the nodes at `x` with displacements `u`
+/// and damage `phi`.
+pub(crate) fn write_fields(
     scene: &Scene,
     ctx: &RunContext,
-    model: &PdModel,
+    (x, u, phi): (&[[f64; 2]], &[[f64; 2]], &[f64]),
     summary: &mut RunSummary,
 ) -> Result<()> {
-    let n = model.n_real();
-    let (x, u, phi) = (model.positions(), model.displacements(), model.damage());
+    let n = x.len();
     let mut t = CsvTable::new(&["x", "y", "ux", "uy", "damage"]);
     for i in 0..n {
         t.push(vec![

@@ -656,3 +656,48 @@ fn scene_file_that_does_not_exist() {
         .to_string()
         .contains("cases/does_not_exist.ron: cannot read scene"));
 }
+
+#[test]
+fn pd_refinement_rules() {
+    let ok = "pd: (dx: 0.5, model: StateBased, refinement: (near_cracks: 1, circles: [(centre: (3, 10), radius: 1)]))";
+    load(&base_with(ok)).expect("valid refinement");
+    assert_invalid(
+        &base_with("pd: (dx: 0.5, refinement: ())"),
+        "pd.refinement",
+        "model: StateBased",
+    );
+    assert_invalid(
+        &base_with(
+            "pd: (dx: 0.5, model: StateBased, failure: CriticalStretch(0.01), refinement: ())",
+        ),
+        "pd.refinement",
+        "failure: Elastic",
+    );
+    assert_invalid(
+        &base_with("pd: (dx: 0.5, model: StateBased, refinement: (critical_damage: 1.2))"),
+        "pd.refinement.critical_damage",
+        "(0, 1)",
+    );
+    assert_invalid(
+        &base_with("pd: (dx: 0.5, model: StateBased, refinement: (max_level: 0))"),
+        "pd.refinement.max_level",
+        "1 to 4",
+    );
+    assert_invalid(
+        &base_with("pd: (dx: 0.5, model: StateBased, refinement: (circles: [(centre: (3, 10), radius: 0)]))"),
+        "pd.refinement.circles.0.radius",
+        "radius must be > 0",
+    );
+    let displaced = r#"[(on: "top", y: Displacement(0.1)), (on: "bottom", y: Traction(-1))]"#;
+    assert_invalid(
+        &make(
+            MAT,
+            BODY,
+            CRACKS,
+            displaced,
+            "pd: (dx: 0.5, model: StateBased, refinement: ())",
+        ),
+        "pd.refinement",
+        "traction-loaded",
+    );
+}

@@ -10,6 +10,7 @@
 //! - [`state_based`]: ordinary state-based PD (seed 004 section 2.1), any Poisson
 //!   ratio, chosen by [`PdProblem::material`]; the solvers call the model-agnostic
 //!   methods of [`PdModel`] (`new_tangent`, `assemble_tangent`, ...).
+//! - [`refine`]: adaptive particle refinement on dual horizons (seed 004 section 3).
 //! - [`traction`]: tractions on the boundary surface through seed 001's
 //!   transfer functions (the alternative to the body-force layer).
 //! - [`material`], [`forces`], [`damage`]: PMB micromodulus, critical stretch,
@@ -25,6 +26,7 @@
 //! - [`measure`]: initiation load and kink angle from the damage field.
 //! - [`crack_path`]: tip tracking: the macro crack connected to an entry
 //!   point, its tip and smoothed path ([`crack_path::trace_crack`]).
+//! - [`edge_crack`]: seed 004's edge-crack plate (Table 2) and Irwin's opening.
 //! - [`cases`]: the seed cases as problem constructors (CLI tests, integration
 //!   tests, benchmarks).
 //! - `bench` (cargo feature `bench`): benchmarks for `pdbem bench pd` and the
@@ -38,6 +40,7 @@ pub mod breaking;
 pub mod cases;
 pub mod crack_path;
 pub mod damage;
+pub mod edge_crack;
 pub mod error;
 pub mod forces;
 pub mod geometry;
@@ -47,6 +50,7 @@ pub mod measure;
 pub mod model;
 pub mod problem;
 pub mod reaction;
+pub mod refine;
 pub mod solvers;
 pub mod state_based;
 pub mod surface;

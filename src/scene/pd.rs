@@ -48,6 +48,54 @@ pub struct PdSettings {
     /// How the scene's tractions load the PD body. Default `BodyForceLayer`.
     #[serde(default)]
     pub traction: PdTraction,
+    /// Adaptive particle refinement on dual horizons (seed 004 section 3), stand-alone
+    /// state-based PD only. Default: none (a uniform grid).
+    #[serde(default)]
+    pub refinement: Option<PdRefinement>,
+}
+
+/// Adaptive particle refinement (seed 004 section 3, `pdbem_pd::refine`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct PdRefinement {
+    /// Critical damage phi_c of seed 004 Eq. 15 in (0, 1), `None` for no damage
+    /// criterion. Default 0.4 (the seed's).
+    pub critical_damage: Option<f64>,
+    /// Static criterion: refine the particles within this distance (m) of the pre-cracks
+    /// (tips included) before the solve. Default none.
+    pub near_cracks: Option<f64>,
+    /// Static criterion: refine the particles in these circles before the solve.
+    pub circles: Vec<RefineCircle>,
+    /// Deepest refinement level, 1 to 4 (each level halves the spacing). Default 1.
+    pub max_level: u8,
+    /// Relative residual of the conjugate-gradient solve, in (0, 1). Default 1e-10.
+    pub tolerance: f64,
+    /// Children keep their parent's horizon (seed 004 Table 3, delta_2 = delta_1) instead
+    /// of halving it. Default false.
+    pub keep_horizon: bool,
+}
+
+impl Default for PdRefinement {
+    fn default() -> Self {
+        PdRefinement {
+            critical_damage: Some(0.4),
+            near_cracks: None,
+            circles: Vec::new(),
+            max_level: 1,
+            tolerance: 1e-10,
+            keep_horizon: false,
+        }
+    }
+}
+
+/// A circle of particles to refine before the solve.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RefineCircle {
+    /// Centre (x, y) (m).
+    pub centre: (f64, f64),
+    /// Radius (m), > 0.
+    pub radius: f64,
 }
 
 /// How scene tractions enter stand-alone (and full-PD growth) PD models.

@@ -29,8 +29,13 @@
 //! a passed patch test: the odd moments of a family or dual horizon that mixes sizes do
 //! not vanish.
 //!
-//! Scope: forces, energy and the patch test; the particles are not yet a
-//! [`crate::PdModel`] (no solvers, boundary conditions, damage or scenes).
+//! Bonds carry a flag (`intact`: cut by a pre-crack or broken); a particle whose fitted
+//! weights are not all positive (a corner, a crack mouth) takes the scalar weights of its
+//! own sums ($\omega = 2/S_0$, $\beta = 8\mu/S_1$) so that the energy stays positive.
+//!
+//! Scope: forces, energy, the patch test and [`crate::refine`] (linear solves, adaptive
+//! refinement); the particles are not a [`crate::PdModel`] (not in the ADR, Newton or
+//! switching solvers, no bond breaking during a solve).
 
 use rayon::prelude::*;
 
@@ -58,8 +63,11 @@ pub struct DualHorizon {
     pub omega: Vec<f64>,
     /// Deviatoric weights `beta_b`.
     pub beta: Vec<f64>,
-    /// `a = (kappa - 2 mu) / 2` (Pa).
-    pub a: f64,
+    /// Dilatational coefficient `a_k` of every particle (Pa): `(kappa - 2 mu) / 2` times
+    /// the intact fraction of its family.
+    pub a: Vec<f64>,
+    /// Bond flags: 1 intact, 0 cut or broken (seed 004 Eq. 10's `mu_kj`).
+    pub intact: Vec<u8>,
 }
 
 impl DualHorizon {
@@ -76,18 +84,41 @@ impl DualHorizon {
         youngs_modulus: f64,
         nu: f64,
     ) -> Option<Self> {
-        let n = pos.len();
         let volume: Vec<f64> = dx.iter().map(|d| d * d * h).collect();
         let delta: Vec<f64> = dx.iter().map(|d| m * d).collect();
         let bonds = families(pos, dx, &volume, &delta);
-        let (kappa, mu) = super::moduli(plane, youngs_modulus, nu);
+        let intact = vec![1u8; bonds.len()];
+        let moduli = super::moduli(plane, youngs_modulus, nu);
+        Self::from_families(pos, volume, delta, bonds, intact, moduli)
+    }
+
+    /// The body of the given families (`bonds`, `vol_factor` = `V'_kj`) and bond flags
+    /// (`intact[b] = 0`: cut by a pre-crack or broken) for the 2-D moduli
+    /// `(kappa, mu)`. The deviatoric weights are fitted on the whole family (the outline's
+    /// truncation corrected, cut bonds dropping out of the energy as in
+    /// [`super::StateBased`] without crack-face correction), the dilatation weights on the
+    /// intact bonds (exact dilatation of every homogeneous strain over them), and
+    /// $a_k = a\,S_{0,k}^{intact}/S_{0,k}$. `None` when a family does not determine its
+    /// constants.
+    pub fn from_families(
+        pos: &[P2],
+        volume: Vec<f64>,
+        delta: Vec<f64>,
+        bonds: Bonds,
+        intact: Vec<u8>,
+        (kappa, mu): (f64, f64),
+    ) -> Option<Self> {
+        let n = pos.len();
         let nb = bonds.len();
         let (mut omega, mut beta) = (vec![0.0; nb], vec![0.0; nb]);
+        let mut a = vec![0.0; n];
         let target = [3.0 * mu, 0.0, mu, 0.0, 3.0 * mu];
         for k in 0..n {
             let mo = moments(&bonds, k, 1.0, |_| true);
-            let bt = dilatation_tensor(mo.m)?;
+            let kept = moments(&bonds, k, 1.0, |b| intact[b] != 0);
             let c = deviatoric_weights(mo.h, target)?;
+            let bt = dilatation_tensor(kept.m).or_else(|| dilatation_tensor(mo.m))?;
+            a[k] = 0.5 * (kappa - 2.0 * mu) * kept.s0 / mo.s0;
             for b in bonds.row(k) {
                 let l = 1.0 / bonds.inv_len[b];
                 let (nx, ny) = (bonds.xi[b][0] / l, bonds.xi[b][1] / l);
@@ -95,6 +126,17 @@ impl DualHorizon {
                 beta[b] = (0..5)
                     .map(|p| c[p] * nx.powi(4 - p as i32) * ny.powi(p as i32))
                     .sum();
+            }
+            // A family too lopsided for positive weights (a corner, a crack mouth) takes
+            // the scalar ones of its own sums, which keep the energy positive:
+            // omega = 2 / S_0 (intact), beta = 8 mu / S_1.
+            let row = bonds.row(k);
+            if beta[row.clone()].iter().any(|&w| w <= 0.0) {
+                let s1 = mo.f[0] + 2.0 * mo.f[2] + mo.f[4];
+                beta[row.clone()].fill(8.0 * mu / s1);
+            }
+            if omega[row.clone()].iter().any(|&w| w <= 0.0) && kept.s0 > 0.0 {
+                omega[row].fill(2.0 / kept.s0);
             }
         }
         let mut count = vec![0usize; n + 1];
@@ -119,12 +161,19 @@ impl DualHorizon {
             dual,
             omega,
             beta,
-            a: 0.5 * (kappa - 2.0 * mu),
+            a,
+            intact,
         })
     }
 
+    /// Failure factor of bond `b` (1 intact, 0 cut).
+    #[inline]
+    fn t(&self, b: usize) -> f64 {
+        f64::from(self.intact[b])
+    }
+
     /// The owner of every bond (the `k` of `k -> j`).
-    fn owners(&self) -> Vec<u32> {
+    pub fn owners(&self) -> Vec<u32> {
         let mut o = vec![0u32; self.bonds.len()];
         for k in 0..self.pos.len() {
             for b in self.bonds.row(k) {
@@ -152,7 +201,12 @@ impl DualHorizon {
             .map(|k| {
                 self.bonds
                     .row(k)
-                    .map(|b| self.omega[b] * self.stretch(u, k, b).0 * self.bonds.vol_factor[b])
+                    .map(|b| {
+                        self.t(b)
+                            * self.omega[b]
+                            * self.stretch(u, k, b).0
+                            * self.bonds.vol_factor[b]
+                    })
                     .sum()
             })
             .collect()
@@ -168,8 +222,9 @@ impl DualHorizon {
             .map(|b| {
                 let k = owner[b] as usize;
                 let (s, l, _) = self.stretch(u, k, b);
-                let tau = 2.0 * self.a * self.omega[b] * theta[k] * self.bonds.inv_len[b]
-                    + self.beta[b] * s;
+                let tau = self.t(b)
+                    * (2.0 * self.a[k] * self.omega[b] * theta[k] * self.bonds.inv_len[b]
+                        + self.beta[b] * s);
                 tau * self.volume[k] * self.bonds.vol_factor[b] / l
             })
             .collect();
@@ -201,11 +256,11 @@ impl DualHorizon {
                 let (mut th, mut dev) = (0.0, 0.0);
                 for b in self.bonds.row(k) {
                     let (s, _, _) = self.stretch(u, k, b);
-                    let v = self.bonds.vol_factor[b];
+                    let v = self.t(b) * self.bonds.vol_factor[b];
                     th += self.omega[b] * s * v;
                     dev += self.beta[b] * s * s / self.bonds.inv_len[b] * v;
                 }
-                self.volume[k] * (self.a * th * th + 0.5 * dev)
+                self.volume[k] * (self.a[k] * th * th + 0.5 * dev)
             })
             .sum()
     }
@@ -214,7 +269,7 @@ impl DualHorizon {
 /// Families `H_k = {j : |x_j - x_k| <= delta_k}` by a cell list of cell size max delta,
 /// with `vol_factor = v_kj V_j` (partial volume of `j`'s cell of side `dx_j`, seed 002
 /// Eq. 16 with `j`'s spacing and `k`'s horizon).
-fn families(pos: &[P2], dx: &[f64], volume: &[f64], delta: &[f64]) -> Bonds {
+pub fn families(pos: &[P2], dx: &[f64], volume: &[f64], delta: &[f64]) -> Bonds {
     use std::collections::HashMap;
     let cell = delta.iter().fold(0.0f64, |a, &b| a.max(b));
     let key = |p: P2| ((p[0] / cell).floor() as i64, (p[1] / cell).floor() as i64);
@@ -245,6 +300,18 @@ fn families(pos: &[P2], dx: &[f64], volume: &[f64], delta: &[f64]) -> Bonds {
             row
         })
         .collect();
+    bonds_from_rows(pos, dx, volume, delta, &rows)
+}
+
+/// The CSR families of the neighbour lists `rows` (sorted), with `vol_factor = v_kj V_j`
+/// (partial volume of `j`'s cell of side `dx_j` in `k`'s horizon).
+pub fn bonds_from_rows(
+    pos: &[P2],
+    dx: &[f64],
+    volume: &[f64],
+    delta: &[f64],
+    rows: &[Vec<u32>],
+) -> Bonds {
     let mut b = Bonds {
         offsets: vec![0],
         ..Default::default()

@@ -66,6 +66,9 @@ fn check_pd(c: &mut Checker, scene: &Scene, pd: &crate::scene::PdSettings) {
             "TransferFunction loads the scene's tractions on a stand-alone (or full-PD growth) PD body; PD-BEM windows take their loads from the BEM as displacements, so drop `coupling` or the field",
         );
     }
+    if let Some(r) = &pd.refinement {
+        check_refinement(c, scene, pd, r);
+    }
     if let Some(names) = &pd.pre_cracks {
         for (i, n) in names.iter().enumerate() {
             if !scene.cracks.iter().any(|cr| &cr.name == n) {
@@ -76,6 +79,83 @@ fn check_pd(c: &mut Checker, scene: &Scene, pd: &crate::scene::PdSettings) {
                 );
             }
         }
+    }
+}
+
+/// `pd.refinement`: stand-alone, elastic, state-based, traction-loaded (the refined
+/// particles hold no fictitious layer), and its numbers in range.
+fn check_refinement(
+    c: &mut Checker,
+    scene: &Scene,
+    pd: &crate::scene::PdSettings,
+    r: &crate::scene::PdRefinement,
+) {
+    if scene.coupling.is_some() || scene.growth.is_some() {
+        c.fail_at(
+            "pd.refinement",
+            "refinement runs in stand-alone PD only (not in PD-BEM windows or growth): drop `coupling`/`growth` or the field",
+        );
+    }
+    if pd.model != crate::scene::PdModelKind::StateBased {
+        c.fail_at(
+            "pd.refinement",
+            "refinement needs `model: StateBased` (dual-horizon state-based particles, seed 004)",
+        );
+    }
+    if pd.failure != Failure::Elastic {
+        c.fail_at(
+            "pd.refinement",
+            "refinement solves elastic equilibrium (no bond breaking): use `failure: Elastic`",
+        );
+    }
+    let displaced = scene.boundary.iter().any(|b| {
+        [b.x, b.y]
+            .iter()
+            .any(|v| matches!(v, crate::scene::Component::Displacement(_)))
+    });
+    if displaced {
+        c.fail_at(
+            "pd.refinement",
+            "refinement takes traction-loaded bodies only (prescribed displacements need fictitious layers the refined particles do not have)",
+        );
+    }
+    if let Some(phi) = r.critical_damage {
+        if c.finite("pd.refinement.critical_damage", phi) && !(phi > 0.0 && phi < 1.0) {
+            c.fail(
+                "pd.refinement.critical_damage",
+                phi,
+                "phi_c must lie in (0, 1)",
+            );
+        }
+    }
+    if let Some(d) = r.near_cracks {
+        c.positive(
+            "pd.refinement.near_cracks",
+            d,
+            "distance from the pre-cracks",
+        );
+    }
+    for (i, circle) in r.circles.iter().enumerate() {
+        c.finite(
+            &format!("pd.refinement.circles.{i}.centre"),
+            circle.centre.0,
+        );
+        c.finite(
+            &format!("pd.refinement.circles.{i}.centre"),
+            circle.centre.1,
+        );
+        c.positive(
+            &format!("pd.refinement.circles.{i}.radius"),
+            circle.radius,
+            "radius",
+        );
+    }
+    if !(1..=4).contains(&r.max_level) {
+        c.fail("pd.refinement.max_level", r.max_level, "must be 1 to 4");
+    }
+    if c.finite("pd.refinement.tolerance", r.tolerance) && !(r.tolerance > 0.0 && r.tolerance < 1.0)
+    {
+        c.fail("pd.refinement.tolerance", r.tolerance, "must lie in (0, 1)");
     }
 }
 

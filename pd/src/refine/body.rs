@@ -1,0 +1,208 @@
+//! The refinable body: dual-horizon particles with their sizes, levels, displacements,
+//! loads and pre-cracks, built from a [`PdProblem`]'s grid and boundary conditions.
+
+use rayon::prelude::*;
+
+use crate::bonds::{cut_cracks, Bonds};
+use crate::boundary::resolve;
+use crate::error::PdError;
+use crate::geometry::P2;
+use crate::grid::{build_grid, Grid};
+use crate::problem::{Failure, PdMaterial, PdProblem};
+use crate::state_based::dual_horizon::{families, DualHorizon};
+use crate::state_based::{critical_stretch, moduli};
+
+/// Dual-horizon particles of several sizes with their state and loads.
+#[derive(Clone, Debug)]
+pub struct Body {
+    /// Families, constants and reference positions.
+    pub dh: DualHorizon,
+    /// Particle side `Delta_k` (m).
+    pub size: Vec<f64>,
+    /// Refinement level (0: a base grid particle).
+    pub level: Vec<u8>,
+    /// Displacements (m).
+    pub u: Vec<P2>,
+    /// Prescribed components.
+    pub fixed: Vec<[bool; 2]>,
+    /// Prescribed displacement (m) of the fixed components.
+    pub base: Vec<P2>,
+    /// Body-force density (N/m^3).
+    pub body: Vec<P2>,
+    /// Pre-crack polylines.
+    pub cracks: Vec<Vec<P2>>,
+    /// Horizon factor `m = delta / Delta`.
+    pub m: f64,
+    /// Thickness (m).
+    pub thickness: f64,
+    /// 2-D bulk and shear moduli (Pa).
+    pub moduli: (f64, f64),
+    /// The failure law (for the critical stretch of Eq. 16).
+    pub failure: Failure,
+    /// Children keep their parent's horizon (seed 004 Table 3, delta_2 = delta_1) instead
+    /// of halving it.
+    pub keep_horizon: bool,
+}
+
+impl Body {
+    /// The particles of `p`'s grid (one per real node), its loads at load factor 1 and its
+    /// pre-cracks. Needs the state-based material and no fictitious layer (displacements
+    /// on `Layer::Real` nodes only).
+    pub fn from_problem(p: &PdProblem) -> Result<Self, PdError> {
+        p.validate()?;
+        let PdMaterial::StateBased { poisson_ratio } = p.material else {
+            return Err(PdError::invalid(
+                "material",
+                "refinement needs the state-based model (dual horizons of seed 004)",
+            ));
+        };
+        let grid = build_grid(p)?;
+        if grid.len() > grid.n_real {
+            return Err(PdError::invalid(
+                "boundary",
+                "refinement supports displacements on real nodes only (layer: Real), not fictitious layers",
+            ));
+        }
+        let bc = resolve(p, &grid)?;
+        let n = grid.n_real;
+        let size = vec![grid.dx; n];
+        let volume = vec![grid.volume; n];
+        let delta = vec![grid.delta; n];
+        let bonds = families(&grid.pos, &size, &volume, &delta);
+        let intact = pre_cut(&grid, &bonds, &p.cracks);
+        let mods = moduli(p.plane, p.youngs_modulus, poisson_ratio);
+        let dh = DualHorizon::from_families(&grid.pos, volume, delta, bonds, intact, mods)
+            .ok_or_else(|| {
+                PdError::invalid("dx", "a particle family does not determine its constants")
+            })?;
+        let base = (0..n)
+            .map(|i| {
+                let mut b = [0.0; 2];
+                for c in 0..2 {
+                    if bc.fixed[i][c] {
+                        b[c] = bc.base[i][c];
+                    }
+                }
+                b
+            })
+            .collect::<Vec<P2>>();
+        Ok(Body {
+            dh,
+            size,
+            level: vec![0; n],
+            u: base.clone(),
+            fixed: bc.fixed[..n].to_vec(),
+            base,
+            body: bc.body[..n].to_vec(),
+            cracks: p.cracks.clone(),
+            m: p.horizon_factor,
+            thickness: p.thickness,
+            moduli: mods,
+            failure: p.failure,
+            keep_horizon: false,
+        })
+    }
+
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.size.len()
+    }
+
+    /// Whether there is no particle.
+    pub fn is_empty(&self) -> bool {
+        self.size.is_empty()
+    }
+
+    /// Reference positions (m).
+    pub fn positions(&self) -> &[P2] {
+        &self.dh.pos
+    }
+
+    /// Total volume (m^3).
+    pub fn total_volume(&self) -> f64 {
+        self.dh.volume.iter().sum()
+    }
+
+    /// Total applied force (N): body-force density times volume.
+    pub fn total_load(&self) -> P2 {
+        let mut f = [0.0; 2];
+        for (b, v) in self.body.iter().zip(&self.dh.volume) {
+            f[0] += b[0] * v;
+            f[1] += b[1] * v;
+        }
+        f
+    }
+
+    /// Critical stretch of particle `k`'s bonds from the failure law (`None` without one).
+    pub fn critical_stretch(&self, k: usize) -> Option<f64> {
+        match self.failure {
+            Failure::None => None,
+            Failure::CriticalStretch { s0 } => Some(s0),
+            Failure::FractureEnergy { g_c } => Some(critical_stretch(
+                self.moduli.0,
+                self.moduli.1,
+                g_c,
+                self.dh.delta[k],
+            )),
+            Failure::Degradation { s_c, .. } => Some(s_c),
+        }
+    }
+
+    /// Damage of every particle over its horizon and dual horizon (seed 004 Eq. 14).
+    pub fn damage(&self) -> Vec<f64> {
+        let dh = &self.dh;
+        let vol = &dh.volume;
+        let owner = dh.owners();
+        (0..self.len())
+            .into_par_iter()
+            .map(|k| {
+                let (mut kept, mut all) = (0.0, 0.0);
+                for b in dh.bonds.row(k) {
+                    let v = vol[dh.bonds.nbr[b] as usize];
+                    all += v;
+                    kept += f64::from(dh.intact[b]) * v;
+                }
+                for &b in &dh.dual[dh.dual_offsets[k]..dh.dual_offsets[k + 1]] {
+                    let v = vol[owner[b as usize] as usize];
+                    all += v;
+                    kept += f64::from(dh.intact[b as usize]) * v;
+                }
+                if all > 0.0 {
+                    1.0 - kept / all
+                } else {
+                    0.0
+                }
+            })
+            .collect()
+    }
+
+    /// Accumulated strains `(eps_xx, eps_yy)` of every particle (seed 004 Eq. 17 in the
+    /// bond-projected reading of the module docs).
+    pub fn accumulated_strain(&self) -> Vec<P2> {
+        let dh = &self.dh;
+        let u = &self.u;
+        (0..self.len())
+            .into_par_iter()
+            .map(|k| {
+                let (mut num, mut den) = ([0.0; 2], [0.0; 2]);
+                for b in dh.bonds.row(k).filter(|&b| dh.intact[b] != 0) {
+                    let j = dh.bonds.nbr[b] as usize;
+                    let xi = dh.bonds.xi[b];
+                    let w = dh.volume[j] * dh.bonds.inv_len[b] * dh.bonds.inv_len[b];
+                    for c in 0..2 {
+                        num[c] += w * (u[j][c] - u[k][c]) * xi[c];
+                        den[c] += w * xi[c] * xi[c];
+                    }
+                }
+                std::array::from_fn(|c| if den[c] > 0.0 { num[c] / den[c] } else { 0.0 })
+            })
+            .collect()
+    }
+}
+
+/// Bond flags of `bonds` over the grid with the pre-cracks cut (0 = cut).
+fn pre_cut(grid: &Grid, bonds: &Bonds, cracks: &[Vec<P2>]) -> Vec<u8> {
+    let mut intact = vec![1u8; bonds.len()];
+    cut_cracks(grid, bonds, cracks, &mut intact);
+    intact
+}

@@ -1,0 +1,227 @@
+//! Splitting parents into four children (seed 004 Eqs. 18-19, 30) and the neighbour
+//! lists of the refined body from the old ones (Eqs. 20-23), see [`super`].
+
+use std::collections::HashMap;
+
+use rayon::prelude::*;
+
+use super::Body;
+use crate::error::PdError;
+use crate::geometry::{segment_crosses_crack, P2};
+use crate::state_based::dual_horizon::{bonds_from_rows, families, DualHorizon};
+
+/// Quadrant signs `(xi, eta)` of the four children.
+const SIGNS: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [-1.0, 1.0], [1.0, 1.0]];
+
+/// Where every old particle went: kept at a new index, or split into four.
+enum Fate {
+    Kept(u32),
+    Split(u32),
+}
+
+impl Body {
+    /// Split the particles `parents` (old indices; repeats ignored) into four children
+    /// each. Kept particles come first in their old order, then the children, four per
+    /// parent in the order of `parents`. Returns the number of particles split.
+    pub fn split(&mut self, parents: &[usize]) -> Result<usize, PdError> {
+        let n = self.len();
+        let mut is_parent = vec![false; n];
+        let mut order = Vec::new();
+        for &k in parents {
+            if k < n && !is_parent[k] {
+                is_parent[k] = true;
+                order.push(k);
+            }
+        }
+        if order.is_empty() {
+            return Ok(0);
+        }
+        let eps = self.accumulated_strain();
+        let kept = n - order.len();
+        let mut fate: Vec<Fate> = Vec::with_capacity(n);
+        let mut next = 0u32;
+        for &p in &is_parent {
+            fate.push(if p {
+                Fate::Split(0)
+            } else {
+                next += 1;
+                Fate::Kept(next - 1)
+            });
+        }
+        for (c, &k) in order.iter().enumerate() {
+            fate[k] = Fate::Split((kept + 4 * c) as u32);
+        }
+        // Old index of every new particle's ancestor (itself when kept).
+        let mut ancestor: Vec<usize> = (0..n).filter(|&i| !is_parent[i]).collect();
+        let mut pos: Vec<P2> = ancestor.iter().map(|&i| self.dh.pos[i]).collect();
+        let mut size: Vec<f64> = ancestor.iter().map(|&i| self.size[i]).collect();
+        let mut u: Vec<P2> = ancestor.iter().map(|&i| self.u[i]).collect();
+        for &k in &order {
+            let (x, d, e) = (self.dh.pos[k], self.size[k], eps[k]);
+            for s in SIGNS {
+                ancestor.push(k);
+                pos.push([x[0] + 0.25 * d * s[0], x[1] + 0.25 * d * s[1]]);
+                size.push(0.5 * d);
+                // Eqs. 18-19: y_c - x_c = u_k + eps_ii * offset_i.
+                u.push([
+                    self.u[k][0] + e[0] * 0.25 * d * s[0],
+                    self.u[k][1] + e[1] * 0.25 * d * s[1],
+                ]);
+            }
+        }
+        let volume: Vec<f64> = size.iter().map(|d| d * d * self.thickness).collect();
+        let delta: Vec<f64> = if self.keep_horizon {
+            ancestor.iter().map(|&a| self.dh.delta[a]).collect()
+        } else {
+            size.iter().map(|d| self.m * d).collect()
+        };
+        // Children with their parent's horizon reach beyond the parent's family: a fresh
+        // search then (Eqs. 20-22 hold for the halved horizon).
+        let bonds = if self.keep_horizon {
+            families(&pos, &size, &volume, &delta)
+        } else {
+            let rows = self.new_rows(&order, &fate, &ancestor, &pos, &delta);
+            bonds_from_rows(&pos, &size, &volume, &delta, &rows)
+        };
+        let intact = self.new_flags(&bonds, &ancestor, &pos, &size);
+        let dh = DualHorizon::from_families(&pos, volume, delta, bonds, intact, self.moduli)
+            .ok_or_else(|| {
+                PdError::invalid(
+                    "refinement",
+                    "a refined particle's family does not determine its constants",
+                )
+            })?;
+        self.fixed = ancestor.iter().map(|&a| self.fixed[a]).collect();
+        self.base = ancestor.iter().map(|&a| self.base[a]).collect();
+        self.body = ancestor.iter().map(|&a| self.body[a]).collect();
+        self.level = ancestor
+            .iter()
+            .enumerate()
+            .map(|(i, &a)| self.level[a] + u8::from(i >= kept))
+            .collect();
+        for (i, ui) in u.iter_mut().enumerate() {
+            for c in 0..2 {
+                if self.fixed[i][c] {
+                    ui[c] = self.base[i][c];
+                }
+            }
+        }
+        self.u = u;
+        self.size = size;
+        self.dh = dh;
+        Ok(order.len())
+    }
+
+    /// Neighbour lists of the refined body (new indices, sorted), from the old families
+    /// (Eqs. 20-23, module docs of [`super`]).
+    fn new_rows(
+        &self,
+        order: &[usize],
+        fate: &[Fate],
+        ancestor: &[usize],
+        pos: &[P2],
+        delta: &[f64],
+    ) -> Vec<Vec<u32>> {
+        let old = &self.dh;
+        // Split parents by cell, cell size the largest reach delta + Delta / sqrt 2.
+        let reach_max = delta.iter().fold(0.0f64, |a, &b| a.max(b))
+            + order.iter().map(|&k| self.size[k]).fold(0.0, f64::max) / 2f64.sqrt();
+        let key = |p: P2| {
+            (
+                (p[0] / reach_max).floor() as i64,
+                (p[1] / reach_max).floor() as i64,
+            )
+        };
+        let mut cells: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
+        for &k in order {
+            cells.entry(key(old.pos[k])).or_default().push(k);
+        }
+        (0..pos.len())
+            .into_par_iter()
+            .map(|i| {
+                let a = ancestor[i];
+                let x = pos[i];
+                let r2 = (delta[i] * (1.0 + 1e-9)).powi(2);
+                let near = |q: P2| {
+                    let d = [q[0] - x[0], q[1] - x[1]];
+                    d[0] * d[0] + d[1] * d[1] <= r2
+                };
+                let mut row = Vec::new();
+                // Kept members of the ancestor's family (Eqs. 20, 22 for a child).
+                for b in old.bonds.row(a) {
+                    let j = old.bonds.nbr[b] as usize;
+                    if let Fate::Kept(jn) = fate[j] {
+                        if jn as usize != i && near(pos[jn as usize]) {
+                            row.push(jn);
+                        }
+                    }
+                }
+                // Children of split parents within reach (siblings included).
+                let (cx, cy) = key(x);
+                for gx in cx - 1..=cx + 1 {
+                    for gy in cy - 1..=cy + 1 {
+                        for &k in cells.get(&(gx, gy)).map_or(&[][..], |v| v.as_slice()) {
+                            let Fate::Split(first) = fate[k] else {
+                                continue;
+                            };
+                            for c in first..first + 4 {
+                                if c as usize != i && near(pos[c as usize]) {
+                                    row.push(c);
+                                }
+                            }
+                        }
+                    }
+                }
+                row.sort_unstable();
+                row.dedup();
+                row
+            })
+            .collect()
+    }
+
+    /// Flags of the new bonds: cut where a bond crosses a pre-crack or where the old bond
+    /// between the two ancestors was broken.
+    fn new_flags(
+        &self,
+        bonds: &crate::bonds::Bonds,
+        anc: &[usize],
+        pos: &[P2],
+        size: &[f64],
+    ) -> Vec<u8> {
+        let old = &self.dh;
+        let mut flags = vec![1u8; bonds.len()];
+        let owner_of: Vec<usize> = {
+            let mut o = vec![0usize; bonds.len()];
+            for i in 0..pos.len() {
+                for b in bonds.row(i) {
+                    o[b] = i;
+                }
+            }
+            o
+        };
+        flags.par_iter_mut().enumerate().for_each(|(b, f)| {
+            let i = owner_of[b];
+            let j = bonds.nbr[b] as usize;
+            let tol = 1e-6 * size[i].min(size[j]);
+            if self
+                .cracks
+                .iter()
+                .any(|c| segment_crosses_crack(pos[i], pos[j], c, tol))
+            {
+                *f = 0;
+                return;
+            }
+            let (ai, aj) = (anc[i], anc[j]);
+            if ai != aj {
+                if let Some(ob) = old
+                    .bonds
+                    .row(ai)
+                    .find(|&ob| old.bonds.nbr[ob] as usize == aj)
+                {
+                    *f = old.intact[ob];
+                }
+            }
+        });
+        flags
+    }
+}
