@@ -36,12 +36,14 @@ pub mod post;
 pub mod relaxation;
 pub mod setup;
 pub mod spectrum;
+pub mod traction_window;
 pub mod window;
 
 pub use error::CouplingError;
 pub use iteration::{
     interface_map, solve, solve_prepared, Acceleration, CoupledProblem, CoupledSolution,
-    CouplingInfo, CouplingParams, PdSolve, PreparedBem, StaggeredParams, StepOptions, Timings,
+    CouplingInfo, CouplingParams, Ordering, PdSolve, PreparedBem, StaggeredParams, StepOptions,
+    Timings,
 };
 pub use maps::{DisplacementMap, TractionMap};
 pub use setup::{build, Built, Layout, MacroCrack, WindowModel};

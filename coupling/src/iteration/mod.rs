@@ -48,11 +48,12 @@ mod algorithm;
 mod evaluate;
 mod params;
 mod prepared;
+mod traction;
 mod window_solve;
 
 pub use algorithm::solve_prepared;
 pub use evaluate::interface_map;
-pub use params::{Acceleration, CouplingParams, PdSolve, StaggeredParams};
+pub use params::{Acceleration, CouplingParams, Ordering, PdSolve, StaggeredParams};
 pub use prepared::PreparedBem;
 pub use window_solve::{solve_window, solve_window_at};
 
@@ -162,7 +163,7 @@ pub fn solve(
     params: &CouplingParams,
 ) -> Result<(CoupledSolution, CouplingInfo), CouplingError> {
     let t0 = Instant::now();
-    let bem = PreparedBem::new(problem)?;
+    let bem = PreparedBem::with_ordering(problem, params.ordering, None)?;
     let (sol, mut info) = solve_prepared(problem, &bem, params, StepOptions::default())?;
     info.timings.bem_assembly_s = bem.assembly_s();
     info.timings.bem_factor_s = bem.factor_s();
