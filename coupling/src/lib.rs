@@ -14,6 +14,8 @@
 //! - [`interface`]: element <-> virtual node <-> bond matching of one window.
 //! - [`maps`]: BEM -> PD displacement maps (copy, interior, Taylor) and PD -> BEM tractions.
 //! - [`setup`]: from a macro layout to mesh + windows ([`setup::build`]).
+//! - [`traction_window`]: a window loaded by interface tractions through seed 001's
+//!   transfer functions (the traction ordering of Algorithm 1).
 //! - [`iteration`]: Algorithm 1 ([`iteration::solve`]: params in, `Result<(solution, info), CouplingError>` out).
 //! - [`relaxation`]: interface acceleration behind one trait: constant, Aitken (seed 002
 //!   Eqs. 25-28) and IQN-ILS.

@@ -10,6 +10,14 @@
 //! 4. the BEM displacement is mapped back to the virtual nodes (Eq. 23 or better,
 //!    [`crate::maps::bem_to_virtual`]).
 //!
+//! The ordering above is [`Ordering::DisplacementToPd`], the default. With
+//! [`Ordering::TractionToPd`] the conditions swap (module `traction`): the unknown x is
+//! the BEM traction of every interface element, PD takes it through seed 001's
+//! transfer functions on free interface sides ([`crate::traction_window`]), and BEM
+//! takes the PD displacement extrapolated to the interface plus the rigid motion that
+//! balances each floating window; $\tilde x$ is the BEM's interface traction. The
+//! accelerators and the divergence rules below act on that x unchanged.
+//!
 //! Convergence: $e_k = \|\tilde x_k - x_k\|_2 / \|\tilde x_k\|_2 < \psi$ (seed 002
 //! Algorithm 1 step 5). Otherwise the [`Relaxation`](crate::relaxation::Relaxation) proposes $x_{k+1}$ (constant w,
 //! Aitken Eqs. 25-28, IQN-ILS). Divergence (NaN, residual growing for `growth_window`
@@ -43,6 +51,8 @@
 //! - `algorithm`: [`solve_prepared`], the iteration itself.
 //! - `evaluate`: one evaluation of the map, [`interface_map`].
 //! - `window_solve`: the PD solve of one window, [`solve_window`], [`solve_window_at`].
+//! - `traction`: one evaluation of the traction ordering and the windows' rigid-motion
+//!   balance.
 
 mod algorithm;
 mod evaluate;

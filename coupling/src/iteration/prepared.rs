@@ -39,7 +39,7 @@ impl PreparedBem {
 
     /// The same for interface ordering `ordering`: with [`Ordering::TractionToPd`] the
     /// interface elements take displacements, and the BEM traction response to the
-    /// windows' rigid motions is computed once ([`RigidBalance`]).
+    /// windows' rigid motions is computed once (`traction::RigidBalance`).
     pub fn with_ordering(
         problem: &mut CoupledProblem,
         ordering: Ordering,

@@ -65,7 +65,7 @@ fn check_pd(c: &mut Checker, scene: &Scene, pd: &crate::scene::PdSettings) {
     if pd.traction == PdTraction::TransferFunction && scene.coupling.is_some() && !full_pd {
         c.fail_at(
             "pd.traction",
-            "TransferFunction loads the scene's tractions on a stand-alone (or full-PD growth) PD body; PD-BEM windows take their loads from the BEM as displacements, so drop `coupling` or the field",
+            "TransferFunction loads the scene's tractions on a stand-alone (or full-PD growth) PD body; PD-BEM windows take their loads from the BEM (as displacements, or as tractions through the transfer functions with `coupling.ordering: TractionToPd`), so drop `coupling` or the field",
         );
     }
     if let Some(names) = &pd.pre_cracks {
