@@ -250,3 +250,25 @@ fn snapshot_step_beyond_the_load_steps() {
         [0, 2]
     );
 }
+
+#[test]
+fn traction_ordering_is_refused_with_pd_bem_growth_only() {
+    let ordered = "pd: (failure: FromGc), coupling: (side: 2, n: 20, ordering: TractionToPd)";
+    assert_invalid(
+        &scene(
+            MAT_GC,
+            CRACKS,
+            &format!("{ordered}, growth: (mode: PdBem, da: 0.5)"),
+        ),
+        "coupling.ordering",
+        "TractionToPd solves static windows only",
+    );
+    // A static coupled solve and the other growth modes take it.
+    load(&scene(MAT_GC, CRACKS, ordered)).expect("static coupled solve");
+    load(&scene(
+        MAT_GC,
+        CRACKS,
+        &format!("{ordered}, growth: (mode: BemOnly)"),
+    ))
+    .expect("BEM-only growth");
+}

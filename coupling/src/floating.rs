@@ -71,6 +71,15 @@ pub struct FloatingPieces {
 }
 
 impl FloatingPieces {
+    /// No piece to correct (the traction ordering holds every piece by the interface
+    /// displacements).
+    pub fn none() -> Self {
+        FloatingPieces {
+            pieces: Vec::new(),
+            responses: OnceLock::new(),
+        }
+    }
+
     /// The pieces of `system` to correct (see the module docs).
     pub fn new(mesh: &Mesh, system: &BemSystem) -> Result<Self, CouplingError> {
         let labels = system.pieces();

@@ -14,6 +14,8 @@
 //! - [`interface`]: element <-> virtual node <-> bond matching of one window.
 //! - [`maps`]: BEM -> PD displacement maps (copy, interior, Taylor) and PD -> BEM tractions.
 //! - [`setup`]: from a macro layout to mesh + windows ([`setup::build`]).
+//! - [`traction_window`]: a window loaded by interface tractions through seed 001's
+//!   transfer functions (the traction ordering of Algorithm 1).
 //! - [`iteration`]: Algorithm 1 ([`iteration::solve`]: params in, `Result<(solution, info), CouplingError>` out).
 //! - [`relaxation`]: interface acceleration behind one trait: constant, Aitken (seed 002
 //!   Eqs. 25-28) and IQN-ILS.
@@ -36,12 +38,14 @@ pub mod post;
 pub mod relaxation;
 pub mod setup;
 pub mod spectrum;
+pub mod traction_window;
 pub mod window;
 
 pub use error::CouplingError;
 pub use iteration::{
     interface_map, solve, solve_prepared, Acceleration, CoupledProblem, CoupledSolution,
-    CouplingInfo, CouplingParams, PdSolve, PreparedBem, StaggeredParams, StepOptions, Timings,
+    CouplingInfo, CouplingParams, Ordering, PdSolve, PreparedBem, StaggeredParams, StepOptions,
+    Timings,
 };
 pub use maps::{DisplacementMap, TractionMap};
 pub use setup::{build, Built, Layout, MacroCrack, WindowModel};

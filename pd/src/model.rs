@@ -276,6 +276,20 @@ impl PdModel {
         Ok(())
     }
 
+    /// Coupling: replace the body force density (N/m^3 at load factor 1) of
+    /// every node, e.g. interface tractions spread by transfer functions.
+    pub fn set_body_forces(&mut self, b: &[P2]) -> Result<(), PdError> {
+        if b.len() != self.bc.body.len() {
+            return Err(PdError::LengthMismatch {
+                what: "body forces",
+                expected: self.bc.body.len(),
+                got: b.len(),
+            });
+        }
+        self.bc.body.copy_from_slice(b);
+        Ok(())
+    }
+
     /// Coupling: the force (N) each virtual node exerts on the real nodes,
     /// summed over its bonds to real nodes (virtual-virtual bonds excluded;
     /// seed 002 Eq. 24 and Fig. 6), in [`Self::virtual_nodes`] order.

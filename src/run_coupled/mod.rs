@@ -187,6 +187,7 @@ pub fn summarize(scene: &Scene, out: &CoupledOutcome) -> Result<RunSummary> {
             "windows": pb.windows.len(),
             "displacement_map": format!("{:?}", out.setup.params.displacement_map),
             "traction_map": format!("{:?}", out.setup.params.traction_map),
+            "ordering": format!("{:?}", out.setup.params.ordering),
             "timings": info.timings,
         }),
     );

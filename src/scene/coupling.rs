@@ -30,6 +30,9 @@ pub struct Coupling {
     /// How BEM displacements reach the PD virtual layers. Default `Copy` (seed 002 Eq. 23).
     #[serde(default)]
     pub displacement_map: DisplacementMap,
+    /// Which side takes which interface condition. Default `DisplacementToPd`.
+    #[serde(default)]
+    pub ordering: CouplingOrdering,
 }
 
 impl Coupling {
@@ -114,6 +117,18 @@ pub enum DisplacementMap {
     /// First-order expansion from the element value, its tangential derivative and
     /// traction (exact for uniform strain; as cheap as `Copy`).
     Taylor,
+}
+
+/// Interface ordering of Algorithm 1 (`pdbem_coupling::Ordering`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum CouplingOrdering {
+    /// PD takes the BEM displacements on its virtual layers, BEM the PD forces as
+    /// tractions (seed 002 Eqs. 23-24).
+    #[default]
+    DisplacementToPd,
+    /// PD takes the BEM tractions through seed 001's transfer functions, BEM the PD
+    /// interface displacement (static coupled solves only).
+    TractionToPd,
 }
 
 /// Crack growth (seed 002 Algorithm 2).

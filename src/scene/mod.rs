@@ -54,7 +54,9 @@ use serde::{Deserialize, Serialize};
 pub use bem::{BemSettings, JContour, TipRefinement};
 pub use body::{Body, Hole, NamedEdge, Outline, Patch, Pt};
 pub use boundary::{BoundaryCondition, Component, Load};
-pub use coupling::{Coupling, DisplacementMap, Growth, GrowthMode, Placement, Relaxation};
+pub use coupling::{
+    Coupling, CouplingOrdering, DisplacementMap, Growth, GrowthMode, Placement, Relaxation,
+};
 pub use crack::{Crack, CrackForm, Faces};
 pub use error::{Issue, SceneError};
 pub use material::{Fracture, Material, Plane};

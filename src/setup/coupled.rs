@@ -22,8 +22,8 @@ use super::sizing::Sizing;
 use super::{final_factor, pd_failure, pd_material, pd_plane};
 use crate::scene::shapes::SceneGeometry;
 use crate::scene::{
-    Component, Coupling, DisplacementMap, PdSettings as ScenePd, PdSolver, Placement, Relaxation,
-    Scene,
+    Component, Coupling, CouplingOrdering, DisplacementMap, PdSettings as ScenePd, PdSolver,
+    Placement, Relaxation, Scene,
 };
 
 /// A crack tip inside a window.
@@ -325,6 +325,10 @@ pub fn params_of(co: &Coupling, pd: &ScenePd) -> CouplingParams {
         max_iter: co.max_iter,
         displacement_map,
         pd_solve,
+        ordering: match co.ordering {
+            CouplingOrdering::DisplacementToPd => pdbem_coupling::Ordering::DisplacementToPd,
+            CouplingOrdering::TractionToPd => pdbem_coupling::Ordering::TractionToPd,
+        },
         ..Default::default()
     }
 }

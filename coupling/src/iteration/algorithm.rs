@@ -6,8 +6,9 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use super::evaluate::{evaluate, reset_window};
-use super::params::{CouplingParams, PdSolve, StaggeredParams};
+use super::params::{CouplingParams, Ordering, PdSolve, StaggeredParams};
 use super::prepared::PreparedBem;
+use super::traction::{evaluate_traction, finish, traction_windows};
 use super::{
     relative_residual, CoupledProblem, CoupledSolution, CouplingInfo, IterationReport, StepOptions,
     BREAK_ITERATION_FACTOR,
@@ -28,7 +29,15 @@ pub fn solve_prepared(
         scheme: params.acceleration.name().into(),
         ..Default::default()
     };
-    let n: usize = problem.windows.iter().map(|w| w.interface.len()).sum();
+    let mut tws = match params.ordering {
+        Ordering::DisplacementToPd => None,
+        Ordering::TractionToPd => Some(traction_windows(problem)?),
+    };
+    check_ordering(bem, params)?;
+    let n: usize = match &tws {
+        None => problem.windows.iter().map(|w| w.interface.len()).sum(),
+        Some(t) => t.iter().map(|w| w.len()).sum(),
+    };
     info.interface_unknowns = n;
     let scale = opts.load_scale;
     if !(scale.is_finite() && scale > 0.0) {
@@ -62,7 +71,10 @@ pub fn solve_prepared(
     let mut backoffs_since_break = 0;
     let mut pd_failure: Option<String> = None;
     loop {
-        let evaluated = evaluate(problem, bem, &x, params, &pd_solve, scale, &mut info);
+        let evaluated = match &mut tws {
+            None => evaluate(problem, bem, &x, params, &pd_solve, scale, &mut info),
+            Some(t) => evaluate_traction(problem, bem, t, &x, &pd_solve, scale, &mut info),
+        };
         info.iterations += 1;
         since_break += 1;
         let (e, xt, state, broke) = match evaluated {
@@ -74,7 +86,14 @@ pub fn solve_prepared(
             ),
             Err(CouplingError::Pd { window, source }) => {
                 // A failed PD solve counts as divergence: restart its state from rest.
-                reset_window(&mut problem.windows[window]);
+                match &mut tws {
+                    None => reset_window(&mut problem.windows[window]),
+                    Some(t) => {
+                        let zero = vec![[0.0; 2]; t[window].model.n_nodes()];
+                        // Same length by construction, so this cannot fail.
+                        let _ = t[window].model.set_displacements(&zero);
+                    }
+                }
                 pd_failure = Some(format!("PD window {window} failed: {source}"));
                 (f64::NAN, x.clone(), None, 0)
             }
@@ -101,11 +120,15 @@ pub fn solve_prepared(
         if let (true, Some((sol, tractions))) = (converged || stop, state) {
             info.converged = converged;
             info.interrupted = !converged;
+            let (x_pd, x_bem) = match &tws {
+                None => (x, xt),
+                Some(t) => finish(problem, t, &sol, scale)?,
+            };
             info.timings.total_s = t0.elapsed().as_secs_f64();
             let out = CoupledSolution {
                 solution: sol,
-                x_pd: x,
-                x_bem: xt,
+                x_pd,
+                x_bem,
                 tractions,
             };
             return Ok((out, info));
@@ -185,6 +208,29 @@ pub fn solve_prepared(
                 .push(format!("iteration {}: {event}", info.iterations));
         }
     }
+}
+
+/// The prepared system must be factored for the ordering, and the traction ordering
+/// takes static solves only.
+fn check_ordering(bem: &PreparedBem, params: &CouplingParams) -> Result<(), CouplingError> {
+    if bem.ordering() != params.ordering {
+        return Err(CouplingError::InvalidStep {
+            message: format!(
+                "the BEM system was factored for the {:?} ordering, the parameters ask for {:?}",
+                bem.ordering(),
+                params.ordering
+            ),
+        });
+    }
+    if params.ordering == Ordering::TractionToPd && matches!(params.pd_solve, PdSolve::Staggered(_))
+    {
+        return Err(CouplingError::InvalidStep {
+            message: "the TractionToPd ordering solves static windows only (no staggered bond \
+                      breaking, so no crack growth)"
+                .into(),
+        });
+    }
+    Ok(())
 }
 
 /// Break rounds in every window with its interface held ([`pdbem_pd::breaking`]); returns the

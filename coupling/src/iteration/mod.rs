@@ -10,6 +10,14 @@
 //! 4. the BEM displacement is mapped back to the virtual nodes (Eq. 23 or better,
 //!    [`crate::maps::bem_to_virtual`]).
 //!
+//! The ordering above is [`Ordering::DisplacementToPd`], the default. With
+//! [`Ordering::TractionToPd`] the conditions swap (module `traction`): the unknown x is
+//! the BEM traction of every interface element, PD takes it through seed 001's
+//! transfer functions on free interface sides ([`crate::traction_window`]), and BEM
+//! takes the PD displacement extrapolated to the interface plus the rigid motion that
+//! balances each floating window; $\tilde x$ is the BEM's interface traction. The
+//! accelerators and the divergence rules below act on that x unchanged.
+//!
 //! Convergence: $e_k = \|\tilde x_k - x_k\|_2 / \|\tilde x_k\|_2 < \psi$ (seed 002
 //! Algorithm 1 step 5). Otherwise the [`Relaxation`](crate::relaxation::Relaxation) proposes $x_{k+1}$ (constant w,
 //! Aitken Eqs. 25-28, IQN-ILS). Divergence (NaN, residual growing for `growth_window`
@@ -43,16 +51,19 @@
 //! - `algorithm`: [`solve_prepared`], the iteration itself.
 //! - `evaluate`: one evaluation of the map, [`interface_map`].
 //! - `window_solve`: the PD solve of one window, [`solve_window`], [`solve_window_at`].
+//! - `traction`: one evaluation of the traction ordering and the windows' rigid-motion
+//!   balance.
 
 mod algorithm;
 mod evaluate;
 mod params;
 mod prepared;
+mod traction;
 mod window_solve;
 
 pub use algorithm::solve_prepared;
 pub use evaluate::interface_map;
-pub use params::{Acceleration, CouplingParams, PdSolve, StaggeredParams};
+pub use params::{Acceleration, CouplingParams, Ordering, PdSolve, StaggeredParams};
 pub use prepared::PreparedBem;
 pub use window_solve::{solve_window, solve_window_at};
 
@@ -162,7 +173,7 @@ pub fn solve(
     params: &CouplingParams,
 ) -> Result<(CoupledSolution, CouplingInfo), CouplingError> {
     let t0 = Instant::now();
-    let bem = PreparedBem::new(problem)?;
+    let bem = PreparedBem::with_ordering(problem, params.ordering, None)?;
     let (sol, mut info) = solve_prepared(problem, &bem, params, StepOptions::default())?;
     info.timings.bem_assembly_s = bem.assembly_s();
     info.timings.bem_factor_s = bem.factor_s();

@@ -41,6 +41,20 @@ impl Acceleration {
     }
 }
 
+/// Which side of the interface takes which condition in Algorithm 1 (module docs of
+/// [`crate::iteration`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Ordering {
+    /// PD takes the BEM displacements on its virtual layers (seed 002 Eq. 23), BEM the
+    /// PD forces as tractions (Eq. 24); the unknown is the virtual-node displacement.
+    #[default]
+    DisplacementToPd,
+    /// PD takes the BEM tractions through seed 001's transfer functions
+    /// ([`crate::traction_window`]), BEM the PD displacement of the interface; the
+    /// unknown is the interface traction. Static solves only (no bond breaking).
+    TractionToPd,
+}
+
 /// PD solver of the windows.
 #[derive(Debug, Clone, PartialEq)]
 pub enum PdSolve {
@@ -134,6 +148,8 @@ pub struct CouplingParams {
     pub max_backoffs: usize,
     /// PD solver.
     pub pd_solve: PdSolve,
+    /// Interface ordering. Default [`Ordering::DisplacementToPd`].
+    pub ordering: Ordering,
 }
 
 impl Default for CouplingParams {
@@ -148,6 +164,7 @@ impl Default for CouplingParams {
             stagnation_window: 25,
             max_backoffs: 3,
             pd_solve: PdSolve::default(),
+            ordering: Ordering::default(),
         }
     }
 }

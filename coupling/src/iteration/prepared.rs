@@ -2,6 +2,8 @@
 
 use pdbem_bem::{Bc, BemSystem, PairCache, Solution};
 
+use super::params::Ordering;
+use super::traction::RigidBalance;
 use super::CoupledProblem;
 use crate::error::CouplingError;
 use crate::floating::FloatingPieces;
@@ -13,6 +15,10 @@ pub struct PreparedBem {
     pub(super) system: BemSystem,
     /// Pieces of a body cut apart that only the windows hold ([`crate::floating`]).
     pub(super) floating: FloatingPieces,
+    /// The interface ordering the system was factored for.
+    pub(super) ordering: Ordering,
+    /// [`Ordering::TractionToPd`]: the windows' rigid-motion balance.
+    pub(super) rigid: Option<RigidBalance>,
 }
 
 impl PreparedBem {
@@ -28,9 +34,36 @@ impl PreparedBem {
         problem: &mut CoupledProblem,
         pairs: Option<&mut PairCache>,
     ) -> Result<Self, CouplingError> {
-        let system = factor_bem(problem, pairs)?;
-        let floating = FloatingPieces::new(&problem.mesh, &system)?;
-        Ok(PreparedBem { system, floating })
+        Self::with_ordering(problem, Ordering::DisplacementToPd, pairs)
+    }
+
+    /// The same for interface ordering `ordering`: with [`Ordering::TractionToPd`] the
+    /// interface elements take displacements, and the BEM traction response to the
+    /// windows' rigid motions is computed once (`traction::RigidBalance`).
+    pub fn with_ordering(
+        problem: &mut CoupledProblem,
+        ordering: Ordering,
+        pairs: Option<&mut PairCache>,
+    ) -> Result<Self, CouplingError> {
+        let system = factor_bem(problem, ordering, pairs)?;
+        let (floating, rigid) = match ordering {
+            Ordering::DisplacementToPd => (FloatingPieces::new(&problem.mesh, &system)?, None),
+            Ordering::TractionToPd => (
+                FloatingPieces::none(),
+                Some(RigidBalance::new(problem, &system)?),
+            ),
+        };
+        Ok(PreparedBem {
+            system,
+            floating,
+            ordering,
+            rigid,
+        })
+    }
+
+    /// The interface ordering the system was factored for.
+    pub fn ordering(&self) -> Ordering {
+        self.ordering
     }
 
     /// Assembly wall time (s).
@@ -53,8 +86,9 @@ impl PreparedBem {
         self.system.info().unknowns
     }
 
-    /// Solves at load scale `scale` with interface conditions `bcs` (physical tractions
-    /// at that scale): `scale` times the reference solve with the tractions over `scale`.
+    /// Solves at load scale `scale` with interface conditions `bcs` (physical tractions or
+    /// displacements at that scale): `scale` times the reference solve with the
+    /// interface values over `scale`.
     pub(super) fn solve_scaled(
         &self,
         bcs: &[[Bc; 2]],
@@ -67,7 +101,10 @@ impl PreparedBem {
         let mut reference = bcs.to_vec();
         for &e in interface {
             for c in 0..2 {
-                reference[e][c] = Bc::Traction(bcs[e][c].value() / scale);
+                reference[e][c] = match bcs[e][c] {
+                    Bc::Traction(v) => Bc::Traction(v / scale),
+                    Bc::Displacement(v) => Bc::Displacement(v / scale),
+                };
             }
         }
         let mut sol = self.system.solve_with(&reference)?;
@@ -87,18 +124,24 @@ impl PreparedBem {
     }
 }
 
-/// Assembles and factors the BEM system with the interface groups variable.
+/// Assembles and factors the BEM system with the interface groups variable (tractions,
+/// or displacements for [`Ordering::TractionToPd`]).
 fn factor_bem(
     problem: &mut CoupledProblem,
+    ordering: Ordering,
     pairs: Option<&mut PairCache>,
 ) -> Result<BemSystem, CouplingError> {
+    let zero = match ordering {
+        Ordering::DisplacementToPd => Bc::Traction(0.0),
+        Ordering::TractionToPd => Bc::Displacement(0.0),
+    };
     for w in &problem.windows {
         if let Some(g) = problem.mesh.group(&w.group) {
             if !problem.bem_params.variable_groups.contains(&g) {
                 problem.bem_params.variable_groups.push(g);
             }
             for e in &w.interface.elements {
-                problem.bcs[*e] = [Bc::Traction(0.0), Bc::Traction(0.0)];
+                problem.bcs[*e] = [zero, zero];
             }
         }
     }

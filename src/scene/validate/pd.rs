@@ -3,7 +3,9 @@
 use super::Checker;
 use crate::geometry::{bounding_box, direction, p2, point_in_polygon, P2};
 use crate::scene::shapes::outline_loop;
-use crate::scene::{Failure, GrowthMode, PdSolver, PdTraction, Placement, Relaxation, Scene};
+use crate::scene::{
+    CouplingOrdering, Failure, GrowthMode, PdSolver, PdTraction, Placement, Relaxation, Scene,
+};
 
 /// Smallest horizon factor m = delta / dx where the PD calibration holds.
 pub const MIN_HORIZON_FACTOR: f64 = 2.0;
@@ -63,7 +65,7 @@ fn check_pd(c: &mut Checker, scene: &Scene, pd: &crate::scene::PdSettings) {
     if pd.traction == PdTraction::TransferFunction && scene.coupling.is_some() && !full_pd {
         c.fail_at(
             "pd.traction",
-            "TransferFunction loads the scene's tractions on a stand-alone (or full-PD growth) PD body; PD-BEM windows take their loads from the BEM as displacements, so drop `coupling` or the field",
+            "TransferFunction loads the scene's tractions on a stand-alone (or full-PD growth) PD body; PD-BEM windows take their loads from the BEM (as displacements, or as tractions through the transfer functions with `coupling.ordering: TractionToPd`), so drop `coupling` or the field",
         );
     }
     if let Some(r) = &pd.refinement {
@@ -248,6 +250,16 @@ fn check_coupling(c: &mut Checker, scene: &Scene, co: &crate::scene::Coupling) {
     }
     check_psi(c, co.psi);
     c.at_least("coupling.max_iter", co.max_iter, 1, "iteration cap");
+    let pd_bem_growth = scene
+        .growth
+        .as_ref()
+        .is_some_and(|g| g.mode == GrowthMode::PdBem);
+    if co.ordering == CouplingOrdering::TractionToPd && pd_bem_growth {
+        c.fail_at(
+            "coupling.ordering",
+            "TractionToPd solves static windows only (no staggered bond breaking): PD-BEM growth needs DisplacementToPd, so drop the field or the `growth` section",
+        );
+    }
     check_relaxation(c, &co.relaxation);
     let Some(outline) = outline_loop(&scene.body.outline) else {
         return;
