@@ -25,6 +25,7 @@ pub use pdbem_geometry as geometry;
 pub mod growth;
 pub mod load_displacement;
 pub mod output;
+pub mod pd_fields;
 pub mod plot;
 pub mod provenance;
 pub mod refine;

@@ -90,7 +90,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
                "solve": out.rounds.iter().map(|x| x.solve_s).sum::<f64>()}),
     );
     let phi = b.damage();
-    crate::run_pd::write_fields(scene, ctx, (b.positions(), &b.u, &phi), &mut summary)?;
+    crate::pd_fields::write_fields(scene, ctx, (b.positions(), &b.u, &phi), &mut summary)?;
     summary.wall_time_s = t0.elapsed().as_secs_f64();
     Ok(summary)
 }

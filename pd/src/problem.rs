@@ -12,7 +12,6 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::PdError;
 use crate::geometry::{dist_point_polygon_boundary, point_in_polygon, rotate, signed_area, P2};
-use crate::traction::TractionLoad;
 
 /// Horizon factor `m = delta / dx` used by all seed papers (seed 000 sections
 /// 3.2-5.3, seed 001 section 6, seed 002 section 3).
@@ -482,4 +481,15 @@ impl PdProblem {
         }
         Ok(())
     }
+}
+
+/// How [`BoundaryCondition::Traction`] conditions load the body ([`crate::traction`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum TractionLoad {
+    /// Body force in a layer of real nodes within `depth` of the edge (seed
+    /// 000 section 2.3).
+    #[default]
+    BodyForceLayer,
+    /// Seed 001 transfer functions (Eqs. 12, 16, 17, 23), see the module docs.
+    TransferFunction,
 }

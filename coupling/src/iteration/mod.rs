@@ -58,6 +58,7 @@ mod algorithm;
 mod evaluate;
 mod params;
 mod prepared;
+mod rigid;
 mod traction;
 mod window_solve;
 

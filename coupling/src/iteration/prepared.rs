@@ -3,7 +3,7 @@
 use pdbem_bem::{Bc, BemSystem, PairCache, Solution};
 
 use super::params::Ordering;
-use super::traction::RigidBalance;
+use super::rigid::RigidBalance;
 use super::CoupledProblem;
 use crate::error::CouplingError;
 use crate::floating::FloatingPieces;

@@ -34,23 +34,11 @@
 
 pub mod study;
 
-use serde::{Deserialize, Serialize};
-
 use crate::error::PdError;
 use crate::geometry::{dist_point_polyline, signed_area, P2};
 use crate::grid::Grid;
+pub use crate::problem::TractionLoad;
 use crate::problem::{BoundaryCondition, Hole, PdProblem};
-
-/// How [`BoundaryCondition::Traction`] conditions load the body.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
-pub enum TractionLoad {
-    /// Body force in a layer of real nodes within `depth` of the edge (seed
-    /// 000 section 2.3).
-    #[default]
-    BodyForceLayer,
-    /// Seed 001 transfer functions (Eqs. 12, 16, 17, 23), see the module docs.
-    TransferFunction,
-}
 
 /// Seed 001 Eq. 17: $k = \max(1, \lfloor A / (8 S \delta) \rfloor)$ with `area`
 /// the region's area ($L W$ for the seed's rectangle) and `loaded_length` the
