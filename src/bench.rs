@@ -91,6 +91,15 @@ pub fn run(kind: BenchKind, out: &Path, quick: bool, case: Option<&str>) -> Resu
     }
 }
 
+/// `bench KIND --collect`: rebuilds a benchmark's report from the run folders of an earlier
+/// run in `out` (`trade` only).
+pub fn collect(kind: BenchKind, out: &Path) -> Result<()> {
+    if kind != BenchKind::Trade {
+        anyhow::bail!("--collect applies to `bench trade` only");
+    }
+    crate::bench_trade::collect(out).map(|_| ())
+}
+
 /// One coupled run of `bench coupling`.
 #[derive(Debug, Serialize)]
 pub struct CouplingBenchEntry {

@@ -2,7 +2,8 @@
 //! plate of seed 002 section 3.2.2 with a 6 m crack (a/W = 0.6), PD-BEM with windows of 20
 //! and 24 nodes per side and a looser coupling tolerance.
 //!
-//! Checks the report's structure (report.md tables, bench.json, the plot) and physics:
+//! Checks the report's structure (report.md tables, bench.json, the plot, the same
+//! comparison again from the run folders by `--collect`) and physics:
 //! - LEFM: K_I = F(a/W) sigma sqrt(pi a) with F(0.6) about 3 (edge-crack table) gives about
 //!   43 Pa m^0.5 at a = 6 m and 3.3 Pa, far above K_c = 9.3 Pa m^0.5 (the case file), and
 //!   K_I grows with a: every run fails in its first load step, at the initial load 3.3, so
@@ -140,5 +141,12 @@ fn quick_trade_bench_writes_its_report_and_measures_what_it_says() {
     let finest = &case.runs[1];
     assert!(finest.deviation_m.expect("compared") < 1e-9);
     check_metric(&case.runs);
+
+    // `--collect` rebuilds the same comparison from the run folders.
+    let again = bench_trade::collect(&out).expect("bench trade --collect");
+    for (a, b) in case.runs.iter().zip(&again.cases[0].runs) {
+        assert_eq!(a.deviation_m, b.deviation_m, "{}", a.label);
+        assert_eq!(a.failure_load_err, b.failure_load_err, "{}", a.label);
+    }
     let _ = std::fs::remove_dir_all(&out);
 }

@@ -39,7 +39,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::growth::{GrowthHistory, TipPath};
 use crate::output::atomic::write_atomic;
@@ -75,7 +75,7 @@ impl Variant {
 }
 
 /// One run of the bench.
-#[derive(Debug, Clone, Default, Serialize)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
 pub struct TradeRun {
     /// Label of the variant.
     pub label: String,
@@ -121,13 +121,14 @@ pub struct TradeRun {
     pub failure_load_err: Option<f64>,
     /// The run failed to run (first line), `None` when it ran.
     pub error: Option<String>,
-    /// Tip paths, not written to `bench.json`.
+    /// Tip paths, not written to `bench.json` (read back from the run folder by
+    /// [`collect`]).
     #[serde(skip)]
     pub paths: Vec<TipPath>,
 }
 
 /// The runs of one case.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct CaseTrade {
     /// Scene name (file stem).
     pub case: String,
@@ -138,16 +139,16 @@ pub struct CaseTrade {
 }
 
 /// `bench.json` of `bench trade`.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct TradeReport {
     /// "trade".
-    pub bench: &'static str,
+    pub bench: String,
     /// Threads rayon used.
     pub threads: usize,
     /// Smoke-test sizes.
     pub quick: bool,
     /// How the path deviation is measured.
-    pub deviation_measure: &'static str,
+    pub deviation_measure: String,
     /// One entry per case.
     pub cases: Vec<CaseTrade>,
 }
@@ -302,15 +303,20 @@ pub fn run_deviation(a: &[TipPath], b: &[TipPath]) -> Option<(f64, f64)> {
         .max_by(|x, y| x.0.partial_cmp(&y.0).unwrap_or(std::cmp::Ordering::Equal))
 }
 
-/// Fills every run's deviation and failure-load error against run `reference`.
+/// Fills every run's deviation and failure-load error against run `reference`; runs that
+/// did not run or ended early (`complete: false`) get none (their paths stop where their
+/// coupling gave up), nor does anything when the reference did not complete.
 pub fn compare_to(runs: &mut [TradeRun], reference: usize) {
-    let Some(r) = runs.get(reference).cloned() else {
+    for run in runs.iter_mut() {
+        run.deviation_m = None;
+        run.common_reach_m = None;
+        run.failure_load_err = None;
+    }
+    let done = |x: &TradeRun| x.error.is_none() && x.failure_reason.is_none();
+    let Some(r) = runs.get(reference).filter(|r| done(r)).cloned() else {
         return;
     };
-    if r.error.is_some() {
-        return;
-    }
-    for run in runs.iter_mut().filter(|x| x.error.is_none()) {
+    for run in runs.iter_mut().filter(|x| done(x)) {
         if let Some((d, common)) = run_deviation(&run.paths, &r.paths) {
             run.deviation_m = Some(d);
             run.common_reach_m = Some(common);
@@ -368,23 +374,59 @@ pub fn run(out: &Path, quick: bool) -> Result<TradeReport> {
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
     let cases: &[&str] = if quick { &CASES[..1] } else { &CASES[..] };
     let mut report = TradeReport {
-        bench: "trade",
+        bench: "trade".into(),
         threads: rayon::current_num_threads(),
         quick,
-        deviation_measure: MEASURE,
+        deviation_measure: MEASURE.into(),
         cases: Vec::new(),
     };
     for case in cases {
         report.cases.push(run_case(case, out, quick)?);
     }
-    let text = report::markdown(&report);
+    write_report(&report, out)?;
+    Ok(report)
+}
+
+/// Writes `report.md`, `bench.json` and the plots of `report` into `out` (the table also
+/// to stdout).
+fn write_report(report: &TradeReport, out: &Path) -> Result<()> {
+    let text = report::markdown(report);
     print!("{text}");
     write_atomic(&out.join("report.md"), text.as_bytes())?;
     write_atomic(
         &out.join("bench.json"),
-        serde_json::to_string_pretty(&report)?.as_bytes(),
+        serde_json::to_string_pretty(report)?.as_bytes(),
     )?;
-    report::plots(&report, out)?;
+    report::plots(report, out)
+}
+
+/// `bench trade --collect`: reads `out/bench.json` and every run's paths from
+/// `out/<case>/<label>/growth.json`, compares the runs again with their case's reference
+/// and rewrites the report (for a report whose rules changed after a long run).
+pub fn collect(out: &Path) -> Result<TradeReport> {
+    let file = out.join("bench.json");
+    let text = std::fs::read_to_string(&file)
+        .with_context(|| format!("bench trade --collect: cannot read {}", file.display()))?;
+    let mut report: TradeReport = serde_json::from_str(&text).with_context(|| {
+        format!(
+            "bench trade --collect: {} is not a trade bench.json",
+            file.display()
+        )
+    })?;
+    for c in &mut report.cases {
+        for run in c.runs.iter_mut().filter(|r| r.error.is_none()) {
+            let h = out
+                .join(&c.case)
+                .join(&run.label)
+                .join(crate::growth::output::HISTORY_FILE);
+            let text = std::fs::read_to_string(&h)
+                .with_context(|| format!("bench trade --collect: cannot read {}", h.display()))?;
+            run.paths = serde_json::from_str::<GrowthHistory>(&text)?.paths;
+        }
+        let reference = c.runs.iter().position(|r| r.label == c.reference);
+        compare_to(&mut c.runs, reference.unwrap_or(usize::MAX));
+    }
+    write_report(&report, out)?;
     Ok(report)
 }
 
@@ -464,12 +506,19 @@ mod tests {
         let (ab, ba) = (run_deviation(a, b), run_deviation(b, a));
         assert_eq!(ab.map(|x| x.0), ba.map(|x| x.0));
         assert!(ab.expect("same tip").0 <= d1 + d2 + 1e-12);
+        // A run that ended early is not compared (its path stops where its coupling gave
+        // up).
+        let mut early = runs.clone();
+        early[1].failure_reason = Some("load step 0 could not be solved".into());
+        compare_to(&mut early, 0);
+        assert_eq!(
+            (early[1].deviation_m, early[1].failure_load_err),
+            (None, None)
+        );
+        assert!(early[2].deviation_m.is_some());
         // A reference that did not run leaves every comparison empty.
         let mut failed = runs.clone();
         failed[0].error = Some("x".into());
-        for r in failed.iter_mut() {
-            r.deviation_m = None;
-        }
         compare_to(&mut failed, 0);
         assert!(failed.iter().all(|r| r.deviation_m.is_none()));
     }

@@ -1,7 +1,8 @@
 //! The report of `bench trade`: `report.md` (one table per case, every run against the
 //! case's finest run) and the plots of path deviation and of failure-load error against
 //! wall time (log-log; the reference run itself, at deviation 0, cannot be drawn on a log
-//! axis and is named in the caption instead).
+//! axis and is named in the legend instead; the failure-load error on a linear axis, where
+//! an error of 0 shows).
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -41,7 +42,8 @@ pub fn end_state(r: &TradeRun) -> String {
         return format!("error: {e}");
     }
     if let Some(why) = &r.failure_reason {
-        return format!("ended early: {why}");
+        let first = why.split(';').next().unwrap_or(why);
+        return format!("ended early: {first}");
     }
     if r.failure {
         "failure".into()
@@ -110,35 +112,35 @@ fn short(case: &str) -> &str {
         .unwrap_or(case)
 }
 
-/// One marker series per case and series of variants, `value` of every run that has one.
+/// One marker series per case: `value` of every run that has one except the reference.
+/// Runs of one case with the same value (the same path: the tolerance and relaxation runs
+/// at n = 20 often are) share one label, in order of wall time, at the fastest of them.
 fn series_of(r: &TradeReport, value: impl Fn(&TradeRun) -> Option<f64>) -> XyPlot {
     let mut plot = XyPlot::error_vs_time("", "", Vec::new());
     for c in &r.cases {
-        let mut names: Vec<&str> = Vec::new();
-        for run in &c.runs {
-            if !names.contains(&run.series.as_str()) {
-                names.push(&run.series);
+        let mut pts: Vec<(f64, f64, &str)> = c
+            .runs
+            .iter()
+            .filter(|x| x.label != c.reference)
+            .filter_map(|x| Some((x.wall_time_s, value(x)?, x.label.as_str())))
+            .collect();
+        pts.sort_by(|a, b| a.0.partial_cmp(&b.0).unwrap_or(std::cmp::Ordering::Equal));
+        let mut groups: Vec<((f64, f64), Vec<&str>)> = Vec::new();
+        for &(t, v, label) in &pts {
+            let same =
+                |g: &((f64, f64), Vec<&str>)| (g.0 .1 - v).abs() <= 1e-9 * v.abs().max(1e-12);
+            match groups.iter_mut().find(|g| same(g)) {
+                Some(g) => g.1.push(label),
+                None => groups.push(((t, v), vec![label])),
             }
         }
-        for name in names {
-            let pts: Vec<(f64, f64)> = c
-                .runs
-                .iter()
-                .filter(|x| x.series == name && x.label != c.reference)
-                .filter_map(|x| Some((x.wall_time_s, value(x)?)))
-                .collect();
-            plot.series.push(Series::new(
-                format!("{}: {name}", short(&c.case)),
-                pts,
-                SeriesStyle::Markers,
-            ));
-        }
-        for run in c.runs.iter().filter(|x| x.label != c.reference) {
-            if let Some(v) = value(run) {
-                plot.point_labels
-                    .push(((run.wall_time_s, v), run.label.clone()));
-            }
-        }
+        plot.point_labels
+            .extend(groups.into_iter().map(|(p, l)| (p, l.join(", "))));
+        plot.series.push(Series::new(
+            format!("{} (reference {})", short(&c.case), c.reference),
+            pts.iter().map(|p| (p.0, p.1)).collect(),
+            SeriesStyle::Markers,
+        ));
     }
     plot
 }
@@ -164,6 +166,8 @@ pub fn failure_load_plot(r: &TradeReport) -> XyPlot {
     );
     p.y_label = "|failure-load error| (%)".into();
     p.x_label = "wall time (s)".into();
+    // Linear: an error of 0 (the failure in the reference's load step) is a result too.
+    p.log_y = false;
     p
 }
 
@@ -184,11 +188,15 @@ pub fn plots(r: &TradeReport, out: &Path) -> Result<()> {
             .iter()
             .any(|s| s.points.iter().any(|q| q.0 > 0.0 && q.1 > 0.0))
     };
-    let d = deviation_plot(r);
+    let drop_empty = |mut p: XyPlot| {
+        p.series.retain(|s| !s.points.is_empty());
+        p
+    };
+    let d = drop_empty(deviation_plot(r));
     if has(&d) {
         crate::plot::save(&d, &out.join("trade_deviation"), &formats)?;
     }
-    let f = failure_load_plot(r);
+    let f = drop_empty(failure_load_plot(r));
     if has(&f) {
         crate::plot::save(&f, &out.join("trade_failure_load"), &formats)?;
     }
