@@ -31,7 +31,10 @@
 //! (docs/outputs.md), `DIR/trade_deviation.{png,svg}` and
 //! `DIR/trade_failure_load.{png,svg}` ([`report`]); each run's folder is kept under
 //! `DIR/<case>/<label>`. `--quick` (a smoke test): the tension case with its crack
-//! started at 6 m instead of 2 m (4 relocations instead of 16), n = 20 and 24 and psi = 1e-3.
+//! started at 6 m instead of 2 m (6 relocations instead of 14), n = 20 and 24 and
+//! psi = 1e-3. Runs that ended early (`complete: false`) or failed are rows without a
+//! deviation or load error. `--collect` ([`collect`]) rebuilds the report from the run
+//! folders without running anything.
 
 pub mod report;
 
