@@ -1,10 +1,14 @@
-//! `pdbem bench {bem|pd|coupling|growth} --out DIR [--quick]`: timing tables and
+//! `pdbem bench {bem|pd|coupling|growth|sweep-mpi|trade} --out DIR [--quick]`: timing tables and
 //! `DIR/bench.json` (schemas in docs/outputs.md). Speed targets live here, never in tests.
 //!
 //! `bench pd` (issue 3): bond-force throughput at about 1e4, 1e5 and 1e6 bonds, bytes per
 //! bond, tangent factorisation and solve times, and the switching solver against pure ADR on
 //! `pd_plate_hole` and `pd_three_point_bend` in one run (`switching_speedup`, damage and
 //! displacement agreement); schema in `pdbem_pd::bench`.
+//!
+//! `bench trade` (issue 18): [`crate::bench_trade`], path deviation and failure-load
+//! error of PD-BEM growth against wall time over window resolution, side, relaxation and
+//! coupling tolerance.
 //!
 //! `bench growth` (issue 5): [`crate::growth::bench`], PD-BEM against BEM-only and full PD
 //! on `cases/growth_tension_edge.ron`.
@@ -37,6 +41,9 @@ pub enum BenchKind {
     /// A growth sweep over `mpirun -np 2` against one process of 2 threads (issue 22;
     /// needs `--features mpi`).
     SweepMpi,
+    /// Speed against accuracy of PD-BEM growth over window and coupling settings
+    /// (issue 18; [`crate::bench_trade`]).
+    Trade,
 }
 
 /// `bench.json` of `bench bem`.
@@ -80,7 +87,17 @@ pub fn run(kind: BenchKind, out: &Path, quick: bool, case: Option<&str>) -> Resu
         BenchKind::Coupling => bench_coupling(out, quick),
         BenchKind::Growth => crate::growth::bench::run(out, quick, case),
         BenchKind::SweepMpi => crate::sweep::bench::run(out, quick),
+        BenchKind::Trade => crate::bench_trade::run(out, quick).map(|_| ()),
     }
+}
+
+/// `bench KIND --collect`: rebuilds a benchmark's report from the run folders of an earlier
+/// run in `out` (`trade` only).
+pub fn collect(kind: BenchKind, out: &Path) -> Result<()> {
+    if kind != BenchKind::Trade {
+        anyhow::bail!("--collect applies to `bench trade` only");
+    }
+    crate::bench_trade::collect(out).map(|_| ())
 }
 
 /// One coupled run of `bench coupling`.

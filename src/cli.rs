@@ -100,6 +100,10 @@ pub enum Command {
         /// Smaller sizes.
         #[arg(long)]
         quick: bool,
+        /// `trade` only: rebuild `report.md`, `bench.json` and the plots from the run
+        /// folders of an earlier `bench trade` into the same folder (nothing is run).
+        #[arg(long)]
+        collect: bool,
         /// `growth` only: the case to run three ways: a file stem in `cases/` under the
         /// current folder, or the path of a scene file. Default growth_tension_edge.
         #[arg(long)]
@@ -237,8 +241,15 @@ pub fn execute(command: Command) -> anyhow::Result<()> {
             kind,
             out,
             quick,
+            collect,
             case,
-        } => crate::bench::run(kind, &out, quick, case.as_deref()),
+        } => {
+            if collect {
+                crate::bench::collect(kind, &out)
+            } else {
+                crate::bench::run(kind, &out, quick, case.as_deref())
+            }
+        }
         Command::PlotPaths { runs, out } => plot_paths(&runs, out),
     }
 }

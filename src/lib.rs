@@ -14,10 +14,11 @@
 //! - [`sweep`]: `pdbem sweep` (grid of dotted-path overrides);
 //! - [`vtk`]: ParaView files (`outputs.vtk`); [`load_displacement`]: boundary forces and
 //!   displacements of PD and coupled runs;
-//! - [`bench`](mod@bench): `pdbem bench`;
+//! - [`bench`](mod@bench): `pdbem bench`; [`bench_trade`]: `pdbem bench trade`;
 //! - [`cli`]: the `pdbem` command line; [`console`]: its printed run summaries.
 
 pub mod bench;
+pub mod bench_trade;
 pub mod cases;
 pub mod cli;
 pub mod console;
