@@ -109,6 +109,7 @@ impl Figure for GeometryPlot {
             &self.title,
             &self.unit,
             self.ranges(labels),
+            SeriesLabelPosition::UpperRight,
             |chart| self.draw_body(chart, labels),
         )
     }

@@ -39,8 +39,46 @@ pub(crate) fn map_ranges(
     equal_aspect((xs.0, ys.0), (xs.1, ys.1), w, h)
 }
 
+/// The corner of `ranges` whose box (40 % of the width, 30 % of the height) the
+/// polylines `lines` cross least (each segment sampled at 10 points), so a legend there
+/// hides as little as possible; upper right on a tie.
+pub(crate) fn emptiest_corner(
+    ranges: ((f64, f64), (f64, f64)),
+    lines: &[Vec<(f64, f64)>],
+) -> SeriesLabelPosition {
+    let ((x0, x1), (y0, y1)) = ranges;
+    let unit = |p: (f64, f64)| ((p.0 - x0) / (x1 - x0), (p.1 - y0) / (y1 - y0));
+    let mut pts: Vec<(f64, f64)> = Vec::new();
+    for l in lines {
+        pts.extend(l.iter().map(|p| unit(*p)));
+        for w in l.windows(2) {
+            let (a, b) = (unit(w[0]), unit(w[1]));
+            pts.extend((1..10).map(|k| {
+                let t = k as f64 / 10.0;
+                (a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1))
+            }));
+        }
+    }
+    let count = |left: bool, top: bool| {
+        pts.iter()
+            .filter(|(u, v)| {
+                (if left { *u < 0.4 } else { *u > 0.6 }) && (if top { *v > 0.7 } else { *v < 0.3 })
+            })
+            .count()
+    };
+    [
+        (SeriesLabelPosition::UpperRight, count(false, true)),
+        (SeriesLabelPosition::UpperLeft, count(true, true)),
+        (SeriesLabelPosition::LowerRight, count(false, false)),
+        (SeriesLabelPosition::LowerLeft, count(true, false)),
+    ]
+    .into_iter()
+    .min_by_key(|(_, n)| *n)
+    .map_or(SeriesLabelPosition::UpperRight, |(p, _)| p)
+}
+
 /// Draws a map figure on `root` over `ranges`: `content` draws the data (and registers
-/// its legend entries); the legend goes to the upper right. Without `labels`: no
+/// its legend entries); the legend goes to the `legend` corner. Without `labels`: no
 /// caption, axes text or legend.
 pub(crate) fn draw_map<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
@@ -48,6 +86,7 @@ pub(crate) fn draw_map<DB: DrawingBackend>(
     title: &str,
     unit: &str,
     ranges: ((f64, f64), (f64, f64)),
+    legend: SeriesLabelPosition,
     content: impl FnOnce(&mut MapChart<'_, DB>) -> Result<(), String>,
 ) -> Result<(), String> {
     root.fill(&WHITE).map_err(msg)?;
@@ -93,9 +132,28 @@ pub(crate) fn draw_map<DB: DrawingBackend>(
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
             .label_font((FONT, LABEL_SIZE - 4))
-            .position(SeriesLabelPosition::UpperRight)
+            .position(legend)
             .draw()
             .map_err(msg)?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A path through the upper right sends the legend elsewhere; nothing in any corner
+    /// keeps it at the upper right.
+    #[test]
+    fn the_legend_avoids_the_crowded_corner() {
+        let r = ((0.0, 1.0), (0.0, 1.0));
+        assert_eq!(emptiest_corner(r, &[]), SeriesLabelPosition::UpperRight);
+        let path = vec![(0.65, 0.8), (0.95, 0.95)];
+        let low = vec![(0.1, 0.1), (0.9, 0.1)];
+        assert_eq!(
+            emptiest_corner(r, &[path, low]),
+            SeriesLabelPosition::UpperLeft
+        );
+    }
 }

@@ -6,7 +6,7 @@ use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
-use super::map::{draw_map, map_ranges, MapChart};
+use super::map::{draw_map, emptiest_corner, map_ranges, MapChart};
 use super::style::{series_color, CRACK};
 use super::{msg, Figure};
 
@@ -175,12 +175,19 @@ impl Figure for PathsPlot {
         root: &DrawingArea<DB, Shift>,
         labels: bool,
     ) -> Result<(), String> {
+        let ranges = self.ranges(labels);
+        let mut lines: Vec<Vec<(f64, f64)>> = self.loops.iter().map(|l| closed(l)).collect();
+        lines.extend(self.cracks.iter().cloned());
+        lines.extend(self.windows.iter().map(|w| closed(w)));
+        lines.extend(self.groups.iter().flat_map(|g| g.lines.iter().cloned()));
+        lines.extend(self.marks.iter().map(|m| vec![m.1]));
         draw_map(
             root,
             labels,
             &self.title,
             &self.unit,
-            self.ranges(labels),
+            ranges,
+            emptiest_corner(ranges, &lines),
             |chart| {
                 self.draw_body(chart, labels)?;
                 self.draw_groups(chart, labels)?;

@@ -97,6 +97,15 @@ impl<'de> de::Deserializer<'de> for Tracer<'_> {
     fn deserialize_u64<V: Visitor<'de>>(self, v: V) -> Result<V::Value, Error> {
         v.visit_u64(1)
     }
+    fn deserialize_u32<V: Visitor<'de>>(self, v: V) -> Result<V::Value, Error> {
+        v.visit_u64(1)
+    }
+    fn deserialize_u16<V: Visitor<'de>>(self, v: V) -> Result<V::Value, Error> {
+        v.visit_u64(1)
+    }
+    fn deserialize_u8<V: Visitor<'de>>(self, v: V) -> Result<V::Value, Error> {
+        v.visit_u64(1)
+    }
     fn deserialize_string<V: Visitor<'de>>(self, v: V) -> Result<V::Value, Error> {
         v.visit_string("x".into())
     }
@@ -158,7 +167,7 @@ impl<'de> de::Deserializer<'de> for Tracer<'_> {
     }
 
     serde::forward_to_deserialize_any! {
-        i8 i16 i32 i64 i128 u8 u16 u32 u128 f32 char bytes byte_buf unit unit_struct
+        i8 i16 i32 i64 i128 u128 f32 char bytes byte_buf unit unit_struct
         newtype_struct tuple_struct identifier ignored_any
     }
 }
