@@ -257,14 +257,28 @@ impl LoadDisplacement {
     }
 
     /// Force against displacement along the force, one curve per group that moves and
-    /// carries a force (a fixed support has no curve: its reaction is in the table).
+    /// carries a force (a fixed support has no curve: its reaction is in the table; nor
+    /// has a support whose reaction is below 1e-6 of the largest force, a pin of a
+    /// self-balanced body).
     pub fn plot(&self, title: &str) -> Option<XyPlot> {
         let mut p = XyPlot::new(
             title,
             "mean displacement along the force (m)",
             "force on the body (N)",
         );
+        let size = |g: &GroupCurve| {
+            g.states
+                .iter()
+                .map(|s| s.force[0].hypot(s.force[1]))
+                .fold(0.0, f64::max)
+        };
+        let largest = self.groups.iter().map(size).fold(0.0, f64::max);
         for g in self.groups.iter().filter(|g| g.displacement_known) {
+            // A pin against rigid motion of a self-balanced body carries round-off only:
+            // its "direction" is noise, so it gets no curve (it stays in the table).
+            if size(g) <= 1e-6 * largest {
+                continue;
+            }
             let Some(dir) = g.states.iter().rev().find_map(|s| unit(s.force)) else {
                 continue;
             };
@@ -352,4 +366,39 @@ pub fn write(
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn curve(group: &str, kind: BcKind, force: [f64; 2], disp: [f64; 2]) -> GroupCurve {
+        GroupCurve {
+            group: group.into(),
+            kind,
+            states: vec![State {
+                force,
+                displacement: disp,
+            }],
+            displacement_known: true,
+        }
+    }
+
+    /// A self-balanced plate: the two loads get curves, the pin (round-off reaction, a
+    /// rigid drift of its node) does not.
+    #[test]
+    fn a_pin_of_a_self_balanced_body_gets_no_curve() {
+        let ld = LoadDisplacement {
+            loads: vec![1.0],
+            groups: vec![
+                curve("top", BcKind::Load, [0.0, 7e5], [0.0, 3e-5]),
+                curve("bottom", BcKind::Load, [0.0, -7e5], [0.0, -1e-6]),
+                curve("pin", BcKind::Support, [2e-7, -3e-5], [0.0, 2e-5]),
+            ],
+        };
+        let p = ld.plot("t").expect("a plot");
+        let labels: Vec<&str> = p.series.iter().map(|s| s.label.as_str()).collect();
+        assert_eq!(labels.len(), 2, "{labels:?}");
+        assert!(labels.iter().all(|l| !l.starts_with("pin")), "{labels:?}");
+    }
 }
