@@ -171,21 +171,41 @@ impl ScatterField {
                 .draw_series(std::iter::once(Circle::new(*p, 7, CRACK.stroke_width(3))))
                 .map_err(msg)?;
             if labels {
+                // A white halo (the text drawn at one-pixel offsets) keeps the red label
+                // readable on dark markers as on light ones.
+                let font = (FONT, LABEL_SIZE - 2).into_font();
+                let pos = Pos::new(HPos::Left, VPos::Bottom);
+                let halo = font.clone().color(&WHITE).pos(pos);
+                for (dx, dy) in HALO_OFFSETS {
+                    chart
+                        .draw_series(std::iter::once(
+                            EmptyElement::at(*p) + Text::new(text.clone(), (dx, dy), halo.clone()),
+                        ))
+                        .map_err(msg)?;
+                }
                 chart
-                    .draw_series(std::iter::once(Text::new(
-                        text.clone(),
-                        *p,
-                        (FONT, LABEL_SIZE - 2)
-                            .into_font()
-                            .color(&CRACK)
-                            .pos(Pos::new(HPos::Left, VPos::Bottom)),
-                    )))
+                    .draw_series(std::iter::once(
+                        EmptyElement::at(*p)
+                            + Text::new(text.clone(), (0, 0), font.color(&CRACK).pos(pos)),
+                    ))
                     .map_err(msg)?;
             }
         }
         Ok(())
     }
 }
+
+/// Pixel offsets of the white halo behind a mark's label.
+const HALO_OFFSETS: [(i32, i32); 8] = [
+    (-2, 0),
+    (2, 0),
+    (0, -2),
+    (0, 2),
+    (-1, -1),
+    (1, 1),
+    (-1, 1),
+    (1, -1),
+];
 
 /// The pieces of polyline `p` inside the box `view` (Liang-Barsky clipping of each
 /// segment; consecutive visible segments join into one piece).
