@@ -44,6 +44,9 @@ pub enum BenchKind {
     /// Speed against accuracy of PD-BEM growth over window and coupling settings
     /// (issue 18; [`crate::bench_trade`]).
     Trade,
+    /// Seed 001 section 6: the eleven crack plates by PD against the seed and LEFM
+    /// (issue 21; [`crate::bench_seed001`]).
+    Seed001,
 }
 
 /// `bench.json` of `bench bem`.
@@ -78,8 +81,8 @@ pub struct Exponents {
 
 /// Runs a benchmark into `out` (`quick`: smaller sizes for CI).
 pub fn run(kind: BenchKind, out: &Path, quick: bool, case: Option<&str>) -> Result<()> {
-    if case.is_some() && kind != BenchKind::Growth {
-        anyhow::bail!("--case applies to `bench growth` only");
+    if case.is_some() && !matches!(kind, BenchKind::Growth | BenchKind::Seed001) {
+        anyhow::bail!("--case applies to `bench growth` and `bench seed001` only");
     }
     match kind {
         BenchKind::Bem => bench_bem(out, quick),
@@ -88,6 +91,7 @@ pub fn run(kind: BenchKind, out: &Path, quick: bool, case: Option<&str>) -> Resu
         BenchKind::Growth => crate::growth::bench::run(out, quick, case),
         BenchKind::SweepMpi => crate::sweep::bench::run(out, quick),
         BenchKind::Trade => crate::bench_trade::run(out, quick).map(|_| ()),
+        BenchKind::Seed001 => crate::bench_seed001::run(out, quick, case).map(|_| ()),
     }
 }
 

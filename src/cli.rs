@@ -104,8 +104,9 @@ pub enum Command {
         /// folders of an earlier `bench trade` into the same folder (nothing is run).
         #[arg(long)]
         collect: bool,
-        /// `growth` only: the case to run three ways: a file stem in `cases/` under the
+        /// `growth`: the case to run three ways: a file stem in `cases/` under the
         /// current folder, or the path of a scene file. Default growth_tension_edge.
+        /// `seed001`: one configuration only (e.g. `inclined_crack`).
         #[arg(long)]
         case: Option<String>,
     },

@@ -18,6 +18,7 @@
 //! - [`cli`]: the `pdbem` command line; [`console`]: its printed run summaries.
 
 pub mod bench;
+pub mod bench_seed001;
 pub mod bench_trade;
 pub mod cases;
 pub mod cli;

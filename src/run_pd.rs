@@ -38,7 +38,7 @@ fn round12(v: f64) -> f64 {
 }
 
 /// Largest applied traction magnitude (Pa) at load factor 1.
-fn traction_scale(scene: &Scene) -> Option<f64> {
+pub fn traction_scale(scene: &Scene) -> Option<f64> {
     scene
         .boundary
         .iter()
