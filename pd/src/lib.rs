@@ -40,6 +40,7 @@ pub mod breaking;
 pub mod cases;
 pub mod crack_path;
 pub mod damage;
+mod detach;
 pub mod edge_crack;
 pub mod error;
 pub mod forces;
