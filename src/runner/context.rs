@@ -26,6 +26,10 @@ pub struct RunContext {
     /// process had been killed there (a test hook; the run then fails with
     /// "stopped after step k" and leaves the checkpoint).
     pub stop_after: Option<usize>,
+    /// Growth runs, a test hook: `Some((k, n))` makes the first `n` tries of load step `k`
+    /// fail as a solver failure does (full PD: the equilibrium before any bond broke;
+    /// BEM-only: every re-meshed geometry of step k, which has no retry).
+    pub fail_tries: Option<(usize, usize)>,
 }
 
 impl RunContext {
@@ -37,6 +41,7 @@ impl RunContext {
             writer: OutputWriter::create_run(out_dir)?,
             resume: false,
             stop_after: None,
+            fail_tries: None,
         })
     }
 

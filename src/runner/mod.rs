@@ -48,6 +48,9 @@ pub struct RunOptions {
     /// Growth runs: stop after this load step once its checkpoint is written (a test hook
     /// standing in for a kill; the run then fails and leaves only the checkpoint).
     pub stop_after: Option<usize>,
+    /// Growth runs: failures injected into the tries of a load step (a test hook of the
+    /// back-off, [`RunContext::fail_tries`]).
+    pub fail_tries: Option<(usize, usize)>,
 }
 
 /// [`run_scene`] with [`RunOptions`]. A growth run writes a checkpoint after every load
@@ -71,6 +74,7 @@ pub fn run_scene_with(
         .with_context(|| format!("cannot create the run folder {}", out_dir.display()))?;
     ctx.resume = options.resume;
     ctx.stop_after = options.stop_after;
+    ctx.fail_tries = options.fail_tries;
     let provenance = crate::provenance::Provenance::now();
     let start = Instant::now();
     let mut summary = match mode {

@@ -224,6 +224,7 @@ pub fn bem_only_input(scene: &Scene) -> Result<BemOnlyInput<'_>> {
         loads: scene.load.factors(),
         da: gr.and_then(|g| g.da),
         snapshot_steps: gr.map(|g| g.snapshot_steps.clone()).unwrap_or_default(),
+        fail_step: None,
     };
     Ok(BemOnlyInput {
         body,

@@ -131,6 +131,9 @@ pub struct FullPdParams {
     pub damage_threshold: f64,
     /// Steps (0-based) after which damage and displacement snapshots are taken as well.
     pub snapshot_steps: Vec<usize>,
+    /// A test hook: `Some((k, n))` makes the first `n` tries of load step `k` fail as an
+    /// equilibrium failure before any bond broke does (the back-off then retries it).
+    pub fail_tries: Option<(usize, usize)>,
 }
 
 /// Per-tip tracking state.
@@ -386,8 +389,11 @@ pub fn run_from(
             }
             eq.set_effort(attempt.effort);
             let loads = attempt.loads(prev, f);
-            let mut r = Ok(());
+            let mut r = injected_failure(p, k, i);
             for &fl in &loads {
+                if r.is_err() {
+                    break;
+                }
                 r = load_step(model, &mut eq, fl, max_rounds, |m| {
                     let tracked = track(&mut front, &mut tr, &mut history, m, &params, k, fl, obs);
                     // A step can run for many minutes on a fine grid: show every round.
@@ -506,6 +512,16 @@ pub fn run_from(
         p.ended = t.ended.clone();
     }
     Ok(history)
+}
+
+/// The failure [`FullPdParams::fail_tries`] injects into try `i` of step `k` (else Ok).
+fn injected_failure(p: &FullPdParams, k: usize, i: usize) -> Result<(), CouplingError> {
+    match p.fail_tries {
+        Some((step, n)) if step == k && i < n => Err(rounds::fail(
+            "no frozen-bond equilibrium (injected by the test hook fail_tries)".into(),
+        )),
+        _ => Ok(()),
+    }
 }
 
 /// Progress message after a break round: load, broken bonds, tip positions.
