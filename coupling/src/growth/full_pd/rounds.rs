@@ -242,17 +242,24 @@ const BONDS_PER_ROUND: usize = 20;
 /// a 40 x 40 node edge-cracked plate: a 15 mm wide damaged blob instead of a crack).
 /// Degrading bonds: Jacobi rounds as in `pdbem_pd::solvers::implicit::Newton::load_step`. `after` runs after every
 /// round that broke bonds (tracking) and may end the step.
+///
+/// `first_round`: 0 for a fresh step (the state is moved to load f first), else the
+/// round to go on from at load f (a run resumed inside the step). Every
+/// [`RENEW_ROUNDS`]-th round ends with new solvers ([`Equilibrium::renew`]); `after`
+/// gets the model, the solvers and the round index.
 pub(super) fn load_step(
     model: &mut PdModel,
     eq: &mut Equilibrium,
-    f: f64,
+    (f, first_round): (f64, usize),
     max_rounds: usize,
-    mut after: impl FnMut(&PdModel) -> Result<Tracked, CouplingError>,
+    mut after: impl FnMut(&PdModel, &Equilibrium, usize) -> Result<Tracked, CouplingError>,
 ) -> Result<(), CouplingError> {
     let brittle = matches!(model.law(), BondLaw::Brittle { .. });
     let s0 = model.law().damage_onset();
-    eq.predict_to(model, f).map_err(pd_fail)?;
-    for _ in 0..max_rounds {
+    if first_round == 0 {
+        eq.predict_to(model, f).map_err(pd_fail)?;
+    }
+    for round in first_round..max_rounds {
         eq.solve(model)?;
         let broken = if brittle {
             break_most_stretched(model, f, s0)?
@@ -262,13 +269,28 @@ pub(super) fn load_step(
         if broken == 0 {
             return Ok(());
         }
-        if let Tracked::Separated = after(model)? {
+        if renews_after(round) {
+            eq.renew(model).map_err(pd_fail)?;
+        }
+        if let Tracked::Separated = after(model, eq, round)? {
             return Ok(());
         }
     }
     Err(fail(format!(
         "bonds still breaking after {max_rounds} equilibrium rounds at load {f}"
     )))
+}
+
+/// Break rounds of a load step after which the solvers are renewed: a checkpoint taken
+/// there ([`crate::growth::events::EngineObserver::round_checkpoint`]) is resumed bit for
+/// bit by a run that starts with new solvers. Measured on the 40 x 40 node edge plate of
+/// `tests/growth_resume.rs` (57 rounds in its last step): 92 factorisations without the
+/// renewal; the chord iteration refactorises every few rounds anyway.
+pub const RENEW_ROUNDS: usize = 25;
+
+/// Whether the solvers are renewed after round `round` (0-based) of a step.
+pub(super) fn renews_after(round: usize) -> bool {
+    (round + 1).is_multiple_of(RENEW_ROUNDS)
 }
 
 /// One sequentially linear round at the equilibrium of load `f`: when the largest stretch
@@ -370,13 +392,13 @@ mod tests {
             chord.solver.has_chord(),
             "brittle bonds take the chord iteration"
         );
-        let chord_done = load_step(&mut by_chord, &mut chord, load, rounds, |_| {
+        let chord_done = load_step(&mut by_chord, &mut chord, (load, 0), rounds, |_, _, _| {
             Ok(Tracked::Continue)
         })
         .is_ok();
         let mut by_newton = edge_plate();
         let mut newton = newton_only(&by_newton);
-        let newton_done = load_step(&mut by_newton, &mut newton, load, rounds, |_| {
+        let newton_done = load_step(&mut by_newton, &mut newton, (load, 0), rounds, |_, _, _| {
             Ok(Tracked::Continue)
         })
         .is_ok();
