@@ -135,6 +135,7 @@ pub fn input(scene: &Scene) -> Result<PdBemInput<'_>> {
     params.trigger_ratio = gr.trigger_ratio;
     params.elements_per_extension = gr.elements_per_extension;
     params.path.threshold = gr.damage_threshold;
+    params.end_on_overstrain = gr.overstrain == crate::scene::OverstrainAction::End;
     // Algorithm 1 settings from the scene; the PD solver stays the staggered one of
     // `GrowthParams::new` (one break round per coupling iteration), whatever `pd.solver`.
     params.coupling = CouplingParams {
