@@ -289,4 +289,50 @@ mod tests {
         assert!(overstrain_end(&on, &ended.steps).is_some());
         assert!(overstrain_end(&on, &noted.steps).is_none());
     }
+
+    #[test]
+    fn the_run_goes_on_with_the_other_tips_after_one_ran_into_a_hole() {
+        // The plate of `driver::ends`' hole test with a second edge crack from the right
+        // edge along the load at y = 4 m (it does not open). Measured: the first tip runs
+        // into the hole in step 0 and ends there, its path joined to the hole edge; the
+        // body holds and the run goes on through every load step with the second tip.
+        let hole: Vec<V2> = (0..16)
+            .map(|k| {
+                let a = -(k as f64) * std::f64::consts::TAU / 16.0;
+                V2::new(5.0 + 0.5 * a.cos(), 3.3 + 0.5 * a.sin())
+            })
+            .collect();
+        let hole_poly = hole.clone();
+        let setup = plate_setup(
+            (10.0, 5.0),
+            vec![hole],
+            vec![
+                vec![V2::new(5.0, 0.0), V2::new(5.0, 1.5)],
+                vec![V2::new(10.0, 4.0), V2::new(9.0, 4.0)],
+            ],
+            Some(3e-3),
+        );
+        let loads = LoadSteps {
+            initial: 1.0,
+            step: 0.25,
+            count: 3,
+        };
+        let mut params = GrowthParams::new(loads, 0.5);
+        params.coupling.acceleration = crate::iteration::Acceleration::IqnIls(0.5);
+        let mut g = Growth::new(setup, &PlateScenario, params).expect("setup");
+        let out = g.run(&mut Silent).expect("run");
+        use crate::growth::tips::TipEnd;
+        assert_eq!(g.tips()[0].ended, Some(TipEnd::Hole("hole0".into())));
+        assert_eq!(g.tips()[1].ended, None, "{:?}", out.notes);
+        assert!(out.failure.is_none() && out.failure_reason.is_none());
+        assert_eq!(out.steps.len(), 3, "{:?}", out.notes);
+        // The reported path of the first tip ends on the hole edge.
+        let h = history_of(&g, &out, Vec::new());
+        let p = h.paths[0].points.last().expect("path");
+        let end = V2::new(p.x, p.y);
+        assert!(
+            pdbem_geometry::polygon_distance(&end, &hole_poly) < 1e-9,
+            "{end:?}"
+        );
+    }
 }
