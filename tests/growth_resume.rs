@@ -244,7 +244,8 @@ fn full_pd_resumed_inside_a_load_step_equals_an_uninterrupted_run() {
     // and the resumed run equals it. Measured (2 cores shared, loaded): 17-21 s each.
     // On this small plate the chord iteration refactorises almost every round (94
     // factorisations in the run), so it passes also without the renewal: it checks the
-    // resume bookkeeping (try, load, round, state, log), not the renewal itself.
+    // resume bookkeeping (try, load, round, state, log); the renewal is tested in
+    // `pdbem_coupling::growth::full_pd::rounds`.
     let scene = inline(EDGE_FULL_PD);
     let whole = RunOptions {
         quiet: true,
