@@ -120,7 +120,12 @@ fn shear_edge_pd_bem_and_bem_only_paths_agree_within_five_percent_of_the_width()
     //   4.48 m) and 0.548 m over 4.58 m: in its last step (load 0.20, cut) the full-PD
     //   main crack turns from (8.6, 0.7) towards the crack from the clamp end.
     // Too long for the suite: the full-PD figures come from the bench and `run`.
-    let b = base("growth_shear_edge");
+    // The paths are compared beyond the load at which the BEM body first passes the PD
+    // onset at the clamp end (0.20-0.24): PD-BEM goes on there assuming it stays elastic.
+    let mut b = base("growth_shear_edge");
+    if let Some(g) = b.growth.as_mut() {
+        g.overstrain = pdbem::scene::OverstrainAction::Note;
+    }
     let mut fine = b.clone();
     fine.coupling.as_mut().unwrap().n = 40;
     let (pdbem, _) = mode_scene(&fine, GrowthMode::PdBem, 1.0);

@@ -192,6 +192,15 @@ pub enum CouplingError {
         /// The last completed step (0-based).
         step: usize,
     },
+    /// A full-PD growth run was stopped by its observer inside a load step, after the
+    /// checkpoint of a break round was offered (the run can be resumed from it).
+    #[error("growth run stopped by its observer in load step {step} after break round {round}")]
+    InterruptedWithin {
+        /// The load step in progress (0-based).
+        step: usize,
+        /// The last completed break round of it (0-based).
+        round: usize,
+    },
     /// A growth checkpoint does not fit the run it is to resume (another scene or
     /// version).
     #[error("checkpoint: {message}")]

@@ -18,7 +18,8 @@ use pdbem_coupling::growth::checkpoint::EngineCheckpoint;
 /// With `ctx.resume` it goes on from the run folder's checkpoint
 /// ([`super::checkpoint`]).
 pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
-    let input = bem_only_input(scene)?;
+    let mut input = bem_only_input(scene)?;
+    input.params.fail_step = ctx.fail_tries.map(|(k, _)| k);
     let cp = resume_point(ctx, scene, "bem-only")?;
     let steps = input.params.loads.len();
     let mut observer = RunObserver::for_scene(ctx, scene, "bem-only", steps, cp.as_ref())?;

@@ -5,7 +5,9 @@
 //! a [`RunCheckpoint`] holding the engine's state
 //! ([`pdbem_coupling::growth::checkpoint`]), what the observer gathered (snapshots, the
 //! PD-BEM initial window outlines and relocation count) and the text of
-//! `growth_log.jsonl` so far. It lives in the run folder, outside the staging folder, so it
+//! `growth_log.jsonl` so far. Full PD also writes one inside a load step, after a break
+//! round at which its solvers are renewed, when [`RunContext::round_checkpoint_every`]
+//! (5 minutes) has passed since the last ([`save_within`]). It lives in the run folder, outside the staging folder, so it
 //! survives a kill; a run that finishes (complete or not) deletes it with its commit.
 //!
 //! `pdbem run SCENE --out DIR --resume` reads it, refuses it when the scene (resolved:
@@ -35,7 +37,9 @@ pub const CHECKPOINT_FILE: &str = ".pdbem-checkpoint.ron";
 /// Format version of [`RunCheckpoint`].
 const FORMAT: u32 = 1;
 
-/// The engine part of a checkpoint.
+/// The engine part of a checkpoint (built once per checkpoint and moved whole: the size
+/// difference of the variants does not matter).
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum EngineState {
     /// PD-BEM.
@@ -193,6 +197,19 @@ pub fn save(
     let log = std::fs::read_to_string(&log_path).unwrap_or_default();
     RunCheckpoint::new(scene, mode, step, engine, observer, log).write(&ctx.out_dir)?;
     Ok(ctx.stop_after == Some(step))
+}
+
+/// [`save`] inside load step `step`, after break round `round` (full PD); whether the run
+/// is to stop here (the test hook [`RunContext::stop_within`]).
+pub fn save_within(
+    ctx: &RunContext,
+    scene: &Scene,
+    mode: &str,
+    (step, round): (usize, usize),
+    engine: EngineState,
+) -> Result<bool> {
+    save(ctx, scene, mode, step, engine, Default::default())?;
+    Ok(ctx.stop_within == Some((step, round)))
 }
 
 #[cfg(test)]

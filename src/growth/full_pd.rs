@@ -35,6 +35,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
         loads: scene.load.factors(),
         damage_threshold: growth.map_or(0.38, |g| g.damage_threshold),
         snapshot_steps: growth.map(|g| g.snapshot_steps.clone()).unwrap_or_default(),
+        fail_tries: ctx.fail_tries,
     };
     let front = crate::setup::growth::front(scene);
     let cp = resume_point(ctx, scene, "full-pd")?;

@@ -13,6 +13,7 @@
 use std::fs::{File, OpenOptions};
 use std::io::{BufWriter, Write};
 use std::sync::Mutex;
+use std::time::Instant;
 
 use anyhow::{Context, Result};
 use serde_json::{json, Value};
@@ -129,6 +130,8 @@ pub struct RunObserver<'a> {
     /// The scene and growth mode whose checkpoints it writes (none without).
     checkpoints: Option<(&'a Scene, &'static str)>,
     stopped: bool,
+    /// When the last checkpoint was written (or the run started).
+    last_saved: Instant,
 }
 
 impl<'a> RunObserver<'a> {
@@ -141,6 +144,7 @@ impl<'a> RunObserver<'a> {
             error: None,
             checkpoints: None,
             stopped: false,
+            last_saved: Instant::now(),
         })
     }
 
@@ -169,6 +173,7 @@ impl<'a> RunObserver<'a> {
             error: None,
             checkpoints: Some((scene, mode)),
             stopped: false,
+            last_saved: Instant::now(),
         })
     }
 
@@ -212,7 +217,34 @@ impl EngineObserver for RunObserver<'_> {
             return ControlFlow::Continue(());
         };
         let engine = EngineState::Engine(save());
-        match checkpoint::save(self.ctx, scene, mode, step, engine, Default::default()) {
+        let saved = checkpoint::save(self.ctx, scene, mode, step, engine, Default::default());
+        self.flow(saved)
+    }
+
+    fn round_checkpoint(
+        &mut self,
+        step: usize,
+        round: usize,
+        save: &mut dyn FnMut() -> EngineCheckpoint,
+    ) -> ControlFlow<()> {
+        let Some((scene, mode)) = self.checkpoints else {
+            return ControlFlow::Continue(());
+        };
+        if self.last_saved.elapsed() < self.ctx.round_checkpoint_every {
+            return ControlFlow::Continue(());
+        }
+        let engine = EngineState::Engine(save());
+        let saved = checkpoint::save_within(self.ctx, scene, mode, (step, round), engine);
+        self.flow(saved)
+    }
+}
+
+impl RunObserver<'_> {
+    /// After a checkpoint was written (or failed to be): restarts the interval; `Break`
+    /// when the run is to stop there.
+    fn flow(&mut self, saved: Result<bool>) -> ControlFlow<()> {
+        self.last_saved = Instant::now();
+        match saved {
             Ok(true) => {
                 self.stopped = true;
                 ControlFlow::Break(())

@@ -5,6 +5,7 @@
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
+use std::time::Duration;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, TermLike};
 
@@ -26,7 +27,22 @@ pub struct RunContext {
     /// process had been killed there (a test hook; the run then fails with
     /// "stopped after step k" and leaves the checkpoint).
     pub stop_after: Option<usize>,
+    /// Growth runs, a test hook: `Some((k, n))` makes the first `n` tries of load step `k`
+    /// fail as a solver failure does (full PD: the equilibrium before any bond broke;
+    /// BEM-only: every re-meshed geometry of step k, which has no retry).
+    pub fail_tries: Option<(usize, usize)>,
+    /// Full PD: the least time between two checkpoints inside load steps
+    /// ([`ROUND_CHECKPOINT_INTERVAL`] unless a test sets it).
+    pub round_checkpoint_every: Duration,
+    /// Full PD: stop after break round r of load step k, `Some((k, r))`, once its
+    /// checkpoint is written (a test hook like `stop_after`).
+    pub stop_within: Option<(usize, usize)>,
 }
+
+/// Full PD writes a checkpoint inside a load step (after a break round at which its
+/// solvers are renewed) when this long has passed since the run's last checkpoint: 5
+/// minutes, a few seconds of writing against minutes of work lost at a kill.
+pub const ROUND_CHECKPOINT_INTERVAL: Duration = Duration::from_secs(300);
 
 impl RunContext {
     /// Creates the run folder and its staging area.
@@ -37,6 +53,9 @@ impl RunContext {
             writer: OutputWriter::create_run(out_dir)?,
             resume: false,
             stop_after: None,
+            fail_tries: None,
+            round_checkpoint_every: ROUND_CHECKPOINT_INTERVAL,
+            stop_within: None,
         })
     }
 

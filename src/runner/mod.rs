@@ -48,6 +48,15 @@ pub struct RunOptions {
     /// Growth runs: stop after this load step once its checkpoint is written (a test hook
     /// standing in for a kill; the run then fails and leaves only the checkpoint).
     pub stop_after: Option<usize>,
+    /// Growth runs: failures injected into the tries of a load step (a test hook of the
+    /// back-off, [`RunContext::fail_tries`]).
+    pub fail_tries: Option<(usize, usize)>,
+    /// Full PD: the least time between checkpoints inside load steps (None: 5 minutes,
+    /// [`context::ROUND_CHECKPOINT_INTERVAL`]).
+    pub round_checkpoint_every: Option<std::time::Duration>,
+    /// Full PD: stop after break round r of load step k, `Some((k, r))`, once its
+    /// checkpoint is written (a test hook).
+    pub stop_within: Option<(usize, usize)>,
 }
 
 /// [`run_scene`] with [`RunOptions`]. A growth run writes a checkpoint after every load
@@ -61,7 +70,8 @@ pub fn run_scene_with(
 ) -> anyhow::Result<RunSummary> {
     let mode = mode_of(scene);
     crate::setup::estimate::check(scene)?;
-    if (options.resume || options.stop_after.is_some()) && mode != Mode::Growth {
+    let stops = options.stop_after.is_some() || options.stop_within.is_some();
+    if (options.resume || stops) && mode != Mode::Growth {
         anyhow::bail!(
             "{}: --resume applies to growth runs (scenes with a `growth` section)",
             scene.file_label().display()
@@ -71,6 +81,11 @@ pub fn run_scene_with(
         .with_context(|| format!("cannot create the run folder {}", out_dir.display()))?;
     ctx.resume = options.resume;
     ctx.stop_after = options.stop_after;
+    ctx.fail_tries = options.fail_tries;
+    ctx.stop_within = options.stop_within;
+    if let Some(every) = options.round_checkpoint_every {
+        ctx.round_checkpoint_every = every;
+    }
     let provenance = crate::provenance::Provenance::now();
     let start = Instant::now();
     let mut summary = match mode {

@@ -165,6 +165,22 @@ pub struct Growth {
     /// initiation and at the end only).
     #[serde(default)]
     pub snapshot_steps: Vec<usize>,
+    /// PD-BEM: what to do when the BEM body reaches the PD onset stretch away from the
+    /// windows (`pdbem_coupling::growth::overstrain`). Default `End`.
+    #[serde(default)]
+    pub overstrain: OverstrainAction,
+}
+
+/// What PD-BEM does at the first load step whose BEM body reaches the PD onset stretch
+/// away from the windows, where PD would start a crack the windows cannot model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum OverstrainAction {
+    /// End the run there (`complete: false`, `failure_reason`): growth beyond that load
+    /// is not computed.
+    #[default]
+    End,
+    /// Note it and go on, assuming the body stays elastic there.
+    Note,
 }
 
 fn default_trigger() -> f64 {

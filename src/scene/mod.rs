@@ -55,7 +55,8 @@ pub use bem::{BemSettings, JContour, TipRefinement};
 pub use body::{Body, Hole, NamedEdge, Outline, Patch, Pt};
 pub use boundary::{BoundaryCondition, Component, Load};
 pub use coupling::{
-    Coupling, CouplingOrdering, DisplacementMap, Growth, GrowthMode, Placement, Relaxation,
+    Coupling, CouplingOrdering, DisplacementMap, Growth, GrowthMode, OverstrainAction, Placement,
+    Relaxation,
 };
 pub use crack::{Crack, CrackForm, Faces};
 pub use error::{Issue, SceneError};

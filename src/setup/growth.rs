@@ -135,6 +135,7 @@ pub fn input(scene: &Scene) -> Result<PdBemInput<'_>> {
     params.trigger_ratio = gr.trigger_ratio;
     params.elements_per_extension = gr.elements_per_extension;
     params.path.threshold = gr.damage_threshold;
+    params.end_on_overstrain = gr.overstrain == crate::scene::OverstrainAction::End;
     // Algorithm 1 settings from the scene; the PD solver stays the staggered one of
     // `GrowthParams::new` (one break round per coupling iteration), whatever `pd.solver`.
     params.coupling = CouplingParams {
@@ -224,6 +225,7 @@ pub fn bem_only_input(scene: &Scene) -> Result<BemOnlyInput<'_>> {
         loads: scene.load.factors(),
         da: gr.and_then(|g| g.da),
         snapshot_steps: gr.map(|g| g.snapshot_steps.clone()).unwrap_or_default(),
+        fail_step: None,
     };
     Ok(BemOnlyInput {
         body,

@@ -16,7 +16,11 @@
 //! - BEM-only ([`BemOnlyCheckpoint`]): the crack front as grown and the history; every
 //!   geometry is meshed and solved anew from the front.
 //! - Full PD ([`FullPdCheckpoint`]): the model state, the front, the tracker's recorded
-//!   arc lengths and the history, with the solver counters of the `solver` log event.
+//!   arc lengths and the history, with the solver counters of the `solver` log event;
+//!   also inside a load step, after a break round at which the solvers were renewed
+//!   ([`WithinStep`]; the engine renews them every
+//!   [`crate::growth::full_pd::RENEW_ROUNDS`] rounds in every run, whether a checkpoint
+//!   is written there or not, so results do not depend on when checkpoints are taken).
 //!
 //! Solver state that is not kept (the kept factorisations of the frozen-history solvers,
 //! the interface accelerator's secant data) is not carried across load steps by the
@@ -164,9 +168,28 @@ pub struct FullPdCheckpoint {
     pub history: GrowthHistory,
     /// Its field snapshots.
     pub snapshots: Vec<FieldSnapshot>,
+    /// Where inside load step `next_step` the checkpoint was taken (None: before it).
+    #[serde(default)]
+    pub within: Option<WithinStep>,
 }
 
-/// The checkpoint of a BEM-only or full-PD run.
+/// The place of a full-PD checkpoint inside a load step: after a break round at which the
+/// solvers were renewed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct WithinStep {
+    /// The try of the step (index into the back-off's tries).
+    pub attempt: usize,
+    /// The load of the try being solved (a try with half the increment has two).
+    pub load: usize,
+    /// The last completed break round at that load (0-based).
+    pub round: usize,
+    /// Broken bonds at the start of the step.
+    pub broken_at_start: usize,
+}
+
+/// The checkpoint of a BEM-only or full-PD run. (Built once per load step or checkpoint
+/// interval and moved whole: the size difference of the variants does not matter.)
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum EngineCheckpoint {
     /// BEM-only.

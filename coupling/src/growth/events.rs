@@ -36,6 +36,19 @@ pub trait EngineObserver {
     ) -> ControlFlow<()> {
         ControlFlow::Continue(())
     }
+    /// Full PD, inside load step `step`, after break round `round` at which the engine
+    /// renewed its solvers (every [`crate::growth::full_pd::RENEW_ROUNDS`] rounds, in
+    /// every run): `save` builds the checkpoint of the run as it stands (call it only
+    /// when one is wanted). `Break` stops the run there with
+    /// [`crate::CouplingError::InterruptedWithin`].
+    fn round_checkpoint(
+        &mut self,
+        _step: usize,
+        _round: usize,
+        _save: &mut dyn FnMut() -> EngineCheckpoint,
+    ) -> ControlFlow<()> {
+        ControlFlow::Continue(())
+    }
 }
 
 /// An observer that ignores everything.

@@ -63,6 +63,12 @@ pub struct GrowthParams {
     /// advances by about one break front per iteration, so the window follows it (the
     /// seed's ADR with a fixed number of steps per iteration limits growth the same way).
     pub coupling: CouplingParams,
+    /// End the run at the first load step whose BEM body reaches the PD onset stretch
+    /// away from the windows ([`crate::growth::overstrain`]), with
+    /// [`crate::growth::GrowthResult::failure_reason`]: PD would start a crack there that
+    /// the windows cannot model. False (the default here): note it and go on assuming the
+    /// body stays elastic there. Scenes end by default (`growth.overstrain: End`).
+    pub end_on_overstrain: bool,
 }
 
 impl GrowthParams {
@@ -77,6 +83,7 @@ impl GrowthParams {
             direction_length: 5.0,
             boundary_reach: 1.5,
             max_relocations_per_step: 200,
+            end_on_overstrain: false,
             coupling: CouplingParams {
                 pd_solve: PdSolve::Staggered(StaggeredParams::default()),
                 ..Default::default()

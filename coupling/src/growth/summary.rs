@@ -13,6 +13,7 @@ use super::history::{
     WindowOutline,
 };
 use super::overstrain::Hotspot;
+use super::params::GrowthParams;
 use super::records::{GrowthResult, Scenario, StepResult};
 use crate::setup::WindowModel;
 
@@ -177,6 +178,26 @@ pub fn first_overstrain(steps: &[StepResult]) -> Option<Overstrain> {
     })
 }
 
+/// With [`GrowthParams::end_on_overstrain`], why the run ends after the last of `steps`
+/// when that step is the first whose BEM body reached the PD onset stretch away from the
+/// windows (None otherwise).
+pub fn overstrain_end(params: &GrowthParams, steps: &[StepResult]) -> Option<String> {
+    let (last, before) = steps.split_last()?;
+    if !params.end_on_overstrain || first_overstrain(before).is_some() {
+        return None;
+    }
+    let o = first_overstrain(std::slice::from_ref(last))?;
+    Some(format!(
+        "run ended at load {} (step {}): the BEM body is strained past the PD onset stretch \
+         away from the windows (maximum principal strain {:.3e} >= {:.3e} one horizon inside \
+         the boundary at ({:.3}, {:.3})); PD would break bonds there and may start a crack \
+         that PD-BEM, growing cracks only in its windows, cannot model, so growth beyond \
+         this load is not computed (check with --growth-mode full-pd, or set \
+         growth.overstrain: Note to go on assuming the body stays elastic there)",
+        o.load, o.step, o.strain, o.onset, o.position[0], o.position[1]
+    ))
+}
+
 /// The note of the first overstrained step ([`GrowthHistory::overstrain`]).
 pub fn overstrain_note(o: &Overstrain) -> String {
     format!(
@@ -187,4 +208,131 @@ pub fn overstrain_note(o: &Overstrain) -> String {
          this load on assume the body stays elastic there (check with --growth-mode full-pd)",
         o.step, o.load, o.strain, o.onset, o.position[0], o.position[1]
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::growth::fixtures::{plate_setup, PlateScenario};
+    use crate::growth::params::LoadSteps;
+    use crate::growth::Silent;
+
+    /// A 10 m x 5 m plate clamped on its left edge and pulled along x (1 MPa times the
+    /// load, E = 1 GPa), an edge crack from (10, 2.5) to (9, 2.5) along the load under its
+    /// window (it does not open), a hole; bonds break at s0 = 2.5e-3. Load factors 0.5,
+    /// 1, 1.5, 2: measured, the BEM body passes s0 beside the hole at 1.5 (2.71e-3), the
+    /// window holds. `end` sets [`GrowthParams::end_on_overstrain`].
+    fn run(end: bool) -> GrowthResult {
+        // A hole of radius 0.5 m at (3, 2.5), far from the window: about three times the
+        // remote strain at its top and bottom (Kirsch).
+        let hole: Vec<V2> = (0..16)
+            .map(|k| {
+                let a = -(k as f64) * std::f64::consts::TAU / 16.0;
+                V2::new(3.0 + 0.5 * a.cos(), 2.5 + 0.5 * a.sin())
+            })
+            .collect();
+        let setup = plate_setup(
+            (10.0, 5.0),
+            vec![hole],
+            vec![vec![V2::new(10.0, 2.5), V2::new(9.0, 2.5)]],
+            Some(2.5e-3),
+        );
+        let loads = LoadSteps {
+            initial: 0.5,
+            step: 0.5,
+            count: 4,
+        };
+        let mut params = GrowthParams::new(loads, 0.5);
+        params.coupling.acceleration = crate::iteration::Acceleration::IqnIls(0.5);
+        params.end_on_overstrain = end;
+        let mut g = Growth::new(setup, &PlateScenario, params).expect("setup");
+        g.run(&mut Silent).expect("run")
+    }
+
+    #[test]
+    fn a_run_ends_at_the_first_step_whose_bem_body_passes_the_pd_onset() {
+        let noted = run(false);
+        let o = first_overstrain(&noted.steps).expect("the clamped corners overstrain");
+        assert!(noted.failure_reason.is_none());
+        assert!(
+            noted.steps.len() > o.step + 1,
+            "{} steps",
+            noted.steps.len()
+        );
+        let ended = run(true);
+        assert_eq!(ended.steps.len(), o.step + 1);
+        for (a, b) in ended.steps.iter().zip(&noted.steps) {
+            assert_eq!(
+                (a.load, a.broken_bonds, &a.tips),
+                (b.load, b.broken_bonds, &b.tips)
+            );
+        }
+        let reason = ended.failure_reason.expect("ended");
+        assert!(
+            reason.starts_with(&format!("run ended at load {} (step {})", o.load, o.step)),
+            "{reason}"
+        );
+        let params = GrowthParams::new(
+            LoadSteps {
+                initial: 1.0,
+                step: 1.0,
+                count: 4,
+            },
+            0.5,
+        );
+        // The rule itself: only with the switch, only at the first overstrained step.
+        assert!(overstrain_end(&params, &ended.steps).is_none());
+        let on = GrowthParams {
+            end_on_overstrain: true,
+            ..params
+        };
+        assert!(overstrain_end(&on, &ended.steps).is_some());
+        assert!(overstrain_end(&on, &noted.steps).is_none());
+    }
+
+    #[test]
+    fn the_run_goes_on_with_the_other_tips_after_one_ran_into_a_hole() {
+        // The plate of `driver::ends`' hole test with a second edge crack from the right
+        // edge along the load at y = 4 m (it does not open). Measured: the first tip runs
+        // into the hole in step 0 and ends there, its path joined to the hole edge; the
+        // body holds and the run goes on through every load step with the second tip.
+        let hole: Vec<V2> = (0..16)
+            .map(|k| {
+                let a = -(k as f64) * std::f64::consts::TAU / 16.0;
+                V2::new(5.0 + 0.5 * a.cos(), 3.3 + 0.5 * a.sin())
+            })
+            .collect();
+        let hole_poly = hole.clone();
+        let setup = plate_setup(
+            (10.0, 5.0),
+            vec![hole],
+            vec![
+                vec![V2::new(5.0, 0.0), V2::new(5.0, 1.5)],
+                vec![V2::new(10.0, 4.0), V2::new(9.0, 4.0)],
+            ],
+            Some(3e-3),
+        );
+        let loads = LoadSteps {
+            initial: 1.0,
+            step: 0.25,
+            count: 3,
+        };
+        let mut params = GrowthParams::new(loads, 0.5);
+        params.coupling.acceleration = crate::iteration::Acceleration::IqnIls(0.5);
+        let mut g = Growth::new(setup, &PlateScenario, params).expect("setup");
+        let out = g.run(&mut Silent).expect("run");
+        use crate::growth::tips::TipEnd;
+        assert_eq!(g.tips()[0].ended, Some(TipEnd::Hole("hole0".into())));
+        assert_eq!(g.tips()[1].ended, None, "{:?}", out.notes);
+        assert!(out.failure.is_none() && out.failure_reason.is_none());
+        assert_eq!(out.steps.len(), 3, "{:?}", out.notes);
+        // The reported path of the first tip ends on the hole edge.
+        let h = history_of(&g, &out, Vec::new());
+        let p = h.paths[0].points.last().expect("path");
+        let end = V2::new(p.x, p.y);
+        assert!(
+            pdbem_geometry::polygon_distance(&end, &hole_poly) < 1e-9,
+            "{end:?}"
+        );
+    }
 }

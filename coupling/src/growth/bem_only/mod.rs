@@ -77,6 +77,8 @@ pub struct BemOnlyParams {
     pub da: Option<f64>,
     /// Steps (0-based) after which a displacement snapshot is taken as well.
     pub snapshot_steps: Vec<usize>,
+    /// A test hook: the geometries re-meshed in load step `Some(k)` fail to solve.
+    pub fail_step: Option<usize>,
 }
 
 /// Critical load of one tip of the initial geometry.
@@ -301,7 +303,12 @@ pub fn run_from(
                 break;
             }
             geometry += 1;
-            match engine.solve_checked(&front, &sizes, true) {
+            let checked = if params.fail_step == Some(k) {
+                Err(fail("injected by the test hook fail_step".into()))
+            } else {
+                engine.solve_checked(&front, &sizes, true)
+            };
+            match checked {
                 Ok(Checked::Ok(s)) => solved = *s,
                 Ok(Checked::Overlap(why)) => {
                     not_a_state = Some(format!(

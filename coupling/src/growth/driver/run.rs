@@ -15,6 +15,7 @@ use crate::growth::params::GrowthParams;
 use crate::growth::records::{
     Failure, GrowthResult, IterationEvent, Scenario, SolveOutcome, StepResult,
 };
+use crate::growth::summary::overstrain_end;
 use crate::growth::tips::{passed_margin, reached_boundary, track, TipEnd, TipState};
 use crate::iteration::{solve_prepared, StepOptions};
 use crate::window::{Body, Window};
@@ -326,6 +327,11 @@ impl<'s, S: Scenario> Growth<'s, S> {
                     load,
                     tip: name,
                 });
+                break;
+            }
+            if let Some(reason) = overstrain_end(&self.params, &out.steps) {
+                observer.note(&reason);
+                out.failure_reason = Some(reason);
                 break;
             }
             if self.tips.iter().all(|t| !t.active()) {

@@ -43,13 +43,15 @@
 
 use std::time::Instant;
 
+use cut::crack_cuts_body;
 use pdbem_geometry::P2;
-use pdbem_pd::crack_path::{crack_clusters, trace_crack_beyond, PathParams};
+use pdbem_pd::crack_path::{trace_crack_beyond, PathParams};
 use pdbem_pd::PdModel;
-use rounds::{load_step, message_of, pd_fail, Equilibrium, Tracked, LOOSE_MEASURE};
+pub use rounds::RENEW_ROUNDS;
+use rounds::{load_step, message_of, pd_fail, renews_after, Equilibrium, Tracked, LOOSE_MEASURE};
 use serde_json::json;
 
-use super::checkpoint::FullPdCheckpoint;
+use super::checkpoint::{FullPdCheckpoint, WithinStep};
 use super::events::EngineObserver;
 use super::front::{Front, Obstacle};
 use super::history::{FieldSnapshot, GrowthHistory, PathPoint, StepRecord, TipPath};
@@ -57,6 +59,7 @@ use super::polyline;
 use super::verdict::stop_after_step;
 use crate::error::CouplingError;
 
+mod cut;
 mod resume;
 mod rounds;
 
@@ -66,57 +69,6 @@ const BEHIND_DX: f64 = 1.5;
 const OTHER_CRACK_DX: f64 = 2.0;
 /// A tip this close to another crack (in dx) has joined it.
 const JOIN_DX: f64 = 3.0;
-
-/// Whether a macro crack ([`crack_clusters`] of the damage `phi` of the real nodes at
-/// `x`) cuts the body: it reaches the outline (a node within one dx of it) at two places,
-/// its outline contacts falling into two groups or more when linked within two horizons.
-/// The rule of [`Front::separated`] for any crack, also one no tracked tip followed (on
-/// the shear plate a crack from the end of the bottom clamp up to the kink of the main
-/// crack, seed 002 section 3.2.3). Returns a contact of each of two groups.
-fn crack_cuts_body(
-    x: &[[f64; 2]],
-    phi: &[f64],
-    front: &Front,
-    params: &PathParams,
-    (dx, delta): (f64, f64),
-) -> Result<Option<(P2, P2)>, CouplingError> {
-    for cluster in crack_clusters(x, phi, dx, params).map_err(pd_fail)? {
-        let contacts: Vec<P2> = cluster
-            .iter()
-            .map(|&i| P2::new(x[i][0], x[i][1]))
-            .filter(|p| front.outline_distance(p) <= dx)
-            .collect();
-        let groups = single_linkage(&contacts, 2.0 * delta);
-        if let [a, b, ..] = groups[..] {
-            return Ok(Some((contacts[a], contacts[b])));
-        }
-    }
-    Ok(None)
-}
-
-/// One point of every group of `points` linked within `link` (single linkage), in order
-/// of first appearance. A damage band along the outline is one group however long it is.
-fn single_linkage(points: &[P2], link: f64) -> Vec<usize> {
-    let mut group = vec![usize::MAX; points.len()];
-    let mut firsts = Vec::new();
-    for start in 0..points.len() {
-        if group[start] != usize::MAX {
-            continue;
-        }
-        group[start] = start;
-        firsts.push(start);
-        let mut stack = vec![start];
-        while let Some(k) = stack.pop() {
-            for j in 0..points.len() {
-                if group[j] == usize::MAX && (points[j] - points[k]).norm() <= link {
-                    group[j] = start;
-                    stack.push(j);
-                }
-            }
-        }
-    }
-    firsts
-}
 
 /// Parameters of a full-PD run.
 #[derive(Debug, Clone, PartialEq)]
@@ -131,6 +83,9 @@ pub struct FullPdParams {
     pub damage_threshold: f64,
     /// Steps (0-based) after which damage and displacement snapshots are taken as well.
     pub snapshot_steps: Vec<usize>,
+    /// A test hook: `Some((k, n))` makes the first `n` tries of load step `k` fail as an
+    /// equilibrium failure before any bond broke does (the back-off then retries it).
+    pub fail_tries: Option<(usize, usize)>,
 }
 
 /// Per-tip tracking state.
@@ -356,13 +311,13 @@ pub fn run_from(
         ..Default::default()
     };
     let mut first_break = None;
-    let next = match &resume {
+    let (next, mut within) = match &resume {
         Some(cp) => {
             resume::restore(cp, model, &mut front, &mut tr, &mut history)?;
             first_break = cp.first_break;
-            cp.next_step
+            (cp.next_step, cp.within)
         }
-        None => 0,
+        None => (0, None),
     };
     let mut eq = Equilibrium::new(model).map_err(pd_fail)?;
     if let Some(cp) = &resume {
@@ -372,13 +327,16 @@ pub fn run_from(
     let max_rounds = 20 * n_side.max(10);
     for (k, &f) in factors.iter().enumerate().skip(next) {
         let t0 = Instant::now();
-        let broken0 = model.broken_bonds();
+        // A run resumed inside this step goes on from the checkpoint's try, load and round.
+        let resumed = within.take();
+        let broken0 = resumed.map_or(model.broken_bonds(), |w| w.broken_at_start);
         let prev = if k == 0 { 0.0 } else { factors[k - 1] };
         let saved = resume::Saved::take(model, &front, &tr, &history);
         let mut tried = Vec::new();
         let mut outcome = None;
-        for (i, attempt) in resume::ATTEMPTS.iter().enumerate() {
-            if i > 0 {
+        let first_try = resumed.map_or(0, |w| w.attempt);
+        for (i, attempt) in resume::ATTEMPTS.iter().enumerate().skip(first_try) {
+            if i > first_try {
                 saved.put_back(model, &mut front, &mut tr, &mut history);
                 eq.renew(model).map_err(pd_fail)?;
                 let message = format!("step {k} (load {f}): retry {i} with {}", attempt.label);
@@ -386,21 +344,51 @@ pub fn run_from(
             }
             eq.set_effort(attempt.effort);
             let loads = attempt.loads(prev, f);
-            let mut r = Ok(());
-            for &fl in &loads {
-                r = load_step(model, &mut eq, fl, max_rounds, |m| {
-                    let tracked = track(&mut front, &mut tr, &mut history, m, &params, k, fl, obs);
-                    // A step can run for many minutes on a fine grid: show every round.
-                    let status = round_message(fl, m.broken_bonds(), &front.tip_positions());
-                    obs.progress(k, factors.len(), &status);
-                    tracked
-                });
+            let mut r = injected_failure(p, k, i);
+            let first_load = resumed.filter(|w| w.attempt == i).map_or(0, |w| w.load);
+            for (j, &fl) in loads.iter().enumerate().skip(first_load) {
+                if r.is_err() {
+                    break;
+                }
+                let first_round = resumed
+                    .filter(|w| w.attempt == i && w.load == j)
+                    .map_or(0, |w| w.round + 1);
+                r = load_step(
+                    model,
+                    &mut eq,
+                    (fl, first_round),
+                    max_rounds,
+                    |m, eq, round| {
+                        let tracked =
+                            track(&mut front, &mut tr, &mut history, m, &params, k, fl, obs)?;
+                        // A step can run for many minutes on a fine grid: show every round.
+                        let status = round_message(fl, m.broken_bonds(), &front.tip_positions());
+                        obs.progress(k, factors.len(), &status);
+                        if matches!(tracked, Tracked::Continue) && renews_after(round) {
+                            let here = WithinStep {
+                                attempt: i,
+                                load: j,
+                                round,
+                                broken_at_start: broken0,
+                            };
+                            let flow = obs.round_checkpoint(k, round, &mut || {
+                                let cp = (m, &front, &tr, &history, first_break, eq);
+                                resume::checkpoint(k, cp, Some(here))
+                            });
+                            if flow.is_break() {
+                                return Err(CouplingError::InterruptedWithin { step: k, round });
+                            }
+                        }
+                        Ok(tracked)
+                    },
+                );
                 if r.is_err() || tr.apart || front.separated() {
                     break;
                 }
             }
             eq.set_effort(1);
             match r {
+                Err(e @ CouplingError::InterruptedWithin { .. }) => return Err(e),
                 Ok(()) => outcome = Some(None),
                 Err(e) if model.broken_bonds() > broken0 => outcome = Some(Some(message_of(&e))),
                 Err(e) => {
@@ -464,7 +452,8 @@ pub fn run_from(
         eq.renew(model).map_err(pd_fail)?;
         if k + 1 < factors.len() {
             let flow = obs.checkpoint(k, &mut || {
-                resume::checkpoint(k + 1, model, &front, &tr, &history, first_break, &eq)
+                let cp = (&*model, &front, &tr, &history, first_break, &eq);
+                resume::checkpoint(k + 1, cp, None)
             });
             if flow.is_break() {
                 return Err(CouplingError::Interrupted { step: k });
@@ -506,6 +495,16 @@ pub fn run_from(
         p.ended = t.ended.clone();
     }
     Ok(history)
+}
+
+/// The failure [`FullPdParams::fail_tries`] injects into try `i` of step `k` (else Ok).
+fn injected_failure(p: &FullPdParams, k: usize, i: usize) -> Result<(), CouplingError> {
+    match p.fail_tries {
+        Some((step, n)) if step == k && i < n => Err(rounds::fail(
+            "no frozen-bond equilibrium (injected by the test hook fail_tries)".into(),
+        )),
+        _ => Ok(()),
+    }
 }
 
 /// Progress message after a break round: load, broken bonds, tip positions.
@@ -597,59 +596,4 @@ fn extend_to_outline(front: &Front, path: &mut Vec<P2>, tr: &Tracker) {
     };
     let chord = polyline::OUTLINE_CHORD_DX * tr.dx;
     *path = polyline::end_on_outline(path, outline, tr.delta, chord);
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use pdbem_pd::{PdProblem, Region};
-
-    /// A 10 m square plate (its outline, no cracks in the front) and a PD model of it at
-    /// dx = 0.5 m with the pre-cracks `cracks` (polylines).
-    fn plate(cracks: Vec<Vec<[f64; 2]>>) -> (Front, PdModel, f64) {
-        let outline = vec![
-            P2::new(0.0, 0.0),
-            P2::new(10.0, 0.0),
-            P2::new(10.0, 10.0),
-            P2::new(0.0, 10.0),
-        ];
-        let front = Front::new(Some(outline), Vec::new(), Vec::new());
-        let p = PdProblem {
-            region: Region::rectangle([0.0, 0.0], [10.0, 10.0]),
-            dx: 0.5,
-            youngs_modulus: 1.0,
-            cracks,
-            ..Default::default()
-        };
-        let delta = p.horizon();
-        (front, PdModel::new(&p).expect("model"), delta)
-    }
-
-    fn cuts(cracks: Vec<Vec<[f64; 2]>>) -> Option<(P2, P2)> {
-        let (front, model, delta) = plate(cracks);
-        let (x, phi) = (model.positions(), model.damage());
-        crack_cuts_body(x, &phi, &front, &PathParams::default(), (0.5, delta)).expect("clusters")
-    }
-
-    #[test]
-    fn a_crack_from_outline_to_outline_cuts_the_body_whichever_way_it_runs() {
-        // Straight across: contacts on the left and right edges.
-        let (a, b) = cuts(vec![vec![[-1.0, 5.0], [11.0, 5.0]]]).expect("cut");
-        assert!(a.x < 0.5 && b.x > 9.5, "{a} {b}");
-        // Down from the top, along, and back out through the bottom (a kinked crack
-        // whose far end no tip tracked).
-        let kinked = vec![[5.0, 11.0], [5.0, 5.0], [3.0, 5.0], [3.0, -1.0]];
-        assert!(cuts(vec![kinked]).is_some());
-    }
-
-    #[test]
-    fn edge_cracks_and_damage_along_an_edge_do_not_cut_it() {
-        // An edge crack stopping 4 m short of the far edge.
-        assert_eq!(cuts(vec![vec![[-1.0, 5.0], [6.0, 5.0]]]), None);
-        // Two edge cracks from opposite edges, 2 m apart (two clusters).
-        let two = vec![vec![[-1.0, 5.0], [4.0, 5.0]], vec![[6.0, 5.0], [11.0, 5.0]]];
-        assert_eq!(cuts(two), None);
-        // A damaged band along the whole left edge: one stretch of contacts.
-        assert_eq!(cuts(vec![vec![[0.5, -1.0], [0.5, 11.0]]]), None);
-    }
 }

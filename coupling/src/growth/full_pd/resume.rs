@@ -1,7 +1,7 @@
 //! Checkpoints and the back-off of full-PD load steps.
 //!
-//! - [`checkpoint`] / [`restore`]: the run's state after a load step
-//!   ([`FullPdCheckpoint`]) and back.
+//! - [`checkpoint`] / [`restore`]: the run's state after a load step, or inside one after
+//!   a break round at which the solvers were renewed ([`FullPdCheckpoint`]), and back.
 //! - [`Saved`]: the state at the start of a step, which every retry starts from.
 //! - [`ATTEMPTS`]: a step whose equilibrium fails before any bond broke is tried with the
 //!   scene's budgets, then with [`EFFORT`] times the iteration budgets of the chord
@@ -13,7 +13,7 @@ use pdbem_pd::{ModelState, PdModel};
 use super::rounds::{pd_fail, Equilibrium};
 use super::Tracker;
 use crate::error::CouplingError;
-use crate::growth::checkpoint::{mismatch, FullPdCheckpoint};
+use crate::growth::checkpoint::{mismatch, FullPdCheckpoint, WithinStep};
 use crate::growth::front::Front;
 use crate::growth::history::GrowthHistory;
 
@@ -97,15 +97,23 @@ impl Saved {
     }
 }
 
-/// The checkpoint after a step.
+/// What a checkpoint is taken of: the model, front, tracker, history, the load of the
+/// first broken bond and the solvers.
+pub(super) type RunParts<'a> = (
+    &'a PdModel,
+    &'a Front,
+    &'a Tracker,
+    &'a GrowthHistory,
+    Option<f64>,
+    &'a Equilibrium,
+);
+
+/// The checkpoint after a step (`within` None, `next_step` the step after it) or inside
+/// step `next_step` (`within`: where).
 pub(super) fn checkpoint(
     next_step: usize,
-    model: &PdModel,
-    front: &Front,
-    tr: &Tracker,
-    history: &GrowthHistory,
-    first_break: Option<f64>,
-    eq: &Equilibrium,
+    (model, front, tr, history, first_break, eq): RunParts<'_>,
+    within: Option<WithinStep>,
 ) -> crate::growth::checkpoint::EngineCheckpoint {
     crate::growth::checkpoint::EngineCheckpoint::FullPd(FullPdCheckpoint {
         next_step,
@@ -117,6 +125,7 @@ pub(super) fn checkpoint(
         work: eq.work_done(),
         history: history.clone(),
         snapshots: history.snapshots.clone(),
+        within,
     })
 }
 
