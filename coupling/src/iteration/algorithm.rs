@@ -64,6 +64,9 @@ pub fn solve_prepared(
     };
     let mut weight_scale = 1.0;
     let mut relax = params.acceleration.build(weight_scale);
+    if params.reuse_secants {
+        relax.seed(std::mem::take(&mut opts.secants).for_unknowns(n));
+    }
     let mut best = (f64::INFINITY, x.clone());
     let mut since_best = 0;
     let mut growing = 0;
@@ -100,9 +103,11 @@ pub fn solve_prepared(
             Err(other) => return Err(other),
         };
         let mut broke = broke;
+        let mut committed = false;
         if let Some(sp) = &commit_at_convergence {
             if state.is_some() && e.is_finite() && e < params.psi && broke == 0 {
                 broke = commit_windows(&mut problem.windows, sp)?;
+                committed = broke > 0;
             }
         }
         info.residuals.push(e);
@@ -120,6 +125,12 @@ pub fn solve_prepared(
         if let (true, Some((sol, tractions))) = (converged || stop, state) {
             info.converged = converged;
             info.interrupted = !converged;
+            let secants = if params.reuse_secants {
+                relax.end_map(Some((&x, &xt)));
+                relax.take_secants()
+            } else {
+                Default::default()
+            };
             let (x_pd, x_bem) = match &tws {
                 None => (x, xt),
                 Some(t) => finish(problem, t, &sol, scale)?,
@@ -130,15 +141,27 @@ pub fn solve_prepared(
                 x_pd,
                 x_bem,
                 tractions,
+                secants,
             };
             return Ok((out, info));
         }
         if broke > 0 {
-            // The map changed a little (a few bonds near a tip): the accelerator keeps its
-            // secant data, the divergence history restarts, back-offs are forgiven.
+            // The map changed a little (a few bonds near a tip): the divergence history
+            // restarts, back-offs are forgiven, and the accelerator starts a new model
+            // (with the old one's differences as reused columns when asked). Bonds
+            // broken at convergence changed the map after this evaluation: (x, xt) lies on
+            // the old map, so it goes to the old model and x is evaluated again.
             since_break = 0;
             weight_scale = 1.0;
+            let old_pair = committed.then_some((x.as_slice(), xt.as_slice()));
+            let carried = if params.reuse_secants {
+                relax.end_map(old_pair);
+                relax.take_secants()
+            } else {
+                Default::default()
+            };
             relax = params.acceleration.build(weight_scale);
+            relax.seed(carried);
             best = (f64::INFINITY, xt.clone());
             since_best = 0;
             growing = 0;
@@ -154,6 +177,11 @@ pub fn solve_prepared(
                 psi: params.psi,
                 residuals: info.residuals,
             });
+        }
+        if committed {
+            // x is evaluated again on the new map; its old-map residual is no best.
+            info.weights.push(None);
+            continue;
         }
         growing = if broke == 0
             && info.residuals.len() > 1

@@ -150,6 +150,11 @@ pub struct CouplingParams {
     pub pd_solve: PdSolve,
     /// Interface ordering. Default [`Ordering::DisplacementToPd`].
     pub ordering: Ordering,
+    /// IQN-ILS keeps the secant columns of the maps before a bond break, and of the
+    /// solve before ([`StepOptions::secants`](super::StepOptions::secants)), as reused
+    /// columns ([`crate::relaxation::SecantColumns`]). Default true; false starts every
+    /// map with an empty model (the cold start, for comparison).
+    pub reuse_secants: bool,
 }
 
 impl Default for CouplingParams {
@@ -165,6 +170,7 @@ impl Default for CouplingParams {
             max_backoffs: 3,
             pd_solve: PdSolve::default(),
             ordering: Ordering::default(),
+            reuse_secants: true,
         }
     }
 }

@@ -5,7 +5,9 @@
 //! [`Growth::run`] does, for every load factor $f_k$ = `initial + k step`:
 //! 1. Algorithm 1 at $f_k$ on the factored BEM system of the current geometry
 //!    ([`crate::iteration::solve_prepared`], warm-started from the last interface state
-//!    scaled to $f_k$). After every iteration the active tips are traced; a tip past its
+//!    scaled to $f_k$, and within a load step on one geometry from the IQN-ILS secant
+//!    columns of the solve before; a relocation or a new try at a step starts the
+//!    columns afresh). After every iteration the active tips are traced; a tip past its
 //!    window margin or at the outline stops the iteration (step 6).
 //! 2. Tips that reached the outline end the run (structural failure, step 9), as do two
 //!    edge cracks that meet, or a tip past its margin for which no window around it fits
@@ -62,6 +64,7 @@ use crate::growth::polyline;
 use crate::growth::records::{GrowthSetup, Scenario};
 use crate::growth::tips::{entry_point, protect_band, towards_tip, track, TipEnd, TipState};
 use crate::iteration::{CoupledProblem, CoupledSolution, PreparedBem};
+use crate::relaxation::SecantColumns;
 use crate::setup::{build, Layout};
 use crate::window::{Body, Window};
 
@@ -78,6 +81,9 @@ pub struct Growth<'s, S: Scenario> {
     pub(super) tips: Vec<TipState>,
     /// Interface state to start from and the load it belongs to.
     pub(super) start: Option<(Vec<f64>, f64)>,
+    /// IQN-ILS secant columns of the last solve in the current load step, reused by the
+    /// next solve of the step (after a relocation: by interface index, module docs).
+    pub(super) secants: SecantColumns,
     pub(super) last: Option<CoupledSolution>,
     /// Arc length of each tip along its crack polyline at each record: (s, step, load).
     pub(super) progress: Vec<Vec<(f64, usize, f64)>>,
@@ -187,6 +193,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
             bem,
             tips,
             start: None,
+            secants: SecantColumns::default(),
             last: None,
             progress: vec![Vec::new(); n],
             initial_s,

@@ -18,6 +18,7 @@ use crate::growth::records::{
 use crate::growth::summary::overstrain_end;
 use crate::growth::tips::{passed_margin, reached_boundary, track, TipEnd, TipState};
 use crate::iteration::{solve_prepared, StepOptions};
+use crate::relaxation::SecantColumns;
 use crate::window::{Body, Window};
 
 /// Spread-out candidates of the strain watch per step ([`overstrain::search`]: at least
@@ -116,6 +117,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
             load_scale: load,
             start,
             monitor: Some(&mut monitor),
+            secants: std::mem::take(&mut self.secants),
         };
         let (sol, info) = solve_prepared(&mut self.problem, &self.bem, &params.coupling, opts)?;
         for n in &info.notes {
@@ -125,6 +127,8 @@ impl<'s, S: Scenario> Growth<'s, S> {
             return Err(e);
         }
         self.start = Some((sol.x_pd.clone(), load));
+        let mut sol = sol;
+        self.secants = std::mem::take(&mut sol.secants);
         self.last = Some(sol);
         self.before = self.tips.iter().map(TipState::position).collect();
         self.retrace()?;
@@ -173,6 +177,9 @@ impl<'s, S: Scenario> Growth<'s, S> {
             load,
             ..StepRun::default()
         };
+        // Every try at a step starts its quasi-Newton model afresh: a step's result
+        // depends only on the state it starts from (back-offs, resumed runs).
+        self.secants = SecantColumns::default();
         loop {
             let o = match self.solve_at(k, load, observer) {
                 Ok(o) => o,
