@@ -44,6 +44,8 @@
 //!
 //! Crack measures (tip, branching) come from [`crack::CrackTracker`].
 
+#[cfg(any(test, feature = "bench"))]
+pub mod bench;
 pub mod crack;
 #[cfg(test)]
 mod tests;
