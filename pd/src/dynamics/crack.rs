@@ -29,6 +29,7 @@
 //! apart by their own width plus two rows, so the detector reports a branch somewhat
 //! after the fork itself (a few horizons of crack growth).
 
+use crate::bonds::Bonds;
 use crate::geometry::P2;
 use crate::model::PdModel;
 
@@ -60,7 +61,12 @@ impl CrackTracker {
     /// measures) and the damage `threshold`.
     pub fn new(model: &PdModel, cracks: &[Vec<P2>], threshold: f64) -> Self {
         let g = model.grid();
-        let pos = &g.pos[..g.n_real];
+        Self::for_points(&g.pos[..g.n_real], cracks, threshold, g.dx, g.delta)
+    }
+
+    /// The tracker of particles at `pos` (a refined body: `dx` and `delta` of the base
+    /// grid set the column width, the boundary margin and the pre-crack tip radius).
+    pub fn for_points(pos: &[P2], cracks: &[Vec<P2>], threshold: f64, dx: f64, delta: f64) -> Self {
         let (origin, d) = match cracks.first() {
             Some(c) if c.len() >= 2 => {
                 let (a, b) = (c[c.len() - 2], c[c.len() - 1]);
@@ -74,7 +80,7 @@ impl CrackTracker {
             .map(|&x| {
                 cracks.first().is_some_and(|c| {
                     c.last()
-                        .is_some_and(|&t| (x[0] - t[0]).hypot(x[1] - t[1]) <= g.delta)
+                        .is_some_and(|&t| (x[0] - t[0]).hypot(x[1] - t[1]) <= delta)
                 })
             })
             .collect();
@@ -88,8 +94,8 @@ impl CrackTracker {
             near_crack,
             threshold,
             s_max,
-            dx: g.dx,
-            delta: g.delta,
+            dx,
+            delta,
         }
     }
 
@@ -104,12 +110,16 @@ impl CrackTracker {
     /// The crack band (module docs) and the damage of every node.
     pub fn crack_band(&self, model: &PdModel) -> (Vec<usize>, Vec<f64>) {
         let phi = model.damage();
+        (self.band(&phi, model.bonds()), phi)
+    }
+
+    /// The crack band of nodes with damage `phi`, connected through `b`'s families.
+    fn band(&self, phi: &[f64], b: &Bonds) -> Vec<usize> {
         let n = self.near_crack.len();
         let cracked: Vec<bool> = (0..n).map(|i| phi[i] > 0.5 * self.threshold).collect();
         let mut seen: Vec<bool> = (0..n).map(|i| cracked[i] && self.near_crack[i]).collect();
         let mut stack: Vec<usize> = (0..n).filter(|&i| seen[i]).collect();
         let mut out = stack.clone();
-        let b = model.bonds();
         while let Some(i) = stack.pop() {
             for k in b.row(i) {
                 let j = b.nbr[k] as usize;
@@ -120,13 +130,19 @@ impl CrackTracker {
                 }
             }
         }
-        (out, phi)
+        out
     }
 
     /// Tip, branch point and boundary arrival of the current state of `model`.
     pub fn measure(&self, model: &PdModel) -> CrackState {
-        let (nodes, phi) = self.crack_band(model);
-        let pos = model.positions();
+        let phi = model.damage();
+        self.measure_points(model.positions(), &phi, model.bonds())
+    }
+
+    /// Tip, branch point and boundary arrival of particles at `pos` with damage `phi`
+    /// and families `bonds` (the points of [`CrackTracker::for_points`]).
+    pub fn measure_points(&self, pos: &[P2], phi: &[f64], bonds: &Bonds) -> CrackState {
+        let nodes = self.band(phi, bonds);
         let mut st = CrackState::default();
         let tip = nodes
             .iter()
