@@ -90,8 +90,11 @@ impl AdaptiveObserver for (Vec<DynamicRecord>, Vec<SplitEvent>) {
 pub struct AdaptiveInfo {
     /// The run as the uniform dynamics reports it.
     pub dynamics: DynamicsInfo,
-    /// Fewest and most particles during the run.
+    /// Particles at the first step (after the set-up refinement) and the most during
+    /// the run.
     pub particles: (usize, usize),
+    /// Directed bonds at the first step.
+    pub bonds: usize,
     /// Refinements (split events).
     pub refinements: usize,
     /// Wall time of the criterion checks and splits (s).
@@ -307,8 +310,11 @@ fn plan(
 }
 
 /// Run the explicit dynamics of `p`'s refined body from rest with adaptive refinement
-/// `r` checked every `check_every` steps (module docs), reporting through `obs`. Set-up:
-/// the static regions of `r` are refined before the first step. Returns the final body.
+/// `r` checked every `check_every` steps (module docs), reporting through `obs`. Set-up
+/// (as [`super::run`]): the static regions of `r` and Eq. 15 on the pre-cracks are
+/// refined, level by level until nothing fires, before the first step (the cut bonds of
+/// a pre-crack damage its particles, and each split changes its neighbours' damage).
+/// Returns the final body.
 pub fn run_dynamic(
     p: &PdProblem,
     ex: &ExplicitParams,
@@ -327,16 +333,8 @@ pub fn run_dynamic(
         return Err(PdError::invalid("check_every", "must be at least 1 step"));
     }
     let mut body = Body::from_problem(p)?;
-    let delta_ref = body.dh.delta.iter().fold(0.0f64, |a, &b| a.max(b));
     loop {
-        let f: Vec<usize> = (0..body.len())
-            .filter(|&k| body.level[k] < r.max_level)
-            .filter(|&k| {
-                r.regions
-                    .iter()
-                    .any(|s| s.contains(body.dh.pos[k], delta_ref))
-            })
-            .collect();
+        let f = flagged(&body, r, true, false);
         if f.is_empty() {
             break;
         }
@@ -383,6 +381,7 @@ pub fn run_dynamic(
             ..Default::default()
         },
         particles: (body.len(), body.len()),
+        bonds: body.dh.bonds.len(),
         ..Default::default()
     };
     let mut snaps: Vec<(usize, f64)> = ex
