@@ -19,7 +19,10 @@
 //! when [`Refinement::strain_factor`] is set; level below [`Refinement::max_level`]) split
 //! by [`Body::split`] (Eq. 18 placement, Eq. 30 masses $\rho V_k/4$); every child takes
 //! its parent's velocity, so mass and momentum are conserved exactly. The accelerations are
-//! recomputed at the new state (no breaking in that pass). A split changes $K + U - W$ (the
+//! recomputed at the new state, and a bond of the refined body already past its owner's
+//! critical stretch starts broken: a bond between particles whose ancestors were not
+//! bonded (a kept particle and a child its horizon now reaches) starts intact
+//! ([`Body::split`]) and may span a crack that opened during the run. A split changes $K + U - W$ (the
 //! children's displacements follow Eq. 18, the constants are recalibrated); the jump is
 //! summed apart so that the recorded fracture energy (the energy balance's dissipation,
 //! [`crate::dynamics`]) counts broken bonds only.
@@ -186,7 +189,8 @@ impl State {
         self.v = v;
         self.a = vec![[0.0; 2]; body.len()];
         (self.owner, self.sc) = Self::caches(body);
-        let (f, _) = forces_breaking(&mut body.dh, &self.owner, &body.u, None);
+        // Bonds born past their critical stretch start broken (part of the split).
+        let (f, _) = forces_breaking(&mut body.dh, &self.owner, &body.u, self.sc.as_deref());
         self.accelerate(body, &f);
         Ok(split)
     }
