@@ -33,6 +33,7 @@ pub mod provenance;
 pub mod refine;
 pub mod run_bem;
 pub mod run_coupled;
+pub mod run_dynamic;
 pub mod run_pd;
 pub mod run_refined;
 pub mod runner;

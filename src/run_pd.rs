@@ -51,11 +51,22 @@ pub fn traction_scale(scene: &Scene) -> Option<f64> {
         .fold(None, |m: Option<f64>, v| Some(m.map_or(v, |m| m.max(v))))
 }
 
+/// The error of an explicit-dynamics scene on the equilibrium path.
+fn unreachable_explicit(file: &std::path::Path) -> Result<pdbem_pd::SolveInfo> {
+    anyhow::bail!(
+        "{}: pd.solver: Explicit dynamics runs through `pdbem run` (crate::run_dynamic), not this equilibrium path",
+        file.display()
+    )
+}
+
 /// Solves `scene` with peridynamics over the whole body and writes the node table and
 /// the damage and displacement plots through `ctx.writer`.
 pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     if scene.pd.as_ref().is_some_and(|pd| pd.refinement.is_some()) {
         return crate::run_refined::run(scene, ctx);
+    }
+    if crate::run_dynamic::is_dynamic(scene) {
+        return crate::run_dynamic::run(scene, ctx);
     }
     let t0 = Instant::now();
     ctx.log(&format!("{}: PD solve", scene.name));
@@ -94,6 +105,9 @@ pub fn solve_recorded(scene: &Scene) -> Result<(RunSummary, PdModel, LoadDisplac
             "{}: pd.refinement runs through `pdbem run` (stand-alone PD), not this solver path",
             file.display()
         );
+    }
+    if matches!(pd.solver, PdSolver::Explicit(_)) {
+        unreachable_explicit(&file)?;
     }
     let factors = scene.load.factors();
     let last = factors.last().copied().unwrap_or(1.0);
@@ -161,6 +175,10 @@ pub fn solve_recorded(scene: &Scene) -> Result<(RunSummary, PdModel, LoadDisplac
     } else {
         let conv = |tol: f64| Convergence::Displacement { e0: tol };
         match &pd.solver {
+            PdSolver::Explicit(_) => Err(pdbem_pd::PdError::invalid(
+                "pd.solver",
+                "Explicit dynamics runs through `pdbem run` (crate::run_dynamic)",
+            )),
             PdSolver::Implicit(p) => implicit::solve(
                 &mut model,
                 &implicit::ImplicitParams {

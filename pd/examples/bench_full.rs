@@ -30,6 +30,7 @@ fn main() {
                 protocol: pdbem_pd::bench::protocol(),
                 kernel: Vec::new(),
                 switching: vec![r],
+                branching: None,
             };
             print!("{}", table(&report));
         }

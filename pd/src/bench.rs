@@ -29,6 +29,11 @@
 //!   `profile_difference` (the same over the two node rows next to the
 //!   horizontal centre line, the seed's Figs. 13-14 profiles), `error`
 //!   (a solver error, if any).
+//! - `branching` ([`crate::dynamics::bench::BranchingBench`]): seed 004's branching plate
+//!   (case 1) timed on the coarse and the fine grid over `window_s` (80 us, 2 us with
+//!   `--quick`) at `dt_s` = 1e-8 s: per grid `dx`, `nodes`, `bonds`, `steps`, `wall_s`,
+//!   `bond_steps_per_s`, `branch_time_s`, `boundary_time_s`, `broken_bonds`, `error`;
+//!   `ratio` (fine / coarse wall time) and `seed_ratio` (Table 5: 5.72).
 
 use std::time::Instant;
 
@@ -165,6 +170,8 @@ pub struct BenchReport {
     pub kernel: Vec<KernelBench>,
     /// Switching measurements (plate with hole, three-point bend).
     pub switching: Vec<SwitchBench>,
+    /// Seed 004's branching plate, coarse against fine ([`crate::dynamics::bench`]).
+    pub branching: Option<crate::dynamics::bench::BranchingBench>,
 }
 
 /// Bytes of bond data per directed bond: the static CSR arrays and the
@@ -433,11 +440,18 @@ pub fn run_bench(opts: BenchOptions) -> BenchReport {
         compare(&plate.0, plate.1, 0.025, repeats),
         compare(&bend.0, bend.1, 0.03, repeats),
     ];
+    // Explicit dynamics: the seed's 80 us (8000 steps per grid), 2 us when quick.
+    let branching = Some(crate::dynamics::bench::branching(if opts.quick {
+        2e-6
+    } else {
+        8e-5
+    }));
     BenchReport {
         threads: rayon::current_num_threads(),
         protocol: protocol(),
         kernel,
         switching,
+        branching,
     }
 }
 
@@ -538,6 +552,9 @@ pub fn table(r: &BenchReport) -> String {
         s,
         "seed 000 Table 1 (Julia, one core, its own ADR baseline): plate 10.7x, three-point bend 6.4x"
     );
+    if let Some(b) = &r.branching {
+        s.push_str(&crate::dynamics::bench::table(b));
+    }
     s
 }
 

@@ -305,3 +305,39 @@ pub fn seed001_crack(kind: CrackKind, n: usize) -> PdCase {
         adr_rate_steps: 1,
     }
 }
+
+/// Seed 004 section 4.2's dynamic crack-branching plate: 100 mm x 40 mm, thickness
+/// 1 mm, a 50 mm pre-crack from the middle of the left edge along the mid-line, Table 4
+/// material (E = 32 GPa, nu = 0.2, rho = 2450 kg/m^3 for [`crate::dynamics`], G_c =
+/// 3 J/m^2, state-based PD, plane stress), tractions `sigma` (Pa) pulling the top and
+/// bottom edges held from t = 0 (load factor 1). `dx` should divide 40 mm.
+pub fn branching_plate(dx: f64, sigma: f64) -> PdCase {
+    let (l, w) = (0.1, 0.04);
+    let traction = |y: f64, ty: f64| BoundaryCondition::Traction {
+        edge: vec![[0.0, y], [l, y]],
+        traction: [0.0, ty],
+        depth: Some(dx),
+    };
+    PdCase {
+        name: "seed004_branching".into(),
+        problem: PdProblem {
+            region: Region::rectangle([0.0, 0.0], [l, w]),
+            dx,
+            thickness: 1e-3,
+            youngs_modulus: 32e9,
+            plane: Plane::Stress,
+            material: crate::problem::PdMaterial::StateBased { poisson_ratio: 0.2 },
+            failure: Failure::FractureEnergy { g_c: 3.0 },
+            cracks: vec![vec![[-dx, 0.5 * w], [0.05, 0.5 * w]]],
+            boundary: vec![traction(w, sigma), traction(0.0, -sigma)],
+            ..Default::default()
+        },
+        target_load: 1.0,
+        implicit_steps: 1,
+        explicit_steps: 1,
+        adr_rate_steps: 1,
+    }
+}
+
+/// Mass density of seed 004's Table 4 material (kg/m^3), [`branching_plate`].
+pub const SEED004_DENSITY: f64 = 2450.0;

@@ -13,6 +13,8 @@
 //! - [`refine`]: adaptive particle refinement on dual horizons (seed 004 section 3).
 //! - [`traction`]: tractions on the boundary surface through seed 001's
 //!   transfer functions (the alternative to the body-force layer).
+//! - [`dynamics`]: explicit dynamics (velocity Verlet, stable time step, bond breaking
+//!   every step; seed 004 section 2.3) with crack tip and branching measures.
 //! - [`material`], [`forces`], [`damage`]: PMB micromodulus, critical stretch,
 //!   tanh degradation; parallel force gather; damage `phi`.
 //! - [`model`]: [`PdModel`], the state and the operations the solvers and the
@@ -41,6 +43,7 @@ pub mod cases;
 pub mod crack_path;
 pub mod damage;
 mod detach;
+pub mod dynamics;
 pub mod edge_crack;
 pub mod error;
 pub mod forces;

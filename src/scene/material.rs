@@ -26,6 +26,10 @@ pub struct Material {
     /// Fracture data; absent = no fracture data (BEM runs need none).
     #[serde(default)]
     pub fracture: Option<Fracture>,
+    /// Mass density rho (kg/m^3), > 0. Required by explicit dynamics
+    /// (`pd.solver: Explicit`) only; absent otherwise.
+    #[serde(default)]
+    pub density: Option<f64>,
 }
 
 /// Fracture properties. Any subset may be given; `K_c` defaults to
@@ -81,6 +85,7 @@ mod tests {
                 g_c: Some(110.0),
                 ..Default::default()
             }),
+            density: None,
         };
         let kc = m.k_c().expect("k_c");
         assert!((kc - (30e9 / (1.0 - 0.0625) * 110.0f64).sqrt()).abs() < 1e-6 * kc);

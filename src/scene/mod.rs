@@ -63,8 +63,8 @@ pub use error::{Issue, SceneError};
 pub use material::{Fracture, Material, Plane};
 pub use outputs::{Grid, Line, Outputs, PlotFormat};
 pub use pd::{
-    AdrParams, Failure, ImplicitParams, PdModelKind, PdRefinement, PdSettings, PdSolver,
-    PdTraction, RefineCircle, SwitchingParams,
+    AdrParams, ExplicitParams, Failure, ImplicitParams, PdModelKind, PdRefinement, PdSettings,
+    PdSolver, PdTraction, RefineCircle, SwitchingParams,
 };
 pub use reference::Reference;
 

@@ -130,6 +130,35 @@ pub enum PdSolver {
     Implicit(ImplicitParams),
     /// Implicit while no bond passes s_m, ADR while bonds fail (seed 000 section 4).
     Switching(SwitchingParams),
+    /// Explicit dynamics from rest under the loads held from t = 0: velocity Verlet with
+    /// bond breaking every step (seed 004 section 2.3, `pdbem_pd::dynamics`). Stand-alone
+    /// PD only; needs `material.density`.
+    Explicit(ExplicitParams),
+}
+
+fn default_dynamics_safety() -> f64 {
+    0.8
+}
+
+/// Explicit dynamics parameters.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExplicitParams {
+    /// Simulated time (s), > 0. Required.
+    pub end_time: f64,
+    /// Time step (s), > 0 and at most the stable step dt_c. Default `safety_factor * dt_c`.
+    #[serde(default)]
+    pub dt: Option<f64>,
+    /// Fraction of dt_c taken without `dt`, in (0, 1]. Default 0.8.
+    #[serde(default = "default_dynamics_safety")]
+    pub safety_factor: f64,
+    /// Time between rows of `dynamics.csv` (s), > 0. Default `end_time / 200`.
+    #[serde(default)]
+    pub output_every: Option<f64>,
+    /// Times (s) of the damage snapshots, in [0, end_time], at most 100. Default: none
+    /// (the final state is always written).
+    #[serde(default)]
+    pub snapshots: Vec<f64>,
 }
 
 impl Default for PdSolver {

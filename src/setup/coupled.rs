@@ -295,6 +295,8 @@ pub fn params_of(co: &Coupling, pd: &ScenePd) -> CouplingParams {
         DisplacementMap::Taylor => pdbem_coupling::DisplacementMap::Taylor,
     };
     let pd_solve = match &pd.solver {
+        // Explicit dynamics is refused with `coupling` by validation.
+        PdSolver::Explicit(_) => PdSolve::default(),
         PdSolver::Switching(s) => match PdSolve::default() {
             PdSolve::Switching(mut p) => {
                 p.max_newton_iters = s.max_newton;

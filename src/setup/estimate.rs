@@ -166,6 +166,7 @@ impl Estimate {
 pub fn check(scene: &Scene) -> Result<Estimate> {
     let e = of(scene)?;
     e.within(scene, budget())?;
+    crate::run_dynamic::check(scene)?;
     Ok(e)
 }
 

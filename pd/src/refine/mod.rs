@@ -45,16 +45,23 @@
 //! no failure law); the accumulated-strain criterion needs a critical stretch from the
 //! problem's failure law.
 //!
+//! **Dynamics** ([`dynamics`]): velocity Verlet on the refined body with bond breaking
+//! every step and Eq. 15/16 splitting every few steps during the run (Fig. 5 steps 3-5,
+//! children inheriting their parent's velocity, Eq. 30).
+//!
 //! [`DualHorizon::from_families`]: crate::state_based::dual_horizon::DualHorizon::from_families
 
 mod body;
+pub mod dynamics;
 pub mod linear;
+mod pass;
 mod run;
 mod split;
 #[cfg(test)]
 mod tests;
 
 pub use body::Body;
+pub use dynamics::{run_dynamic, AdaptiveInfo, AdaptiveObserver, SplitEvent};
 pub use run::{run, RefinedRun, Round};
 
 use serde::{Deserialize, Serialize};

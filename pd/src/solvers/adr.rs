@@ -42,6 +42,33 @@ use crate::forces::{ForceStats, History};
 use crate::geometry::P2;
 use crate::model::PdModel;
 
+/// Gershgorin bound of the linearised stiffness per node: the absolute row sums
+/// $\sum_m \sum_q |K_{(i,p),(m,q)}|$ (force density per displacement, N/m^4) of both
+/// components `p`, in the reference configuration. PMB bond by bond (each bond's block
+/// $k/|\xi|\, n n^T$ counted on the diagonal and off it); the state-based model from
+/// its tangent rows. ADR's fictitious density and the explicit time step
+/// ([`crate::dynamics`]) both use it.
+pub fn row_bounds(model: &PdModel) -> Vec<[f64; 2]> {
+    let b = &model.bonds;
+    if let Some(rows) = model.stiffness_row_sums() {
+        return rows;
+    }
+    (0..model.n_nodes())
+        .map(|i| {
+            // Group-ordered sum: mirror nodes get bitwise equal bounds.
+            group_sum(&b.meta, b.row(i), |bb| {
+                let kl = b.k[bb] * b.inv_len[bb];
+                let ex = b.xi[bb][0] * b.inv_len[bb];
+                let ey = b.xi[bb][1] * b.inv_len[bb];
+                [
+                    2.0 * kl * (ex * ex + (ex * ey).abs()),
+                    2.0 * kl * (ey * ey + (ex * ey).abs()),
+                ]
+            })
+        })
+        .collect()
+}
+
 /// ADR parameters.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -140,28 +167,9 @@ impl Adr {
     /// Buffers for `model`, with the fictitious density (safety factor `safety`).
     pub fn new(model: &PdModel, safety: f64) -> Self {
         let n = model.n_nodes();
-        let b = &model.bonds;
-        // The state-based model bounds its rows itself (its tangent is not bond by bond).
-        let rows = model.stiffness_row_sums();
-        let mass = (0..n)
-            .map(|i| {
-                // Group-ordered sum: mirror nodes get bitwise equal masses.
-                let [rx, ry] = rows.as_ref().map_or_else(
-                    || {
-                        group_sum(&b.meta, b.row(i), |bb| {
-                            let kl = b.k[bb] * b.inv_len[bb];
-                            let ex = b.xi[bb][0] * b.inv_len[bb];
-                            let ey = b.xi[bb][1] * b.inv_len[bb];
-                            [
-                                2.0 * kl * (ex * ex + (ex * ey).abs()),
-                                2.0 * kl * (ey * ey + (ex * ey).abs()),
-                            ]
-                        })
-                    },
-                    |r| r[i],
-                );
-                (0.25 * safety * rx.max(ry)).max(f64::MIN_POSITIVE)
-            })
+        let mass = row_bounds(model)
+            .iter()
+            .map(|[rx, ry]| (0.25 * safety * rx.max(*ry)).max(f64::MIN_POSITIVE))
             .collect();
         Adr {
             mass,

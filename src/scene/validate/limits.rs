@@ -102,6 +102,16 @@ fn check_solver(c: &mut Checker, solver: &PdSolver) {
         PdSolver::Adr(p) => vec![("max_iter", p.max_iter)],
         PdSolver::Implicit(p) => vec![("max_iter", p.max_iter)],
         PdSolver::Switching(p) => vec![("max_newton", p.max_newton), ("max_adr", p.max_adr)],
+        PdSolver::Explicit(p) => {
+            at_most(
+                c,
+                "pd.solver.snapshots",
+                p.snapshots.len(),
+                pdbem_pd::dynamics::MAX_SNAPSHOTS,
+                "damage snapshots",
+            );
+            Vec::new()
+        }
     };
     for (f, v) in iters {
         at_most(

@@ -3,7 +3,8 @@
 use super::Checker;
 use crate::scene::Scene;
 
-/// E > 0, nu in (-1, 0.5), thickness > 0, fracture data non-negative.
+/// E > 0, nu in (-1, 0.5), thickness > 0, density > 0 if given, fracture data
+/// non-negative.
 pub fn check(c: &mut Checker, scene: &Scene) {
     let m = &scene.material;
     c.positive("material.E", m.e, "Young's modulus");
@@ -11,6 +12,9 @@ pub fn check(c: &mut Checker, scene: &Scene) {
         c.fail("material.nu", m.nu, "Poisson ratio must lie in (-1, 0.5)");
     }
     c.positive("material.thickness", m.thickness, "thickness");
+    if let Some(rho) = m.density {
+        c.positive("material.density", rho, "mass density");
+    }
     let Some(f) = &m.fracture else { return };
     if let Some(g) = f.g_c {
         if c.finite("material.fracture.g_c", g) && g < 0.0 {

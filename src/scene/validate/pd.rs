@@ -57,6 +57,9 @@ fn check_pd(c: &mut Checker, scene: &Scene, pd: &crate::scene::PdSettings) {
         );
     }
     check_solver(c, &pd.solver);
+    if let PdSolver::Explicit(p) = &pd.solver {
+        check_explicit(c, scene, pd, p);
+    }
     check_failure(c, scene, &pd.failure);
     let full_pd = scene
         .growth
@@ -161,8 +164,65 @@ fn check_refinement(
     }
 }
 
+/// `pd.solver: Explicit`: stand-alone PD (no coupling, growth or refinement), a mass
+/// density, and its times in range (the stable step and the work bound are checked
+/// against the grid by `crate::run_dynamic::check`).
+fn check_explicit(
+    c: &mut Checker,
+    scene: &Scene,
+    pd: &crate::scene::PdSettings,
+    p: &crate::scene::ExplicitParams,
+) {
+    if scene.coupling.is_some() || scene.growth.is_some() {
+        c.fail_at(
+            "pd.solver",
+            "Explicit dynamics runs in stand-alone PD only (not in PD-BEM windows or growth): drop `coupling`/`growth` or choose Adr, Implicit or Switching",
+        );
+    }
+    if pd.refinement.is_some() {
+        c.fail_at(
+            "pd.solver",
+            "Explicit dynamics runs on the uniform grid: drop `pd.refinement`",
+        );
+    }
+    if scene.material.density.is_none() {
+        c.fail_at(
+            "material.density",
+            "Explicit dynamics needs the mass density (kg/m^3), e.g. `density: 2450`",
+        );
+    }
+    if c.positive("pd.solver.end_time", p.end_time, "simulated time") {
+        for (i, &t) in p.snapshots.iter().enumerate() {
+            if c.finite(&format!("pd.solver.snapshots.{i}"), t) && !(0.0..=p.end_time).contains(&t)
+            {
+                c.fail(
+                    format!("pd.solver.snapshots.{i}"),
+                    t,
+                    format!("snapshot time must lie in [0, end_time = {}]", p.end_time),
+                );
+            }
+        }
+    }
+    if let Some(dt) = p.dt {
+        c.positive("pd.solver.dt", dt, "time step");
+    }
+    if let Some(e) = p.output_every {
+        c.positive("pd.solver.output_every", e, "record interval");
+    }
+    if c.finite("pd.solver.safety_factor", p.safety_factor)
+        && !(p.safety_factor > 0.0 && p.safety_factor <= 1.0)
+    {
+        c.fail(
+            "pd.solver.safety_factor",
+            p.safety_factor,
+            "fraction of the stable time step must lie in (0, 1]",
+        );
+    }
+}
+
 fn check_solver(c: &mut Checker, solver: &PdSolver) {
     match solver {
+        PdSolver::Explicit(_) => {}
         PdSolver::Adr(p) => {
             c.positive("pd.solver.tolerance", p.tolerance, "tolerance");
             c.at_least("pd.solver.max_iter", p.max_iter, 1, "iteration cap");

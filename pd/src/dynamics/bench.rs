@@ -1,0 +1,244 @@
+//! `pdbem bench pd`: the cost of seed 004's dynamic crack-branching plate (section 4.2,
+//! case 1: sigma_B = 1 MPa, dt = 1e-8 s) on the coarse (dx = 1 mm, 4000 particles) and
+//! the fine grid (dx = 0.5 mm, 16000 particles), each timed over the same simulated
+//! window, and the fine/coarse ratio next to seed 004 Table 5's (252 s and 1441 s for
+//! 80 us: 5.7x).
+//!
+//! The cost per step is one state-based force pass over the directed bonds (4.1 times
+//! as many on the fine grid: 437956 against 106996) plus the node updates; dt is the
+//! seed's on both grids, so the step counts are equal and the ratio is the ratio of the
+//! bond counts up to cache effects.
+//!
+//! The adaptive run ([`crate::refine::run_dynamic`]) starts from the coarse grid with the
+//! pre-crack's particles refined at set-up (Eq. 15) and splits the particles Eqs. 15-16
+//! flag (the seed's phi_c = 0.4, alpha = 0.5) every [`ADAPTIVE_CHECK_EVERY`] steps
+//! (seed 004 Table 5: 311 s, 4000-4522 particles).
+
+use serde::Serialize;
+
+use super::{run, DynamicRecord, ExplicitParams};
+use crate::cases::{branching_plate, SEED004_DENSITY};
+use crate::model::PdModel;
+use crate::refine::{run_dynamic, Refinement};
+
+/// Seed 004 Table 5, case 1: coarse wall time for 80 us (s).
+pub const SEED_COARSE_S: f64 = 252.0;
+/// Seed 004 Table 5, case 1: fine wall time for 80 us (s).
+pub const SEED_FINE_S: f64 = 1441.0;
+/// Seed 004 Table 5, case 1: adaptive wall time for 80 us (s).
+pub const SEED_ADAPTIVE_S: f64 = 311.0;
+/// Steps between the adaptive run's Eq. 15 checks (0.1 us at dt = 1e-8 s).
+pub const ADAPTIVE_CHECK_EVERY: usize = 10;
+
+/// One timed run.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct BranchingRun {
+    /// Grid spacing (m).
+    pub dx: f64,
+    /// Real nodes (adaptive: particles at the first step).
+    pub nodes: usize,
+    /// Most particles during the run (uniform grids: `nodes`).
+    pub nodes_max: usize,
+    /// Wall time of the refinement checks and splits (s; uniform grids: 0).
+    pub refine_s: f64,
+    /// Directed bonds (adaptive: at the first step).
+    pub bonds: usize,
+    /// Time steps.
+    pub steps: usize,
+    /// Wall time of the stepping (s).
+    pub wall_s: f64,
+    /// Directed-bond updates per second (steps x bonds / wall time).
+    pub bond_steps_per_s: f64,
+    /// Branch time (s), if the window reached it.
+    pub branch_time_s: Option<f64>,
+    /// Time the tip reached the far boundary (s), if it did.
+    pub boundary_time_s: Option<f64>,
+    /// Broken bond pairs at the end.
+    pub broken_bonds: usize,
+    /// An error of the run, if any.
+    pub error: Option<String>,
+}
+
+/// Coarse and fine runs over one window.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct BranchingBench {
+    /// Simulated window (s).
+    pub window_s: f64,
+    /// Time step (s).
+    pub dt_s: f64,
+    /// dx = 1 mm.
+    pub coarse: BranchingRun,
+    /// dx = 0.5 mm.
+    pub fine: BranchingRun,
+    /// dx = 1 mm refined adaptively to 0.5 mm.
+    pub adaptive: BranchingRun,
+    /// Fine wall time over coarse wall time.
+    pub ratio: f64,
+    /// Seed 004 Table 5's ratio, 1441 s / 252 s.
+    pub seed_ratio: f64,
+    /// Adaptive wall time over coarse wall time.
+    pub adaptive_ratio: f64,
+}
+
+fn timed(dx: f64, window: f64, dt: f64) -> BranchingRun {
+    let case = branching_plate(dx, 1e6);
+    let mut out = BranchingRun {
+        dx,
+        ..Default::default()
+    };
+    let mut m = match PdModel::new(&case.problem) {
+        Ok(m) => m,
+        Err(e) => {
+            out.error = Some(e.to_string());
+            return out;
+        }
+    };
+    out.nodes = m.n_real();
+    out.nodes_max = out.nodes;
+    out.bonds = m.n_bonds();
+    let p = ExplicitParams {
+        density: SEED004_DENSITY,
+        end_time: window,
+        dt: Some(dt),
+        output_every: Some(1e-6_f64.min(window)),
+        ..Default::default()
+    };
+    let mut rec: Vec<DynamicRecord> = Vec::new();
+    match run(&mut m, &p, &case.problem.cracks, &mut rec) {
+        Ok(info) => {
+            out.steps = info.steps;
+            out.wall_s = info.wall_time_s;
+            out.bond_steps_per_s = info.steps as f64 * out.bonds as f64 / info.wall_time_s;
+            out.branch_time_s = info.branch_time;
+            out.boundary_time_s = info.boundary_time;
+            out.broken_bonds = m.broken_bonds();
+        }
+        Err(e) => out.error = Some(e.to_string()),
+    }
+    out
+}
+
+fn timed_adaptive(window: f64, dt: f64) -> BranchingRun {
+    let case = branching_plate(1e-3, 1e6);
+    let p = ExplicitParams {
+        density: SEED004_DENSITY,
+        end_time: window,
+        dt: Some(dt),
+        output_every: Some(1e-6_f64.min(window)),
+        ..Default::default()
+    };
+    let mut out = BranchingRun {
+        dx: 1e-3,
+        ..Default::default()
+    };
+    let mut obs = (Vec::new(), Vec::new());
+    match run_dynamic(
+        &case.problem,
+        &p,
+        &Refinement {
+            strain_factor: Some(0.5),
+            ..Default::default()
+        },
+        ADAPTIVE_CHECK_EVERY,
+        &mut obs,
+    ) {
+        Ok((_, info)) => {
+            let d = &info.dynamics;
+            (out.nodes, out.nodes_max) = info.particles;
+            out.bonds = info.bonds;
+            out.refine_s = info.refine_s;
+            out.steps = d.steps;
+            out.wall_s = d.wall_time_s;
+            out.bond_steps_per_s = d.steps as f64 * out.bonds as f64 / d.wall_time_s;
+            out.branch_time_s = d.branch_time;
+            out.boundary_time_s = d.boundary_time;
+            out.broken_bonds = obs.0.last().map_or(0, |r: &DynamicRecord| r.broken_bonds);
+        }
+        Err(e) => out.error = Some(e.to_string()),
+    }
+    out
+}
+
+/// Time the coarse and the fine plate over `window` seconds of simulated time at the
+/// seed's dt = 1e-8 s.
+pub fn branching(window: f64) -> BranchingBench {
+    let dt = 1e-8;
+    let coarse = timed(1e-3, window, dt);
+    let fine = timed(5e-4, window, dt);
+    let adaptive = timed_adaptive(window, dt);
+    BranchingBench {
+        adaptive_ratio: adaptive.wall_s / coarse.wall_s,
+        adaptive,
+        window_s: window,
+        dt_s: dt,
+        ratio: fine.wall_s / coarse.wall_s,
+        coarse,
+        fine,
+        seed_ratio: SEED_FINE_S / SEED_COARSE_S,
+    }
+}
+
+/// The bench as text lines.
+pub fn table(b: &BranchingBench) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "seed 004 branching plate, case 1 (sigma_B = 1 MPa), {:.1} us at dt = {:.0e} s:",
+        b.window_s * 1e6,
+        b.dt_s
+    );
+    let us = |t: Option<f64>| t.map_or("-".to_string(), |t| format!("{:.1}", t * 1e6));
+    for (name, r) in [
+        ("coarse", &b.coarse),
+        ("fine", &b.fine),
+        ("adapt", &b.adaptive),
+    ] {
+        let _ = writeln!(
+            s,
+            "  {name:<6} dx {:.1} mm: {}-{} nodes (refinement {:.2} s), {} bonds, {} steps, {:.2} s ({:.3e} bond updates/s), branch {} us, boundary {} us, {} broken{}",
+            r.dx * 1e3,
+            r.nodes,
+            r.nodes_max,
+            r.refine_s,
+            r.bonds,
+            r.steps,
+            r.wall_s,
+            r.bond_steps_per_s,
+            us(r.branch_time_s),
+            us(r.boundary_time_s),
+            r.broken_bonds,
+            r.error.as_ref().map_or(String::new(), |e| format!(" (error: {e})"))
+        );
+    }
+    let _ = writeln!(
+        s,
+        "  fine / coarse wall time {:.2}x; seed 004 Table 5 (80 us, one i7 core): 1441 s / 252 s = {:.2}x",
+        b.ratio, b.seed_ratio
+    );
+    let _ = writeln!(
+        s,
+        "  adaptive / coarse wall time {:.2}x; seed 004 Table 5: 311 s / 252 s = {:.2}x",
+        b.adaptive_ratio,
+        SEED_ADAPTIVE_S / SEED_COARSE_S
+    );
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn branching_bench_times_both_grids() {
+        let b = branching(2e-7);
+        assert_eq!(b.coarse.nodes, 4000);
+        assert_eq!(b.fine.nodes, 16000);
+        assert_eq!((b.coarse.steps, b.fine.steps), (20, 20));
+        assert!(b.coarse.error.is_none() && b.fine.error.is_none());
+        assert!(b.adaptive.error.is_none() && b.adaptive.steps == 20);
+        assert!(b.adaptive.nodes > 4000 && b.adaptive.nodes_max >= b.adaptive.nodes);
+        assert!(b.ratio.is_finite() && b.ratio > 1.0, "{}", b.ratio);
+        assert!(table(&b).contains("5.72x") && table(&b).contains("1.23x"));
+    }
+}

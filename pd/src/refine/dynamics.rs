@@ -1,0 +1,484 @@
+//! Explicit dynamics of a refined dual-horizon body with bond breaking and adaptive
+//! splitting during the run (seed 004 Fig. 5, steps 3-5 in every check interval; Eq. 30).
+//!
+//! **Motion.** Particle $k$ has mass $\rho V_k$ and moves by velocity Verlet (seed 004
+//! Eqs. 24-27, as [`crate::dynamics`]) under the dual-horizon force $F_k$ (N, seed 004
+//! Eq. 13, [`crate::state_based::dual_horizon::DualHorizon::forces`]) and its load $\lambda b_k V_k$ ($b_k$ the body-force
+//! density at load factor 1): $\rho V_k\,\ddot u_k = F_k(u) + \lambda b_k V_k$. Prescribed
+//! components keep $\lambda\bar u$ and zero velocity.
+//!
+//! **Bond breaking.** Every step, after the position update, the bond $b = k\to j$ of
+//! owner $k$ breaks for good when its stretch passes the critical stretch of its owner,
+//! $s_b > s_c(\delta_k)$ ([`Body::critical_stretch`]: seed 004 Eq. 11 from $G_c$ with the
+//! owner's horizon, so a bond between sizes takes its owner's value and the two directed
+//! bonds of a mixed pair may break at different stretches). The particle constants stay
+//! as calibrated; a broken bond drops out of the dilatation and the force.
+//!
+//! **Refinement** every `check_every` steps (at a full step, after the velocity update):
+//! the particles the adaptive driver's criteria select (Eq. 15, $\varphi_k > \varphi_c$, and Eq. 16
+//! when [`Refinement::strain_factor`] is set; level below [`Refinement::max_level`]) split
+//! by [`Body::split`] (Eq. 18 placement, Eq. 30 masses $\rho V_k/4$); every child takes
+//! its parent's velocity, so mass and momentum are conserved exactly. The accelerations are
+//! recomputed at the new state, and a bond of the refined body already past its owner's
+//! critical stretch starts broken: a bond between particles whose ancestors were not
+//! bonded (a kept particle and a child its horizon now reaches) starts intact
+//! ([`Body::split`]) and may span a crack that opened during the run. A split changes $K + U - W$ (the
+//! children's displacements follow Eq. 18, the constants are recalibrated); the jump is
+//! summed apart so that the recorded fracture energy (the energy balance's dissipation,
+//! [`crate::dynamics`]) counts broken bonds only.
+//!
+//! **Stable step.** The Gershgorin bound of [`crate::dynamics`] on the dual-horizon
+//! linearised stiffness ([`critical_time_step`]): $\Delta t_c = \min_k\sqrt{4\rho V_k/R_k}$
+//! over the particles with a free component. A uniform grid's bound scales with its
+//! spacing at a fixed horizon factor, so the run's bound is the start body's divided by
+//! $2^{L}$, $L$ the levels the run may still add (the smallest particles it can make);
+//! a `dt` above it is refused before a step is taken, and after every split the actual
+//! bound is checked again (a `dt` above it ends the run with an error). Children keep
+//! the horizon factor (`keep_horizon` is refused here).
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+pub use super::pass::{critical_time_step, forces_breaking};
+use super::run::flagged;
+use super::{Body, Refinement};
+use crate::dynamics::crack::CrackTracker;
+use crate::dynamics::{DynamicRecord, DynamicsInfo, ExplicitParams, MAX_RECORDS, MAX_STEPS};
+use crate::error::PdError;
+use crate::geometry::{segment_crosses_crack, P2};
+use crate::problem::PdProblem;
+
+/// One refinement during a run.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SplitEvent {
+    /// Step after which the particles split.
+    pub step: usize,
+    /// Time (s).
+    pub time: f64,
+    /// Particles split.
+    pub split: usize,
+    /// Particles after the split.
+    pub particles: usize,
+    /// Stable step bound of the refined body (s).
+    pub dt_c: f64,
+    /// Wall time of the criterion check, the split and the new accelerations (s).
+    pub wall_s: f64,
+}
+
+/// Receives the records, splits and snapshots of an adaptive run (never prints).
+pub trait AdaptiveObserver {
+    /// A record, every output interval and at the last step.
+    fn record(&mut self, _r: &DynamicRecord) {}
+    /// A refinement.
+    fn split(&mut self, _e: &SplitEvent) {}
+    /// The body at the step nearest a requested snapshot time `time` (s).
+    fn snapshot(&mut self, _time: f64, _body: &Body) {}
+}
+
+impl AdaptiveObserver for () {}
+
+/// Collects the records and the splits.
+impl AdaptiveObserver for (Vec<DynamicRecord>, Vec<SplitEvent>) {
+    fn record(&mut self, r: &DynamicRecord) {
+        self.0.push(*r);
+    }
+    fn split(&mut self, e: &SplitEvent) {
+        self.1.push(*e);
+    }
+}
+
+/// What an adaptive run did.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct AdaptiveInfo {
+    /// The run as the uniform dynamics reports it.
+    pub dynamics: DynamicsInfo,
+    /// Particles at the first step (after the set-up refinement) and the most during
+    /// the run.
+    pub particles: (usize, usize),
+    /// Directed bonds at the first step.
+    pub bonds: usize,
+    /// Refinements (split events).
+    pub refinements: usize,
+    /// Wall time of the criterion checks and splits (s).
+    pub refine_s: f64,
+}
+
+/// The moving state of a body: velocities, accelerations and the per-body caches.
+struct State {
+    v: Vec<P2>,
+    a: Vec<P2>,
+    owner: Vec<u32>,
+    sc: Option<Vec<f64>>,
+    rho: f64,
+    load: f64,
+}
+
+impl State {
+    fn caches(body: &Body) -> (Vec<u32>, Option<Vec<f64>>) {
+        let sc = (0..body.len())
+            .map(|k| body.critical_stretch(k))
+            .collect::<Option<Vec<f64>>>();
+        (body.dh.owners(), sc)
+    }
+
+    fn accelerate(&mut self, body: &Body, f: &[P2]) {
+        for (k, a) in self.a.iter_mut().enumerate() {
+            let m = self.rho * body.dh.volume[k];
+            for c in 0..2 {
+                a[c] = if body.fixed[k][c] {
+                    0.0
+                } else {
+                    (f[k][c] + self.load * body.body[k][c] * body.dh.volume[k]) / m
+                };
+            }
+        }
+    }
+
+    fn half_kick(&mut self, dt: f64) {
+        for (v, a) in self.v.iter_mut().zip(&self.a) {
+            v[0] += 0.5 * dt * a[0];
+            v[1] += 0.5 * dt * a[1];
+        }
+    }
+
+    /// One velocity-Verlet step with bond breaking; returns the directed bonds broken.
+    fn step(&mut self, body: &mut Body, dt: f64) -> usize {
+        self.half_kick(dt);
+        for (u, v) in body.u.iter_mut().zip(&self.v) {
+            u[0] += dt * v[0];
+            u[1] += dt * v[1];
+        }
+        let (f, broken) = forces_breaking(&mut body.dh, &self.owner, &body.u, self.sc.as_deref());
+        self.accelerate(body, &f);
+        self.half_kick(dt);
+        broken
+    }
+
+    fn kinetic(&self, body: &Body) -> f64 {
+        0.5 * self.rho
+            * self
+                .v
+                .iter()
+                .zip(&body.dh.volume)
+                .map(|(v, m)| m * (v[0] * v[0] + v[1] * v[1]))
+                .sum::<f64>()
+    }
+
+    /// Split `parents` (sorted, unique): children take their parent's velocity.
+    fn split(&mut self, body: &mut Body, parents: &[usize]) -> Result<usize, PdError> {
+        let mut is_parent = vec![false; body.len()];
+        for &k in parents {
+            is_parent[k] = true;
+        }
+        let mut v: Vec<P2> = (0..body.len())
+            .filter(|&k| !is_parent[k])
+            .map(|k| self.v[k])
+            .collect();
+        for &k in parents {
+            v.extend([self.v[k]; 4]);
+        }
+        let split = body.split(parents)?;
+        for (u, (f, b)) in body.u.iter_mut().zip(body.fixed.iter().zip(&body.base)) {
+            for c in 0..2 {
+                if f[c] {
+                    u[c] = self.load * b[c];
+                }
+            }
+        }
+        self.v = v;
+        self.a = vec![[0.0; 2]; body.len()];
+        (self.owner, self.sc) = Self::caches(body);
+        // Bonds born past their critical stretch start broken (part of the split).
+        let (f, _) = forces_breaking(&mut body.dh, &self.owner, &body.u, self.sc.as_deref());
+        self.accelerate(body, &f);
+        Ok(split)
+    }
+}
+
+/// Work of the constant loads from u = 0 (J).
+fn external_work(body: &Body, load: f64) -> f64 {
+    load * body
+        .u
+        .iter()
+        .zip(&body.body)
+        .zip(&body.dh.volume)
+        .map(|((u, b), v)| v * (u[0] * b[0] + u[1] * b[1]))
+        .sum::<f64>()
+}
+
+/// Directed bonds cut by the pre-cracks.
+fn precut(body: &Body) -> usize {
+    let dh = &body.dh;
+    let owner = dh.owners();
+    (0..dh.bonds.len())
+        .into_par_iter()
+        .filter(|&b| {
+            let (i, j) = (owner[b] as usize, dh.bonds.nbr[b] as usize);
+            let tol = 1e-6 * body.size[i].min(body.size[j]);
+            dh.intact[b] == 0
+                && body
+                    .cracks
+                    .iter()
+                    .any(|c| segment_crosses_crack(dh.pos[i], dh.pos[j], c, tol))
+        })
+        .count()
+}
+
+/// The run's step and its bound (module docs), the steps and the record interval.
+fn plan(
+    body: &Body,
+    p: &ExplicitParams,
+    r: &Refinement,
+) -> Result<(f64, f64, usize, usize), PdError> {
+    let positive = |field: &str, v: f64| {
+        if v.is_finite() && v > 0.0 {
+            Ok(())
+        } else {
+            Err(PdError::invalid(
+                field,
+                format!("must be positive and finite, got {v}"),
+            ))
+        }
+    };
+    positive("density", p.density)?;
+    positive("end_time", p.end_time)?;
+    if !p.load.is_finite() {
+        return Err(PdError::invalid(
+            "load",
+            format!("must be finite, got {}", p.load),
+        ));
+    }
+    if !(p.damage_threshold > 0.0 && p.damage_threshold < 1.0) {
+        return Err(PdError::invalid(
+            "damage_threshold",
+            format!("must lie in (0, 1), got {}", p.damage_threshold),
+        ));
+    }
+    let lmin = body.level.iter().copied().min().unwrap_or(r.max_level);
+    let dt_c =
+        critical_time_step(body, p.density) / f64::from(1u32 << r.max_level.saturating_sub(lmin));
+    let dt = match p.dt {
+        Some(dt) => {
+            positive("dt", dt)?;
+            if dt > dt_c {
+                return Err(PdError::invalid(
+                    "dt",
+                    format!("time step {dt:.4e} s exceeds the stable step {dt_c:.4e} s of the smallest particles refinement can make (level {})", r.max_level),
+                ));
+            }
+            dt
+        }
+        None => {
+            if !(p.safety_factor > 0.0 && p.safety_factor <= 1.0) {
+                return Err(PdError::invalid(
+                    "safety_factor",
+                    format!("must lie in (0, 1], got {}", p.safety_factor),
+                ));
+            }
+            if !dt_c.is_finite() {
+                return Err(PdError::invalid(
+                    "dt",
+                    "no particle moves: nothing to integrate",
+                ));
+            }
+            p.safety_factor * dt_c
+        }
+    };
+    let steps_f = (p.end_time / dt * (1.0 - 1e-12)).ceil();
+    if steps_f > MAX_STEPS as f64 {
+        return Err(PdError::invalid(
+            "end_time",
+            format!("{steps_f:.3e} time steps exceed the limit {MAX_STEPS}"),
+        ));
+    }
+    let steps = (steps_f as usize).max(1);
+    let every = p.output_every.unwrap_or(p.end_time / 200.0);
+    positive("output_every", every)?;
+    let record_every = ((every / dt).round() as usize).clamp(1, steps);
+    if steps / record_every > MAX_RECORDS {
+        return Err(PdError::invalid(
+            "output_every",
+            "too many records: raise output_every",
+        ));
+    }
+    for (k, &t) in p.snapshots.iter().enumerate() {
+        if !(t.is_finite() && (0.0..=p.end_time * (1.0 + 1e-9)).contains(&t)) {
+            return Err(PdError::invalid(
+                format!("snapshots[{k}]"),
+                format!("time {t} s lies outside [0, end_time = {}]", p.end_time),
+            ));
+        }
+    }
+    Ok((dt, dt_c, steps, record_every))
+}
+
+/// Run the explicit dynamics of `p`'s refined body from rest with adaptive refinement
+/// `r` checked every `check_every` steps (module docs), reporting through `obs`. Set-up
+/// (as [`super::run`]): the static regions of `r` and Eq. 15 on the pre-cracks are
+/// refined, level by level until nothing fires, before the first step (the cut bonds of
+/// a pre-crack damage its particles, and each split changes its neighbours' damage).
+/// Returns the final body.
+pub fn run_dynamic(
+    p: &PdProblem,
+    ex: &ExplicitParams,
+    r: &Refinement,
+    check_every: usize,
+    obs: &mut dyn AdaptiveObserver,
+) -> Result<(Body, AdaptiveInfo), PdError> {
+    r.validate()?;
+    if r.keep_horizon {
+        return Err(PdError::invalid(
+            "refinement.keep_horizon",
+            "explicit dynamics needs children with halved horizons (the stable step scales with the spacing at a fixed horizon factor)",
+        ));
+    }
+    if check_every == 0 {
+        return Err(PdError::invalid("check_every", "must be at least 1 step"));
+    }
+    let mut body = Body::from_problem(p)?;
+    loop {
+        let f = flagged(&body, r, true, false);
+        if f.is_empty() {
+            break;
+        }
+        body.split(&f)?;
+    }
+    let (dt, dt_c, steps, record_every) = plan(&body, ex, r)?;
+    let t0 = Instant::now();
+    for k in 0..body.len() {
+        for c in 0..2 {
+            body.u[k][c] = if body.fixed[k][c] {
+                ex.load * body.base[k][c]
+            } else {
+                0.0
+            };
+        }
+    }
+    let (owner, sc) = State::caches(&body);
+    let mut st = State {
+        v: vec![[0.0; 2]; body.len()],
+        a: vec![[0.0; 2]; body.len()],
+        owner,
+        sc,
+        rho: ex.density,
+        load: ex.load,
+    };
+    let (f, _) = forces_breaking(&mut body.dh, &st.owner, &body.u, None);
+    st.accelerate(&body, &f);
+    let (dx0, delta0) = (
+        body.size.iter().fold(0.0f64, |a, &b| a.max(b)),
+        body.dh.delta.iter().fold(0.0f64, |a, &b| a.max(b)),
+    );
+    let tracker_of =
+        |b: &Body| CrackTracker::for_points(&b.dh.pos, &b.cracks, ex.damage_threshold, dx0, delta0);
+    let mut tracker = tracker_of(&body);
+    let mut cut = precut(&body);
+    let e0 = st.kinetic(&body) + body.dh.energy(&body.u);
+    let w0 = external_work(&body, ex.load);
+    let mut jump = 0.0;
+    let mut info = AdaptiveInfo {
+        dynamics: DynamicsInfo {
+            dt,
+            dt_c,
+            end_time: steps as f64 * dt,
+            ..Default::default()
+        },
+        particles: (body.len(), body.len()),
+        bonds: body.dh.bonds.len(),
+        ..Default::default()
+    };
+    let mut snaps: Vec<(usize, f64)> = ex
+        .snapshots
+        .iter()
+        .map(|&t| (((t / dt).round() as usize).min(steps), t))
+        .collect();
+    snaps.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    let mut next_snap = 0;
+    for step in 0..=steps {
+        if step > 0 {
+            st.step(&mut body, dt);
+        }
+        let time = step as f64 * dt;
+        if step > 0 && step % check_every == 0 && step != steps {
+            let t = Instant::now();
+            let parents = flagged(&body, r, false, true);
+            if !parents.is_empty() {
+                let before =
+                    st.kinetic(&body) + body.dh.energy(&body.u) - external_work(&body, ex.load);
+                let split = st.split(&mut body, &parents)?;
+                jump += st.kinetic(&body) + body.dh.energy(&body.u)
+                    - external_work(&body, ex.load)
+                    - before;
+                tracker = tracker_of(&body);
+                cut = precut(&body);
+                let bound = critical_time_step(&body, ex.density);
+                if dt > bound {
+                    return Err(PdError::invalid(
+                        "dt",
+                        format!("time step {dt:.4e} s exceeds the refined body's stable step {bound:.4e} s at t = {time:.4e} s"),
+                    ));
+                }
+                info.refinements += 1;
+                info.particles.1 = info.particles.1.max(body.len());
+                let e = SplitEvent {
+                    step,
+                    time,
+                    split,
+                    particles: body.len(),
+                    dt_c: bound,
+                    wall_s: t.elapsed().as_secs_f64(),
+                };
+                obs.split(&e);
+            }
+            info.refine_s += t.elapsed().as_secs_f64();
+        }
+        while next_snap < snaps.len() && snaps[next_snap].0 == step {
+            obs.snapshot(snaps[next_snap].1, &body);
+            next_snap += 1;
+        }
+        if step % record_every != 0 && step != steps {
+            continue;
+        }
+        if !body.u.iter().all(|u| u[0].is_finite() && u[1].is_finite()) {
+            return Err(PdError::NonFinite {
+                solver: "explicit dynamics (refined body)",
+                iteration: step,
+                load: ex.load,
+            });
+        }
+        let (kinetic, strain) = (st.kinetic(&body), body.dh.energy(&body.u));
+        let work = external_work(&body, ex.load) - w0;
+        let phi = body.damage();
+        let crack = tracker.measure_points(&body.dh.pos, &phi, &body.dh.bonds);
+        let zeros = body.dh.intact.iter().filter(|&&f| f == 0).count();
+        let rec = DynamicRecord {
+            step,
+            time,
+            kinetic,
+            strain,
+            external_work: work,
+            fracture: work - (kinetic + strain) + e0 + jump,
+            broken_bonds: (zeros - cut.min(zeros)) / 2,
+            tip: crack.tip,
+            branched: crack.branch.is_some(),
+        };
+        let d = &mut info.dynamics;
+        if d.branch_time.is_none() && crack.branch.is_some() {
+            d.branch_time = Some(time);
+            d.branch_point = crack.branch;
+        }
+        if d.boundary_time.is_none() && crack.at_boundary {
+            d.boundary_time = Some(time);
+        }
+        obs.record(&rec);
+        d.records += 1;
+    }
+    info.dynamics.steps = steps;
+    info.dynamics.wall_time_s = t0.elapsed().as_secs_f64();
+    Ok((body, info))
+}
+
+#[cfg(test)]
+#[path = "dynamics_tests.rs"]
+mod tests;

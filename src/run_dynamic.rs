@@ -1,0 +1,309 @@
+//! Stand-alone PD explicit dynamics of a scene (`pd.solver: Explicit`, issue 20 item 4;
+//! [`pdbem_pd::dynamics`], seed 004 section 2.3): the body from rest under the scene's
+//! loads held from t = 0 (a step load; the final load factor of `load`), velocity Verlet
+//! with bond breaking every step, until `end_time`.
+//!
+//! No pins: a pure-traction body flies free under its self-equilibrated loads (the
+//! quasi-static solvers' two pins would be constraints the seed does not have).
+//!
+//! Outputs: `dynamics.csv` (per record: time, energies, broken bonds, crack tip,
+//! branched), the energy-time plot `energy`, a damage plot `damage_t<time>us` per
+//! requested snapshot, the final node table and damage / displacement plots
+//! ([`crate::pd_fields`]) and the `dynamics` entry of `summary.json`.
+//!
+//! [`check`] (run by `pdbem check` and before every run) refuses a `dt` above the stable
+//! step of a patch of the scene's grid and material, and a run whose steps times bonds
+//! exceed the work bound, before anything is built at full size.
+
+use anyhow::{bail, Context, Result};
+use pdbem_pd::dynamics::{
+    self, critical_time_step, DynamicRecord, DynamicsObserver, ExplicitParams,
+};
+use pdbem_pd::{PdModel, PdProblem, Region};
+use serde_json::json;
+
+use crate::output::csv::{num, CsvTable};
+use crate::plot::{ScatterField, Series, SeriesStyle, XyPlot};
+use crate::runner::context::RunContext;
+use crate::runner::report::save_plot;
+use crate::runner::summary::RunSummary;
+use crate::scene::shapes::SceneGeometry;
+use crate::scene::{PdSolver, Scene};
+use crate::setup::pd::labelled_problem_from_scene;
+
+/// The explicit parameters of `scene`, `None` when it does not ask for dynamics.
+fn explicit(scene: &Scene) -> Option<&crate::scene::ExplicitParams> {
+    match &scene.pd.as_ref()?.solver {
+        PdSolver::Explicit(p) => Some(p),
+        _ => None,
+    }
+}
+
+/// Whether `scene` runs explicit dynamics.
+pub fn is_dynamic(scene: &Scene) -> bool {
+    explicit(scene).is_some() && scene.coupling.is_none()
+}
+
+/// The library parameters of a validated explicit scene.
+fn params(scene: &Scene) -> Result<ExplicitParams> {
+    let p = explicit(scene).context("pd.solver is not Explicit")?;
+    let density = scene
+        .material
+        .density
+        .context("material.density: Explicit dynamics needs the mass density")?;
+    Ok(ExplicitParams {
+        density,
+        end_time: p.end_time,
+        dt: p.dt,
+        safety_factor: p.safety_factor,
+        output_every: p.output_every,
+        snapshots: p.snapshots.clone(),
+        load: scene.load.factors().last().copied().unwrap_or(1.0),
+        ..Default::default()
+    })
+}
+
+/// The scene's PD problem without the pins of a pure-traction scene.
+fn problem(scene: &Scene) -> Result<PdProblem> {
+    let (mut problem, labels) = labelled_problem_from_scene(scene)?;
+    let keep: Vec<bool> = labels.iter().map(|l| l != "pin").collect();
+    let mut k = keep.iter();
+    problem.boundary.retain(|_| *k.next().unwrap_or(&true));
+    Ok(problem)
+}
+
+/// Refuses `pd.solver.dt` above the stable step of a patch of the scene's grid (a square
+/// of 8 horizons with the scene's spacing, material and corrections, its edges and
+/// corners included) and a run of more than [`dynamics::MAX_BOND_STEPS`] bond updates
+/// (steps times the estimated directed bonds). Does nothing for other scenes.
+pub fn check(scene: &Scene) -> Result<()> {
+    if !is_dynamic(scene) {
+        return Ok(());
+    }
+    let file = scene.file_label();
+    let p = params(scene)?;
+    let full = problem(scene)?;
+    let side = 8.0 * full.horizon();
+    let cells = (side / full.dx).ceil();
+    let patch = PdProblem {
+        region: Region::rectangle([0.0, 0.0], [cells * full.dx, cells * full.dx]),
+        cracks: Vec::new(),
+        boundary: Vec::new(),
+        grid_origin: None,
+        ..full.clone()
+    };
+    let model = PdModel::new(&patch).with_context(|| format!("{}: pd", file.display()))?;
+    let dt_c = critical_time_step(&model, p.density);
+    if let Some(dt) = p.dt {
+        if dt > dt_c {
+            bail!(
+                "{}: pd.solver.dt = {dt:.4e} s exceeds the stable time step dt_c = {dt_c:.4e} s of this grid and material (sqrt(4 rho / max stiffness row sum), docs/scene.md `ExplicitParams`): take dt <= dt_c, or leave dt out for {} dt_c",
+                file.display(),
+                p.safety_factor
+            );
+        }
+    }
+    let dt = p.dt.unwrap_or(p.safety_factor * dt_c);
+    let steps = (p.end_time / dt).ceil();
+    let o = &full.region.outline;
+    let area = 0.5
+        * o.iter()
+            .zip(o.iter().cycle().skip(1))
+            .map(|(a, b)| a[0] * b[1] - b[0] * a[1])
+            .sum::<f64>()
+            .abs();
+    let bonds_per_node = model.n_bonds() as f64 / model.n_nodes() as f64;
+    let bonds = area / (full.dx * full.dx) * bonds_per_node;
+    let work = steps * bonds;
+    if steps > dynamics::MAX_STEPS as f64 || work > dynamics::MAX_BOND_STEPS {
+        bail!(
+            "{}: pd.solver.end_time = {} s takes {steps:.3e} steps of dt = {dt:.3e} s over about {bonds:.3e} directed bonds ({work:.3e} bond updates; limits {} steps, {:.0e} updates): shorten end_time, raise dt or coarsen pd.dx",
+            file.display(),
+            p.end_time,
+            dynamics::MAX_STEPS,
+            dynamics::MAX_BOND_STEPS
+        );
+    }
+    Ok(())
+}
+
+/// Records and damage snapshots of a run.
+#[derive(Default)]
+struct Recorder {
+    records: Vec<DynamicRecord>,
+    snapshots: Vec<(f64, Vec<f64>)>,
+}
+
+impl DynamicsObserver for Recorder {
+    fn record(&mut self, r: &DynamicRecord) {
+        self.records.push(*r);
+    }
+
+    fn snapshot(&mut self, time: f64, model: &PdModel) {
+        let n = model.n_real();
+        self.snapshots.push((time, model.damage()[..n].to_vec()));
+    }
+}
+
+/// Runs the explicit dynamics of `scene` and writes its outputs (module docs).
+pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
+    let t0 = std::time::Instant::now();
+    check(scene)?;
+    let file = scene.file_label();
+    let p = params(scene)?;
+    let problem = problem(scene)?;
+    let mut model = PdModel::new(&problem).with_context(|| format!("{}: pd", file.display()))?;
+    ctx.log(&format!(
+        "{}: explicit dynamics, {} real nodes, {} bonds",
+        scene.name,
+        model.n_real(),
+        model.n_bonds() / 2
+    ));
+    let mut rec = Recorder::default();
+    let info = dynamics::run(&mut model, &p, &problem.cracks, &mut rec)
+        .map_err(|e| anyhow::anyhow!("{}: pd.solver: {e}", file.display()))?;
+    let mut summary = RunSummary {
+        scene: scene.name.clone(),
+        mode: "pd".into(),
+        ..Default::default()
+    };
+    ctx.writer.write_csv("dynamics.csv", &table(&rec.records))?;
+    if scene.outputs.plots {
+        save_plot(
+            &ctx.writer,
+            "energy",
+            &energy_plot(scene, &rec.records),
+            &scene.outputs.formats,
+            &mut summary,
+        )?;
+        for (time, phi) in &rec.snapshots {
+            snapshot_plot(scene, ctx, &model, *time, phi, &mut summary)?;
+        }
+    }
+    let n = model.n_real();
+    let (x, u, phi) = (model.positions(), model.displacements(), model.damage());
+    crate::pd_fields::write_fields(scene, ctx, (&x[..n], &u[..n], &phi[..n]), &mut summary)?;
+    let last = rec.records.last().copied().unwrap_or_default();
+    summary.extra.insert(
+        "dynamics".into(),
+        json!({
+            "steps": info.steps, "dt_s": info.dt, "dt_c_s": info.dt_c,
+            "end_time_s": info.end_time, "branch_time_s": info.branch_time,
+            "branch_point": info.branch_point, "boundary_time_s": info.boundary_time,
+            "records": info.records, "stepping_wall_time_s": info.wall_time_s,
+            "final": {"kinetic_J": last.kinetic, "strain_J": last.strain,
+                      "external_work_J": last.external_work, "fracture_J": last.fracture,
+                      "tip": last.tip},
+        }),
+    );
+    summary.extra.insert("nodes".into(), json!(model.n_real()));
+    summary
+        .extra
+        .insert("bonds".into(), json!(model.n_bonds() / 2));
+    summary
+        .extra
+        .insert("broken_bonds".into(), json!(model.broken_bonds()));
+    summary.wall_time_s = t0.elapsed().as_secs_f64();
+    Ok(summary)
+}
+
+/// `dynamics.csv`: one row per record.
+fn table(records: &[DynamicRecord]) -> CsvTable {
+    let mut t = CsvTable::new(&[
+        "step",
+        "time",
+        "kinetic",
+        "strain",
+        "external_work",
+        "fracture",
+        "broken_bonds",
+        "tip_x",
+        "tip_y",
+        "branched",
+    ]);
+    let opt = |v: Option<f64>| v.map_or(String::new(), num);
+    for r in records {
+        t.push(vec![
+            r.step.to_string(),
+            num(r.time),
+            num(r.kinetic),
+            num(r.strain),
+            num(r.external_work),
+            num(r.fracture),
+            r.broken_bonds.to_string(),
+            opt(r.tip.map(|p| p[0])),
+            opt(r.tip.map(|p| p[1])),
+            u8::from(r.branched).to_string(),
+        ]);
+    }
+    t
+}
+
+/// Strain, kinetic and fracture energy against time (us).
+fn energy_plot(scene: &Scene, records: &[DynamicRecord]) -> XyPlot {
+    let mut p = XyPlot::new(
+        format!("{}: energies", scene.name),
+        "time (us)",
+        "energy (J)",
+    );
+    let series = |f: fn(&DynamicRecord) -> f64| -> Vec<(f64, f64)> {
+        records.iter().map(|r| (r.time * 1e6, f(r))).collect()
+    };
+    p.series.push(Series::new(
+        "strain energy",
+        series(|r| r.strain),
+        SeriesStyle::Line,
+    ));
+    p.series.push(Series::new(
+        "fracture energy",
+        series(|r| r.fracture),
+        SeriesStyle::Line,
+    ));
+    p.series.push(Series::new(
+        "kinetic energy",
+        series(|r| r.kinetic),
+        SeriesStyle::Line,
+    ));
+    p
+}
+
+/// The damage plot `damage_t<time>us` of one snapshot.
+fn snapshot_plot(
+    scene: &Scene,
+    ctx: &RunContext,
+    model: &PdModel,
+    time: f64,
+    phi: &[f64],
+    summary: &mut RunSummary,
+) -> Result<()> {
+    let x = &model.positions()[..phi.len()];
+    let geo = SceneGeometry::of(scene);
+    let loops = geo
+        .outline
+        .as_ref()
+        .map(|o| {
+            let mut l: Vec<(f64, f64)> = o.points.iter().map(|p| (p.x, p.y)).collect();
+            l.push(l[0]);
+            vec![l]
+        })
+        .unwrap_or_default();
+    let us = time * 1e6;
+    let fig = ScatterField {
+        title: format!("{}: damage at t = {us:.3} us", scene.name),
+        unit: "m".into(),
+        value_label: "damage phi (-)".into(),
+        points: x.iter().map(|p| (p[0], p[1])).collect(),
+        values: phi.to_vec(),
+        range: Some((0.0, 1.0)),
+        loops,
+        marker_px: 0,
+        ..Default::default()
+    };
+    let stem = format!(
+        "damage_t{}us",
+        format!("{us:.3}")
+            .trim_end_matches('0')
+            .trim_end_matches('.')
+    );
+    save_plot(&ctx.writer, &stem, &fig, &scene.outputs.formats, summary)
+}

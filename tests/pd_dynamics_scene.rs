@@ -1,0 +1,85 @@
+//! `pd.solver: Explicit` from a scene: validation (density, coupling, the stable time
+//! step and the work bound) and a short end-to-end run of seed 004's branching plate on
+//! a coarse grid with its outputs.
+
+use std::path::{Path, PathBuf};
+
+use pdbem::runner::run_scene;
+use pdbem::scene::Scene;
+
+fn case_text(name: &str) -> String {
+    let f = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("cases")
+        .join(name);
+    std::fs::read_to_string(f).expect("case file")
+}
+
+fn parse(text: &str) -> Result<Scene, String> {
+    Scene::from_ron_str(text, Path::new("dyn.ron")).map_err(|e| format!("{e}"))
+}
+
+#[test]
+fn missing_density_is_refused() {
+    let text = case_text("seed004_branching_case1.ron").replace(" density: 2450,", "");
+    let e = parse(&text).expect_err("no density");
+    assert!(e.contains("material.density"), "{e}");
+}
+
+#[test]
+fn explicit_with_coupling_is_refused() {
+    let text = case_text("coupled_sent_a5_state_based.ron").replace(
+        "pd: (model: StateBased,",
+        "pd: (solver: Explicit(end_time: 1e-6), model: StateBased,",
+    );
+    let text = text.replace("plane: Stress)", "plane: Stress, density: 7800)");
+    let e = parse(&text).expect_err("coupled dynamics");
+    assert!(e.contains("pd.solver") && e.contains("stand-alone"), "{e}");
+}
+
+#[test]
+fn a_step_above_the_stable_step_is_refused_at_check() {
+    let ok = parse(&case_text("seed004_branching_case1.ron")).expect("valid case");
+    pdbem::setup::estimate::check(&ok).expect("dt = 1e-8 s is stable at dx = 1 mm");
+    let text = case_text("seed004_branching_case1.ron").replace("dt: Some(1e-8)", "dt: Some(1e-6)");
+    let scene = parse(&text).expect("valid at the scene level");
+    let e = format!(
+        "{:#}",
+        pdbem::setup::estimate::check(&scene).expect_err("unstable")
+    );
+    assert!(e.contains("pd.solver.dt") && e.contains("dt_c"), "{e}");
+    let long = case_text("seed004_branching_case1.ron").replace("end_time: 8e-5", "end_time: 10");
+    let e = format!(
+        "{:#}",
+        pdbem::setup::estimate::check(&parse(&long).unwrap()).unwrap_err()
+    );
+    assert!(e.contains("pd.solver.end_time"), "{e}");
+}
+
+/// The branching plate at dx = 2 mm for 30 us (automatic dt): the run writes
+/// dynamics.csv with rising fracture energy, a snapshot plot, the energy plot and the
+/// summary entry; the crack has started by 30 us.
+#[test]
+fn coarse_branching_plate_runs_from_a_scene() {
+    let text = case_text("seed004_branching_case1.ron")
+        .replace("dx: 0.001", "dx: 0.002")
+        .replace(
+            "Explicit(end_time: 8e-5, dt: Some(1e-8), output_every: Some(5e-7), snapshots: [2e-5, 3.5e-5, 5e-5, 8e-5])",
+            "Explicit(end_time: 3e-5, output_every: Some(1e-6), snapshots: [2e-5])",
+        );
+    let scene = parse(&text).expect("valid");
+    let dir = std::env::temp_dir().join(format!("pdbem_dyn_scene_{}", std::process::id()));
+    let s = run_scene(&scene, &dir, true).unwrap_or_else(|e| panic!("{e:#}"));
+    let d = &s.extra["dynamics"];
+    assert!(d["dt_s"].as_f64().unwrap() <= d["dt_c_s"].as_f64().unwrap());
+    assert!(d["steps"].as_u64().unwrap() > 10);
+    let csv = std::fs::read_to_string(dir.join("dynamics.csv")).expect("dynamics.csv");
+    let rows: Vec<&str> = csv.lines().collect();
+    assert!(rows[0].starts_with("step,time,kinetic,strain"));
+    assert!(rows.len() > 25, "{} rows", rows.len());
+    assert!(d["final"]["fracture_J"].as_f64().unwrap() > 0.0);
+    assert!(!d["final"]["tip"].is_null(), "the crack started");
+    for f in ["energy.png", "damage_t20us.png", "damage.png", "nodes.csv"] {
+        assert!(dir.join(f).exists(), "{f}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
