@@ -10,6 +10,7 @@
 mod body;
 mod boundary;
 mod cracks;
+mod growth;
 pub mod limits;
 mod material;
 mod pd;

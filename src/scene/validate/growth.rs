@@ -1,0 +1,139 @@
+//! Rules of `growth`: the trigger band, the toughness a growth mode needs, the mode
+//! against the sections present.
+
+use super::Checker;
+use crate::scene::{GrowthMode, Scene};
+
+pub(super) fn check_growth(c: &mut Checker, scene: &Scene, g: &crate::scene::Growth) {
+    let t = g.trigger_ratio;
+    if c.finite("growth.trigger_ratio", t) && !(t > 0.0 && t < 1.0) {
+        c.fail(
+            "growth.trigger_ratio",
+            t,
+            "trigger ratio must lie in (0, 1)",
+        );
+    } else if g.mode == GrowthMode::PdBem {
+        check_trigger_band(c, t);
+    }
+    c.at_least(
+        "growth.elements_per_extension",
+        g.elements_per_extension,
+        1,
+        "elements per extension",
+    );
+    let d = g.damage_threshold;
+    if c.finite("growth.damage_threshold", d) && !(d > 0.0 && d < 1.0) {
+        c.fail(
+            "growth.damage_threshold",
+            d,
+            "damage threshold must lie in (0, 1)",
+        );
+    }
+    if let Some(da) = g.da {
+        c.positive("growth.da", da, "crack increment da");
+    }
+    if let Some(sp) = g.sif_spacing {
+        if c.finite("growth.sif_spacing", sp) && sp < 0.0 {
+            c.fail(
+                "growth.sif_spacing",
+                sp,
+                "spacing of the K record must be >= 0 (0: no record in the PD modes)",
+            );
+        }
+    }
+    if let Some(&k) = g.snapshot_steps.iter().find(|&&k| k >= scene.load.count) {
+        c.fail(
+            "growth.snapshot_steps",
+            k,
+            format!(
+                "load steps are 0-based: the last is {} (load.count = {})",
+                scene.load.count.saturating_sub(1),
+                scene.load.count
+            ),
+        );
+    }
+    match g.mode {
+        GrowthMode::PdBem if scene.coupling.is_none() => {
+            c.fail_at("growth.mode", "PdBem growth needs a `coupling` section")
+        }
+        GrowthMode::FullPd if scene.coupling.is_none() => c.fail_at(
+            "growth.mode",
+            "FullPd growth needs a `coupling` section: its grid spacing is the window's, dx = coupling.side / coupling.n",
+        ),
+        GrowthMode::FullPd if scene.pd.is_none() => {
+            c.fail_at("growth.mode", "FullPd growth needs a `pd` section")
+        }
+        GrowthMode::BemOnly => check_toughness(c, scene),
+        _ => {}
+    }
+    if g.mode == GrowthMode::FullPd && scene.body.outline.remote_stress().is_some() {
+        c.fail_at(
+            "growth.mode",
+            "FullPd growth needs a finite body: an Infinite outline has no region to fill",
+        );
+    }
+    if g.mode == GrowthMode::PdBem {
+        if let Some(co) = &scene.coupling {
+            super::pd::check_ligaments(c, scene, co);
+        }
+    }
+    if scene.cracks.is_empty() {
+        c.fail_at("growth", "growth needs at least one crack");
+    }
+    if let Some(m) = g.move_distance {
+        if c.positive("growth.move_distance", m, "move distance") {
+            if let Some(co) = &scene.coupling {
+                if m > co.side {
+                    c.fail("growth.move_distance", m, format!("move distance larger than the window: must be at most coupling.side = {} m", co.side));
+                }
+            }
+        }
+    }
+}
+
+/// The no-fail band of a window is (1 - trigger_ratio) times its side wide on every
+/// interface side (`pdbem_coupling::growth::tips::margins`); a ratio of 0.5 or less makes
+/// the band cover the whole window, and the growth driver refuses it. Scene check and
+/// driver share the bound.
+fn check_trigger_band(c: &mut Checker, ratio: f64) {
+    if ratio <= 0.5 {
+        c.fail(
+            "growth.trigger_ratio",
+            ratio,
+            "PD-BEM growth needs a trigger ratio above 0.5: the no-fail band, (1 - trigger_ratio) of the window side on each interface side, would cover the whole window (seed 002: 0.9)",
+        );
+    }
+}
+
+/// BEM-only growth compares K_eq with K_c: the material needs `fracture.g_c` > 0 or
+/// `fracture.k_c`, or the scene a PD critical stretch and windows to derive it from.
+fn check_toughness(c: &mut Checker, scene: &Scene) {
+    let f = scene.material.fracture.as_ref();
+    let k_c = f.and_then(|f| f.k_c);
+    let g_c = f.and_then(|f| f.g_c);
+    match (k_c, g_c) {
+        (Some(_), _) => {}
+        (None, Some(g)) if g <= 0.0 => c.fail(
+            "material.fracture.g_c",
+            g,
+            "BemOnly growth needs G_c > 0 (K_c = sqrt(E' G_c) would be 0)",
+        ),
+        (None, Some(_)) => {}
+        // K_c from the PD failure law (`setup::growth::toughness`).
+        (None, None) if derivable(scene) => {}
+        (None, None) => c.fail_at(
+            "material.fracture",
+            "BemOnly growth needs the toughness: give g_c (J/m^2) or k_c (Pa m^0.5), or \
+             pd.failure: CriticalStretch with a coupling section to derive it from",
+        ),
+    }
+}
+
+/// K_c can be derived from the PD critical stretch at the window horizon.
+fn derivable(scene: &Scene) -> bool {
+    scene.coupling.is_some()
+        && scene
+            .pd
+            .as_ref()
+            .is_some_and(|pd| matches!(pd.failure, crate::scene::Failure::CriticalStretch(_)))
+}
