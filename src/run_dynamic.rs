@@ -7,7 +7,8 @@
 //! quasi-static solvers' two pins would be constraints the seed does not have).
 //!
 //! Outputs: `dynamics.csv` (per record: time, energies, broken bonds, crack tip,
-//! branched), the energy-time plot `energy`, a damage plot `damage_t<time>us` per
+//! branched), the energy-time plots `energy` (strain and fracture) and `energy_balance`
+//! (with the work of the loads and the kinetic energy), a damage plot `damage_t<time>us` per
 //! requested snapshot, the final node table and damage / displacement plots
 //! ([`crate::pd_fields`]) and the `dynamics` entry of `summary.json`.
 //!
@@ -162,6 +163,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     let mut rec = Recorder::default();
     let info = dynamics::run(&mut model, &p, &problem.cracks, &mut rec)
         .map_err(|e| anyhow::anyhow!("{}: pd.solver: {e}", file.display()))?;
+    log_result(ctx, &info);
     let mut summary = RunSummary {
         scene: scene.name.clone(),
         mode: "pd".into(),
@@ -169,13 +171,15 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     };
     ctx.writer.write_csv("dynamics.csv", &table(&rec.records))?;
     if scene.outputs.plots {
-        save_plot(
-            &ctx.writer,
-            "energy",
-            &energy_plot(scene, &rec.records),
-            &scene.outputs.formats,
-            &mut summary,
-        )?;
+        for (name, balance) in [("energy", false), ("energy_balance", true)] {
+            save_plot(
+                &ctx.writer,
+                name,
+                &energy_plot(scene, &rec.records, balance),
+                &scene.outputs.formats,
+                &mut summary,
+            )?;
+        }
         for (time, phi) in &rec.snapshots {
             snapshot_plot(scene, ctx, &model, *time, phi, &mut summary)?;
         }
@@ -205,6 +209,24 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
         .insert("broken_bonds".into(), json!(model.broken_bonds()));
     summary.wall_time_s = t0.elapsed().as_secs_f64();
     Ok(summary)
+}
+
+/// The console lines of a finished run: when the crack branched and reached the boundary.
+fn log_result(ctx: &RunContext, info: &dynamics::DynamicsInfo) {
+    let us = |t: Option<f64>| {
+        t.map_or("not within the run".to_string(), |t| {
+            format!("{:.1} us", t * 1e6)
+        })
+    };
+    ctx.log(&format!(
+        "  {} steps of {:.3e} s (stable step {:.3e} s)",
+        info.steps, info.dt, info.dt_c
+    ));
+    ctx.log(&format!("  crack branched: {}", us(info.branch_time)));
+    ctx.log(&format!(
+        "  crack tip at the boundary: {}",
+        us(info.boundary_time)
+    ));
 }
 
 /// `dynamics.csv`: one row per record.
@@ -239,31 +261,29 @@ fn table(records: &[DynamicRecord]) -> CsvTable {
     t
 }
 
-/// Strain, kinetic and fracture energy against time (us).
-fn energy_plot(scene: &Scene, records: &[DynamicRecord]) -> XyPlot {
-    let mut p = XyPlot::new(
-        format!("{}: energies", scene.name),
-        "time (us)",
-        "energy (J)",
-    );
+/// Energies against time (us): `balance` false gives the strain and fracture energy (seed
+/// 004 Figs. 10 and 13, on a scale where they can be read), true the whole balance (the
+/// work of the loads, kinetic, strain and fracture energy).
+fn energy_plot(scene: &Scene, records: &[DynamicRecord], balance: bool) -> XyPlot {
+    let title = if balance {
+        format!("{}: energy balance", scene.name)
+    } else {
+        format!("{}: strain and fracture energy", scene.name)
+    };
+    let mut p = XyPlot::new(title, "time (us)", "energy (J)");
     let series = |f: fn(&DynamicRecord) -> f64| -> Vec<(f64, f64)> {
         records.iter().map(|r| (r.time * 1e6, f(r))).collect()
     };
-    p.series.push(Series::new(
-        "strain energy",
-        series(|r| r.strain),
-        SeriesStyle::Line,
-    ));
-    p.series.push(Series::new(
-        "fracture energy",
-        series(|r| r.fracture),
-        SeriesStyle::Line,
-    ));
-    p.series.push(Series::new(
-        "kinetic energy",
-        series(|r| r.kinetic),
-        SeriesStyle::Line,
-    ));
+    let mut add = |label: &str, f: fn(&DynamicRecord) -> f64| {
+        p.series
+            .push(Series::new(label, series(f), SeriesStyle::Line));
+    };
+    if balance {
+        add("work of the loads", |r| r.external_work);
+        add("kinetic energy", |r| r.kinetic);
+    }
+    add("strain energy", |r| r.strain);
+    add("fracture energy", |r| r.fracture);
     p
 }
 

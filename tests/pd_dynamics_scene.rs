@@ -78,7 +78,13 @@ fn coarse_branching_plate_runs_from_a_scene() {
     assert!(rows.len() > 25, "{} rows", rows.len());
     assert!(d["final"]["fracture_J"].as_f64().unwrap() > 0.0);
     assert!(!d["final"]["tip"].is_null(), "the crack started");
-    for f in ["energy.png", "damage_t20us.png", "damage.png", "nodes.csv"] {
+    for f in [
+        "energy.png",
+        "energy_balance.png",
+        "damage_t20us.png",
+        "damage.png",
+        "nodes.csv",
+    ] {
         assert!(dir.join(f).exists(), "{f}");
     }
     let _ = std::fs::remove_dir_all(&dir);
