@@ -289,13 +289,15 @@ fn auto_markers(points: &[(f64, f64)], px_per_unit: f64) -> Vec<u32> {
         .into_iter()
         .map(|d| match d {
             Some((d1, d2)) => {
-                let cover = 0.51 * d1.hypot(d2) * px_per_unit;
-                let r = if cover <= 14.0 {
-                    cover
+                // Half the cell diagonal, rounded up: a disc of that radius on every
+                // node leaves no gap at the cell corners (rounding down left a lattice
+                // of white dots).
+                let cover = 0.5 * d1.hypot(d2) * px_per_unit;
+                if cover <= 14.0 {
+                    cover.ceil().max(1.0) as u32
                 } else {
-                    (0.4 * d1 * px_per_unit).min(12.0)
-                };
-                r.round().max(1.0) as u32
+                    (0.4 * d1 * px_per_unit).min(12.0).round().max(1.0) as u32
+                }
             }
             None => 4,
         })
@@ -467,15 +469,16 @@ mod marker_tests {
             }
             v
         };
-        // 10 px cells: radius 0.51 * 10 * sqrt(2) = 7.2 > 7.07, covers.
+        // 10 px cells: half the diagonal is 7.07 px; radius 8 covers the corners (7
+        // would leave a dot of background at each).
         let dense = auto_markers(&grid(1.0, 0.0), 10.0);
-        assert!(dense.iter().all(|&r| r == 7), "{dense:?}");
+        assert!(dense.iter().all(|&r| r == 8), "{dense:?}");
         // 30 px cells: separate discs of 0.4 * 30 = 12 px.
         let sparse = auto_markers(&grid(1.0, 0.0), 30.0);
         assert!(sparse.iter().all(|&r| r == 12), "{sparse:?}");
         let mut mixed = grid(1.0, 0.0);
         mixed.extend(grid(0.1, 100.0));
         let r = auto_markers(&mixed, 10.0);
-        assert!(r[..16].iter().all(|&r| r == 7) && r[16..].iter().all(|&r| r == 1));
+        assert!(r[..16].iter().all(|&r| r == 8) && r[16..].iter().all(|&r| r == 1));
     }
 }
