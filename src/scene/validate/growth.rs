@@ -2,9 +2,16 @@
 //! against the sections present.
 
 use super::Checker;
-use crate::scene::{GrowthMode, Scene};
+use crate::scene::{GrowthMode, Placement, Scene};
 
-pub(super) fn check_growth(c: &mut Checker, scene: &Scene, g: &crate::scene::Growth) {
+/// Checks the growth section.
+pub fn check(c: &mut Checker, scene: &Scene) {
+    if let Some(g) = &scene.growth {
+        check_growth(c, scene, g);
+    }
+}
+
+fn check_growth(c: &mut Checker, scene: &Scene, g: &crate::scene::Growth) {
     let t = g.trigger_ratio;
     if c.finite("growth.trigger_ratio", t) && !(t > 0.0 && t < 1.0) {
         c.fail(
@@ -74,7 +81,7 @@ pub(super) fn check_growth(c: &mut Checker, scene: &Scene, g: &crate::scene::Gro
     }
     if g.mode == GrowthMode::PdBem {
         if let Some(co) = &scene.coupling {
-            super::pd::check_ligaments(c, scene, co);
+            check_ligaments(c, scene, co);
         }
     }
     if scene.cracks.is_empty() {
@@ -136,4 +143,38 @@ fn derivable(scene: &Scene) -> bool {
             .pd
             .as_ref()
             .is_some_and(|pd| matches!(pd.failure, crate::scene::Failure::CriticalStretch(_)))
+}
+
+/// PD-BEM windows sit on the tips: each window side must be below the ligament ahead of
+/// its tip (the distance from the tip to the outline or a hole along the crack direction).
+fn check_ligaments(c: &mut Checker, scene: &Scene, co: &crate::scene::Coupling) {
+    use crate::geometry::{ray_circle, ray_polygon};
+    use crate::scene::shapes::{HoleShape, SceneGeometry};
+    if co.placement != Placement::AtTips || co.side.is_nan() || co.side <= 0.0 {
+        return;
+    }
+    let geo = SceneGeometry::of(scene);
+    let Some(outline) = &geo.outline else { return };
+    for cr in &geo.cracks {
+        for (name, tip, d) in cr.tip_directions() {
+            let ahead = geo
+                .holes
+                .iter()
+                .filter_map(|(_, h)| match h {
+                    HoleShape::Circle { center, radius } => ray_circle(&tip, &d, center, *radius),
+                    HoleShape::Polygon(p) => ray_polygon(&tip, &d, p),
+                })
+                .chain(ray_polygon(&tip, &d, &outline.points))
+                .fold(f64::INFINITY, f64::min);
+            if co.side >= ahead {
+                c.fail(
+                    "coupling.side",
+                    co.side,
+                    format!(
+                        "window larger than the remaining ligament: tip {name} is {ahead:.6} m from the boundary ahead; use a side below that"
+                    ),
+                );
+            }
+        }
+    }
 }

@@ -94,6 +94,7 @@ pub fn check(scene: &Scene) -> Vec<Issue> {
     boundary::check(&mut c, scene);
     sections::check(&mut c, scene, body_ok);
     pd::check(&mut c, scene);
+    growth::check(&mut c, scene);
     limits::check(&mut c, scene);
     c.issues
 }

@@ -14,16 +14,13 @@ pub const MAX_HORIZON_FACTOR: f64 = 6.0;
 /// Largest coupling tolerance psi (a relative change of the interface displacements).
 pub const MAX_PSI: f64 = 0.1;
 
-/// Checks the PD, coupling and growth sections.
+/// Checks the PD and coupling sections.
 pub fn check(c: &mut Checker, scene: &Scene) {
     if let Some(pd) = &scene.pd {
         check_pd(c, scene, pd);
     }
     if let Some(co) = &scene.coupling {
         check_coupling(c, scene, co);
-    }
-    if let Some(g) = &scene.growth {
-        super::growth::check_growth(c, scene, g);
     }
 }
 
@@ -399,39 +396,6 @@ fn check_relaxation(c: &mut Checker, r: &Relaxation) {
     }
 }
 
-/// PD-BEM windows sit on the tips: each window side must be below the ligament ahead of
-/// its tip (the distance from the tip to the outline or a hole along the crack direction).
-pub(super) fn check_ligaments(c: &mut Checker, scene: &Scene, co: &crate::scene::Coupling) {
-    use crate::geometry::{ray_circle, ray_polygon};
-    use crate::scene::shapes::{HoleShape, SceneGeometry};
-    if co.placement != Placement::AtTips || co.side.is_nan() || co.side <= 0.0 {
-        return;
-    }
-    let geo = SceneGeometry::of(scene);
-    let Some(outline) = &geo.outline else { return };
-    for cr in &geo.cracks {
-        for (name, tip, d) in cr.tip_directions() {
-            let ahead = geo
-                .holes
-                .iter()
-                .filter_map(|(_, h)| match h {
-                    HoleShape::Circle { center, radius } => ray_circle(&tip, &d, center, *radius),
-                    HoleShape::Polygon(p) => ray_polygon(&tip, &d, p),
-                })
-                .chain(ray_polygon(&tip, &d, &outline.points))
-                .fold(f64::INFINITY, f64::min);
-            if co.side >= ahead {
-                c.fail(
-                    "coupling.side",
-                    co.side,
-                    format!(
-                        "window larger than the remaining ligament: tip {name} is {ahead:.6} m from the boundary ahead; use a side below that"
-                    ),
-                );
-            }
-        }
-    }
-}
 
 /// `coupling.n`: a window is at least two horizons wide (the coupling crate's
 /// `TooFewNodes`: n >= 2 m, m = `pd.horizon_factor`, 7 at the default 3.015), and even
