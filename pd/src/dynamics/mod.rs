@@ -216,6 +216,24 @@ fn positive(field: &str, v: f64) -> Result<(), PdError> {
 /// work. The errors name the field (`density`, `end_time`, `dt`, ...).
 pub fn plan(model: &PdModel, p: &ExplicitParams) -> Result<Plan, PdError> {
     positive("density", p.density)?;
+    let dt_c = critical_time_step(model, p.density);
+    let bound = format!(
+        "the stable step dt_c = {dt_c:.4e} s (sqrt(4 rho / max row sum of the stiffness), rho = {} kg/m^3)",
+        p.density
+    );
+    plan_with(p, dt_c, &bound, model.n_bonds())
+}
+
+/// [`plan`] for a body whose stable step `dt_c` (described by `bound` in the errors) and
+/// directed bond count `n_bonds` the caller knows (the refined body of
+/// [`crate::refine::run_dynamic`]: its bond count at the start).
+pub(crate) fn plan_with(
+    p: &ExplicitParams,
+    dt_c: f64,
+    bound: &str,
+    n_bonds: usize,
+) -> Result<Plan, PdError> {
+    positive("density", p.density)?;
     positive("end_time", p.end_time)?;
     if !(p.load.is_finite()) {
         return Err(PdError::invalid(
@@ -229,7 +247,6 @@ pub fn plan(model: &PdModel, p: &ExplicitParams) -> Result<Plan, PdError> {
             format!("must lie in (0, 1), got {}", p.damage_threshold),
         ));
     }
-    let dt_c = critical_time_step(model, p.density);
     let dt = match p.dt {
         Some(dt) => {
             positive("dt", dt)?;
@@ -237,8 +254,8 @@ pub fn plan(model: &PdModel, p: &ExplicitParams) -> Result<Plan, PdError> {
                 return Err(PdError::invalid(
                     "dt",
                     format!(
-                        "time step {dt:.4e} s exceeds the stable step dt_c = {dt_c:.4e} s (sqrt(4 rho / max row sum of the stiffness), rho = {} kg/m^3): take dt <= dt_c or leave dt out for {} dt_c",
-                        p.density, p.safety_factor
+                        "time step {dt:.4e} s exceeds {bound}: take dt <= dt_c or leave dt out for {} dt_c",
+                        p.safety_factor
                     ),
                 ));
             }
@@ -254,7 +271,7 @@ pub fn plan(model: &PdModel, p: &ExplicitParams) -> Result<Plan, PdError> {
             if !dt_c.is_finite() {
                 return Err(PdError::invalid(
                     "dt",
-                    "no node moves (every component prescribed): nothing to integrate",
+                    "nothing moves (every component prescribed): nothing to integrate",
                 ));
             }
             p.safety_factor * dt_c
@@ -271,13 +288,12 @@ pub fn plan(model: &PdModel, p: &ExplicitParams) -> Result<Plan, PdError> {
         ));
     }
     let steps = (steps_f as usize).max(1);
-    let work = steps as f64 * model.n_bonds() as f64;
+    let work = steps as f64 * n_bonds as f64;
     if work > MAX_BOND_STEPS {
         return Err(PdError::invalid(
             "end_time",
             format!(
-                "{steps} steps x {} directed bonds = {work:.3e} bond updates exceed the limit {MAX_BOND_STEPS:.0e}: shorten end_time or coarsen dx",
-                model.n_bonds()
+                "{steps} steps x {n_bonds} directed bonds = {work:.3e} bond updates exceed the limit {MAX_BOND_STEPS:.0e}: shorten end_time or coarsen dx"
             ),
         ));
     }

@@ -44,7 +44,7 @@ pub use super::pass::{critical_time_step, forces_breaking};
 use super::run::flagged;
 use super::{Body, Refinement};
 use crate::dynamics::crack::CrackTracker;
-use crate::dynamics::{DynamicRecord, DynamicsInfo, ExplicitParams, MAX_RECORDS, MAX_STEPS};
+use crate::dynamics::{DynamicRecord, DynamicsInfo, ExplicitParams};
 use crate::error::PdError;
 use crate::geometry::{segment_crosses_crack, P2};
 use crate::problem::PdProblem;
@@ -225,92 +225,23 @@ fn precut(body: &Body) -> usize {
         .count()
 }
 
-/// The run's step and its bound (module docs), the steps and the record interval.
+/// The run's step and its bound (module docs), the steps and the record interval:
+/// [`crate::dynamics::plan_with`] with the bound of the smallest particles refinement can
+/// make and the body's bond count at the start.
 fn plan(
     body: &Body,
     p: &ExplicitParams,
     r: &Refinement,
 ) -> Result<(f64, f64, usize, usize), PdError> {
-    let positive = |field: &str, v: f64| {
-        if v.is_finite() && v > 0.0 {
-            Ok(())
-        } else {
-            Err(PdError::invalid(
-                field,
-                format!("must be positive and finite, got {v}"),
-            ))
-        }
-    };
-    positive("density", p.density)?;
-    positive("end_time", p.end_time)?;
-    if !p.load.is_finite() {
-        return Err(PdError::invalid(
-            "load",
-            format!("must be finite, got {}", p.load),
-        ));
-    }
-    if !(p.damage_threshold > 0.0 && p.damage_threshold < 1.0) {
-        return Err(PdError::invalid(
-            "damage_threshold",
-            format!("must lie in (0, 1), got {}", p.damage_threshold),
-        ));
-    }
     let lmin = body.level.iter().copied().min().unwrap_or(r.max_level);
     let dt_c =
         critical_time_step(body, p.density) / f64::from(1u32 << r.max_level.saturating_sub(lmin));
-    let dt = match p.dt {
-        Some(dt) => {
-            positive("dt", dt)?;
-            if dt > dt_c {
-                return Err(PdError::invalid(
-                    "dt",
-                    format!("time step {dt:.4e} s exceeds the stable step {dt_c:.4e} s of the smallest particles refinement can make (level {})", r.max_level),
-                ));
-            }
-            dt
-        }
-        None => {
-            if !(p.safety_factor > 0.0 && p.safety_factor <= 1.0) {
-                return Err(PdError::invalid(
-                    "safety_factor",
-                    format!("must lie in (0, 1], got {}", p.safety_factor),
-                ));
-            }
-            if !dt_c.is_finite() {
-                return Err(PdError::invalid(
-                    "dt",
-                    "no particle moves: nothing to integrate",
-                ));
-            }
-            p.safety_factor * dt_c
-        }
-    };
-    let steps_f = (p.end_time / dt * (1.0 - 1e-12)).ceil();
-    if steps_f > MAX_STEPS as f64 {
-        return Err(PdError::invalid(
-            "end_time",
-            format!("{steps_f:.3e} time steps exceed the limit {MAX_STEPS}"),
-        ));
-    }
-    let steps = (steps_f as usize).max(1);
-    let every = p.output_every.unwrap_or(p.end_time / 200.0);
-    positive("output_every", every)?;
-    let record_every = ((every / dt).round() as usize).clamp(1, steps);
-    if steps / record_every > MAX_RECORDS {
-        return Err(PdError::invalid(
-            "output_every",
-            "too many records: raise output_every",
-        ));
-    }
-    for (k, &t) in p.snapshots.iter().enumerate() {
-        if !(t.is_finite() && (0.0..=p.end_time * (1.0 + 1e-9)).contains(&t)) {
-            return Err(PdError::invalid(
-                format!("snapshots[{k}]"),
-                format!("time {t} s lies outside [0, end_time = {}]", p.end_time),
-            ));
-        }
-    }
-    Ok((dt, dt_c, steps, record_every))
+    let bound = format!(
+        "the stable step {dt_c:.4e} s of the smallest particles refinement can make (level {})",
+        r.max_level
+    );
+    let plan = crate::dynamics::plan_with(p, dt_c, &bound, body.dh.bonds.len())?;
+    Ok((plan.dt, plan.dt_c, plan.steps, plan.record_every))
 }
 
 /// Run the explicit dynamics of `p`'s refined body from rest with adaptive refinement

@@ -396,7 +396,6 @@ fn check_relaxation(c: &mut Checker, r: &Relaxation) {
     }
 }
 
-
 /// `coupling.n`: a window is at least two horizons wide (the coupling crate's
 /// `TooFewNodes`: n >= 2 m, m = `pd.horizon_factor`, 7 at the default 3.015), and even
 /// with `AtTips` windows (with an odd n every coupled run stopped at run time with
