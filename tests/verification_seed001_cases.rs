@@ -105,3 +105,65 @@ fn transfer_function_traction_with_coupling_is_an_error() {
         .to_string();
     assert!(e.contains("pd.traction"), "{e}");
 }
+
+/// Seed 001 section 6.1, Fig. 8: the 10 mm crack at 45 degrees. LEFM (this engine's
+/// BEM, maximum circumferential stress) turns both tips by -52.9 degrees
+/// (Erdogan-Sih for K_I = K_II in an infinite plate: -53.13); the seed reports 56.
+#[test]
+fn inclined_crack_kinks_towards_the_perpendicular_of_the_load() {
+    let s = case("inclined_crack", 80);
+    let (load, kinks) = solve(&s);
+    let (lefm, lefm_kink) = pdbem::bench_seed001::lefm(&s).unwrap();
+    let (lefm, lefm_kink) = (lefm.unwrap(), lefm_kink.unwrap());
+    eprintln!("inclined, 80 x 80: initiation {load:?} MPa, kinks {kinks:?}; LEFM {lefm} MPa, {lefm_kink} deg");
+    // The BEM's kink against Erdogan-Sih's for K_II / K_I = 1: the finite plate
+    // changes the ratio a little (measured -52.94 against -53.13).
+    let erdogan_sih = pdbem_pd::measure::mts_kink_deg(1.0);
+    assert!((erdogan_sih + 53.13).abs() < 0.01, "{erdogan_sih}");
+    assert!((lefm_kink - erdogan_sih).abs() < 0.5, "{lefm_kink}");
+    // Measured 14.0 MPa on 80 x 80 (-9.9 % of LEFM's 15.54, -12 % of the seed's
+    // 15.9; 200 x 200: 14.6, -6 % of LEFM). Bound: 12 % of LEFM.
+    let p = load.expect("the crack did not run");
+    assert!((p / lefm - 1.0).abs() < 0.12, "{p} MPa");
+    // Both tips turn clockwise from their own direction (the crack rises to the
+    // right, the load is vertical). Measured -43.3 on 80 x 80; the coarse grid's
+    // horizon (1.9 mm) reads the path where it has already curved towards the
+    // horizontal (45 degrees): 100 x 100 -45, 200 x 200 -51 (docs/seed001_traction.md).
+    // Bound: 35 to 60 degrees.
+    for k in &kinks {
+        let k = k.expect("no kink measured");
+        assert!(k < -35.0 && k > -60.0, "{kinks:?}");
+    }
+}
+
+/// Seed 001 section 6.2, Fig. 14: two colinear 5 mm edge cracks. The handbook's
+/// double-edge-notched strip (Tada: F(a/b) = [1.122 - 0.561 r - 0.205 r^2 + 0.471 r^3
+/// - 0.190 r^4] / sqrt(1 - r), r = a/b, b the half width) gives 12.9 MPa; this
+/// engine's BEM for the square plate 12.3 MPa; PD 12.2. The seed reports 8.5 MPa,
+/// its load for the single edge crack: a K 1.45 times the handbook's, which no
+/// 5 mm crack pair in a 50 mm plate has (docs/seed001_traction.md).
+#[test]
+fn colinear_edge_cracks_run_at_the_handbook_load() {
+    let s = case("colinear_edge_cracks", 80);
+    let (load, kinks) = solve(&s);
+    let lefm = pdbem::bench_seed001::lefm(&s).unwrap().0.unwrap();
+    eprintln!("colinear edge, 80 x 80: initiation {load:?} MPa, kinks {kinks:?}; LEFM {lefm} MPa");
+    let r: f64 = 0.005 / 0.025;
+    let f = (1.122 - 0.561 * r - 0.205 * r * r + 0.471 * r.powi(3) - 0.190 * r.powi(4))
+        / (1.0 - r).sqrt();
+    let k_ic = (30e9_f64 * 110.0).sqrt();
+    let tada = k_ic / (f * (std::f64::consts::PI * 0.005).sqrt()) / 1e6;
+    // The square plate's finite height raises K over the infinite strip's (as for
+    // the central crack, -2.9 %): measured 12.32 against 12.90 MPa (-4.5 %).
+    assert!(
+        lefm < tada && lefm > 0.93 * tada,
+        "LEFM {lefm}, Tada {tada}"
+    );
+    // Measured 12.2 MPa on 80 x 80 (-1 % of LEFM). Bound 8 %.
+    let p = load.expect("the cracks did not run");
+    assert!((p / lefm - 1.0).abs() < 0.08, "{p} MPa");
+    // Mode I by symmetry: both run along their line (measured 0, 0).
+    for k in kinks {
+        assert!(k.expect("no kink measured").abs() < 5.0);
+    }
+}
