@@ -75,7 +75,7 @@ impl<S: Scenario> Growth<'_, S> {
             .collect()
     }
 
-    /// The joining crack of tip `t` (ended at hole `hole`): from the tip, through the
+    /// The joining crack of tip `t` (ended at a hole): from the tip, through the
     /// window side where the segment to the rim point leaves the window (snapped to an
     /// interface element end), to the rim point of the reported path.
     fn join_line(&self, t: usize) -> Result<Vec<V2>, CouplingError> {
