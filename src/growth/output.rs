@@ -73,6 +73,7 @@ pub fn growth_summary(scene: &Scene, h: &GrowthHistory) -> RunSummary {
     extra.insert("failure_load".into(), json!(h.failure_load));
     extra.insert("complete".into(), json!(h.failure_reason.is_none()));
     extra.insert("failure_reason".into(), json!(h.failure_reason));
+    extra.insert("end_state".into(), json!(h.end_state()));
     extra.insert("initiation_load".into(), json!(h.initiation_load));
     extra.insert("steps".into(), json!(h.steps.len()));
     extra.insert("final_load".into(), json!(h.steps.last().map(|s| s.load)));

@@ -73,6 +73,10 @@ pub struct CrackState {
     pub element_size: f64,
     /// One BEM element per polyline segment.
     pub segment_elements: bool,
+    /// The name of a crack that joins a tip to a hole (after the scene's cracks,
+    /// [`crate::growth::driver::join_name`]); None for the scene's cracks.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub join: Option<String>,
 }
 
 /// The mutable state of a PD-BEM run between two load steps.

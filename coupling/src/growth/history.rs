@@ -146,6 +146,31 @@ pub struct GrowthHistory {
     pub snapshots: Vec<FieldSnapshot>,
 }
 
+impl GrowthHistory {
+    /// How the run ended (`summary.json` `end_state`): `failure` (a crack cut the body),
+    /// `ended_early` (a step or geometry that could not be solved, with
+    /// `failure_reason`), `tips_ended_at_holes_body_holds` (every tip stopped, one or more
+    /// at a hole, whose crack then joins it, and the body holds: not a failure),
+    /// `tips_ended_body_holds` (every tip stopped elsewhere, the body holds) or
+    /// `load_budget_spent` (tips still growing when the load steps ran out).
+    pub fn end_state(&self) -> &'static str {
+        let at_hole = |p: &TipPath| p.ended.as_deref().is_some_and(|e| e.starts_with("hole:"));
+        if self.failure {
+            "failure"
+        } else if self.failure_reason.is_some() {
+            "ended_early"
+        } else if !self.paths.is_empty() && self.paths.iter().all(|p| p.ended.is_some()) {
+            if self.paths.iter().any(at_hole) {
+                "tips_ended_at_holes_body_holds"
+            } else {
+                "tips_ended_body_holds"
+            }
+        } else {
+            "load_budget_spent"
+        }
+    }
+}
+
 /// One row of `sif_path.csv`: one tip at one state of the crack geometry.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SifRow {

@@ -34,7 +34,12 @@
 //!   way under load control: structural failure, with the breakdown in the note. A tip
 //!   reaching a hole or another crack ends; the others go on. Windows may not lie over a
 //!   hole, so a tip growing towards one ends at it ([`TipEnd::Hole`]) when its window
-//!   cannot move on without covering it ([`Growth::plan`]).
+//!   cannot move on without covering it ([`Growth::plan`]). Its crack is then joined to
+//!   the hole, in the reported path and in the geometry: a crack `<tip>.hole` from the tip
+//!   through the window side to the hole rim, a PD pre-crack in the window and BEM faces
+//!   with two mouths outside it ([`driver::join_name`]); the run goes on with the joined
+//!   body, and a join that closes a chain of cuts through the holes is structural failure
+//!   ([`topology::join_cuts`]).
 //! - A window's PD equilibrium with frozen bonds is Newton's, with ADR when Newton fails
 //!   ([`pdbem_pd::solvers::frozen`]).
 //! - Reported paths of tips that reached the outline end by the rule of the full-PD mode

@@ -135,7 +135,7 @@ pub fn join_boundary(path: &[V2], boundary: &[V2], chord: f64) -> (Vec<V2>, f64)
 }
 
 /// The point of the closed polygon nearest to `p`.
-fn nearest_on_polygon(p: &V2, poly: &[V2]) -> V2 {
+pub fn nearest_on_polygon(p: &V2, poly: &[V2]) -> V2 {
     let n = poly.len();
     (0..n)
         .map(|i| {

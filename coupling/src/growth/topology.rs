@@ -37,6 +37,57 @@ fn attachment(p: V2, windows: &[Window], body: &Body, tol: f64) -> Option<usize>
         .map(|i| i + 1)
 }
 
+/// Whether the cracks of `layout` from index `first` on (cracks joining a tip to a hole,
+/// [`crate::growth::driver::join_name`]) close a chain of cuts: the graph of the module
+/// docs with every hole a node too, the outline-window edges and the cracks before
+/// `first` joined first (a cycle among them is the state the run was already in), then
+/// the joining cracks one by one. Returns the index (from `first`) of the first joining
+/// crack that closes a cycle: a crack from the outline into a hole and another from the
+/// hole to the outline, or from a hole back to it, cut a piece of the body off.
+pub fn join_cuts(layout: &Layout, body: &Body, first: usize) -> Option<usize> {
+    let windows: Vec<Window> = layout
+        .windows
+        .iter()
+        .enumerate()
+        .filter_map(|(i, s)| Window::place(i, s.clone(), body).ok())
+        .collect();
+    let tol = windows.iter().map(Window::tol).fold(1e-12, f64::max);
+    let nw = windows.len();
+    let node = |p: V2| {
+        attachment(p, &windows, body, tol).or_else(|| {
+            body.holes
+                .iter()
+                .position(|h| polygon_distance(&p, h) <= tol)
+                .map(|i| 1 + nw + i)
+        })
+    };
+    let mut parent: Vec<usize> = (0..=nw + body.holes.len()).collect();
+    let mut edges: Vec<(usize, usize)> = windows
+        .iter()
+        .enumerate()
+        .filter(|(_, w)| w.sides.contains(&SideKind::Outer))
+        .map(|(i, _)| (0, i + 1))
+        .collect();
+    let ends = |c: &crate::setup::MacroCrack| {
+        let (a, b) = (c.points[0], *c.points.last().expect("a crack has points"));
+        node(a).zip(node(b))
+    };
+    edges.extend(layout.cracks.iter().take(first).filter_map(ends));
+    for (x, y) in edges {
+        let (rx, ry) = (root(&mut parent, x), root(&mut parent, y));
+        parent[rx] = ry;
+    }
+    for (k, c) in layout.cracks.iter().enumerate().skip(first) {
+        let Some((x, y)) = ends(c) else { continue };
+        let (rx, ry) = (root(&mut parent, x), root(&mut parent, y));
+        if rx == ry {
+            return Some(k - first);
+        }
+        parent[rx] = ry;
+    }
+    None
+}
+
 /// Whether the cracks and windows of `layout` cut the BEM body of `body` apart (see the
 /// module docs). Windows that cannot be placed count as not reaching the outline.
 pub fn cuts_body(layout: &Layout, body: &Body) -> bool {
@@ -176,5 +227,28 @@ mod tests {
             vec![V2::new(7.0, 5.0), V2::new(13.0, 5.0)],
         );
         assert!(!cuts_body(&l, &b));
+    }
+
+    #[test]
+    fn a_crack_joined_to_a_hole_cuts_only_when_it_closes_a_chain() {
+        // A hole [9, 11] x [2, 3]; an edge crack down from the top edge into a window
+        // [9, 11] x [5, 7], joined from its tip (10, 6) to the hole rim (10, 3).
+        let hole = vec![
+            V2::new(9.0, 2.0),
+            V2::new(9.0, 3.0),
+            V2::new(11.0, 3.0),
+            V2::new(11.0, 2.0),
+        ];
+        let edge = vec![V2::new(10.0, 10.0), V2::new(10.0, 6.0)];
+        let join = vec![V2::new(10.0, 6.0), V2::new(10.0, 3.0)];
+        let (l, mut b) = layout(vec![edge.clone(), join.clone()], vec![V2::new(10.0, 6.0)]);
+        b.holes = vec![hole.clone()];
+        assert_eq!(join_cuts(&l, &b, 1), None);
+        // Another crack from the left edge into the hole: outline - window - hole -
+        // outline, the join closes the chain.
+        let side = vec![V2::new(0.0, 2.5), V2::new(9.0, 2.5)];
+        let (l, mut b) = layout(vec![edge, side, join], vec![V2::new(10.0, 6.0)]);
+        b.holes = vec![hole];
+        assert_eq!(join_cuts(&l, &b, 2), Some(0));
     }
 }

@@ -31,6 +31,15 @@ pub fn stop_after_step(
         history
             .notes
             .push(format!("every tip stopped by step {step} (load {load})"));
+        let holes = front.holes_reached();
+        if !holes.is_empty() {
+            history.notes.push(format!(
+                "every tip ended and the body holds: cracks ended at hole(s) {} and joined \
+                 them (no structural failure; the final geometry has the cracks running into \
+                 the holes)",
+                holes.join(", ")
+            ));
+        }
         return true;
     }
     false

@@ -298,7 +298,10 @@ pub fn run_from(
                 grow_tip(&mut front, &mut history, observer, t, &sizes, f, k, k_c);
             }
             increments += 1;
-            if front.separated() || front.active().is_empty() {
+            // When every tip has stopped, the geometry is solved once more only if a tip
+            // joined a hole (the final fields and K are then those of the joined body).
+            let joined = !front.holes_reached().is_empty();
+            if front.separated() || (front.active().is_empty() && !joined) {
                 solved_now = false;
                 break;
             }
@@ -440,7 +443,13 @@ fn failure_reason(front: &Front) -> String {
              {LIGAMENT_MARGIN} increments of ligament, so it was taken onto the outline)",
             t.name
         ),
-        None => "a crack cut the body through".into(),
+        None => match front.holes_reached().first() {
+            Some(h) => format!(
+                "cracks joined to hole {h} cut the body apart (a chain of cracks through the \
+                 holes links the outline to itself)"
+            ),
+            None => "a crack cut the body through".into(),
+        },
     }
 }
 

@@ -253,6 +253,7 @@ mod tests {
         let mut params = GrowthParams::new(loads, 0.5);
         // The scenes' relaxation (Aitken from 0.3 diverges here once bonds break).
         params.coupling.acceleration = crate::iteration::Acceleration::IqnIls(0.5);
+        let again = (setup.clone(), params.clone());
         let mut g = Growth::new(setup, &PlateScenario, params).unwrap();
         let mut notes = Notes::default();
         let out = g.run(&mut notes).unwrap();
@@ -277,5 +278,24 @@ mod tests {
             "{:?}",
             out.notes
         );
+        // Joined to the hole, the body holds: the run's end state says so (not a failure,
+        // complete), and the final mesh has the crack running into the hole.
+        let h = crate::growth::summary::history_of(&g, &out, Vec::new());
+        assert_eq!(
+            h.end_state(),
+            "tips_ended_at_holes_body_holds",
+            "{:?}",
+            out.notes
+        );
+        let join = crate::growth::driver::join_name("c0.end");
+        assert!(g.problem().mesh.cracks.iter().any(|c| c.name == join));
+        // The joined state survives a checkpoint: a fresh run of the same setup given it
+        // has the joining crack in its layout and mesh.
+        let json = serde_json::to_string(&g.state()).unwrap();
+        let state: crate::growth::checkpoint::GrowthState = serde_json::from_str(&json).unwrap();
+        let mut fresh = Growth::new(again.0, &PlateScenario, again.1).unwrap();
+        fresh.set_state(&state).unwrap();
+        assert_eq!(fresh.layout().cracks, g.layout().cracks);
+        assert!(fresh.problem().mesh.cracks.iter().any(|c| c.name == join));
     }
 }

@@ -22,7 +22,10 @@
 //!    overlapping windows merged, mesh rebuilt and refactored, state transferred; then 1.
 //!    again at the same load. A tip whose window cannot move on because a hole is in the
 //!    way ends at that hole ([`TipEnd::Hole`], noted through the observer) and the others
-//!    go on.
+//!    go on. A tip ended at a hole (either way) is joined to it (`join`): the geometry is
+//!    rebuilt with its crack running on to the hole rim and solved again at the same load
+//!    before the step is recorded; a join that cuts the body apart ends the run with
+//!    structural failure. When every tip has ended and the body holds, a note says so.
 //! 4. Otherwise the step converged (interface residual below psi and no bond broke in the
 //!    last PD solves) and is recorded; the load grows.
 //!
@@ -47,11 +50,16 @@
 //!   [`Growth::set_state`], [`Growth::resume`]).
 //! - `ends`: tips and runs that end (outline, hole, other crack, ligament), damage beyond
 //!   the tips.
+//! - `join`: a tip that ended at a hole joins it in the BEM geometry (its crack runs on
+//!   to the hole rim, [`join_name`]).
 
 mod backoff;
 mod ends;
+mod join;
 mod run;
 mod state;
+
+pub use join::join_name;
 
 use pdbem_bem::post::sif::cmod;
 use pdbem_bem::{PairCache, V2};
@@ -99,6 +107,9 @@ pub struct Growth<'s, S: Scenario> {
     pub(super) pairs: PairCache,
     /// Set by [`Growth::resume`]: the records and the step [`Growth::run`] goes on from.
     pub(super) resume_from: Option<state::ResumePoint>,
+    /// Number of the scene's cracks: the layout's cracks after them join tips to holes
+    /// ([`join_name`]).
+    pub(super) scene_cracks: usize,
 }
 
 /// Builds mesh, windows (with their no-fail bands) and the factored BEM system of a
@@ -183,6 +194,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
             });
         }
         let n = tips.len();
+        let scene_cracks = setup.layout.cracks.len();
         let initial_tip: Vec<V2> = tips.iter().map(|t| t.macro_tip).collect();
         let mut g = Growth {
             scenario,
@@ -202,6 +214,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
             geometries: 1,
             pairs,
             resume_from: None,
+            scene_cracks,
         };
         g.retrace()?;
         Ok(g)

@@ -7,6 +7,7 @@ use std::time::Instant;
 use pdbem_bem::post::field::FieldEvaluator;
 use pdbem_bem::V2;
 
+use super::join::Joined;
 use super::Growth;
 use crate::error::CouplingError;
 use crate::growth::observer::Observer;
@@ -209,6 +210,12 @@ impl<'s, S: Scenario> Growth<'s, S> {
                 run.cut = Some(t);
                 return Ok(run);
             }
+            match self.join_holes(load, observer)? {
+                Joined::Cuts(t) => return Ok(self.cut_by_join(t, run, observer)),
+                // The next solve is on the joined geometry.
+                Joined::Rebuilt(_) => continue,
+                Joined::Nothing => {}
+            }
             let which = self.triggered();
             if which.is_empty() {
                 if o.converged {
@@ -253,7 +260,13 @@ impl<'s, S: Scenario> Growth<'s, S> {
             }
             let recs = self.apply(plan, k, load, observer)?;
             if recs.is_empty() {
-                // Every triggered tip ended at a hole: iterate on with the others.
+                // Every triggered tip ended at a hole: joined to it, iterate on with the
+                // others on the joined geometry.
+                match self.join_holes(load, observer)? {
+                    Joined::Cuts(t) => return Ok(self.cut_by_join(t, run, observer)),
+                    Joined::Rebuilt(_) => continue,
+                    Joined::Nothing => {}
+                }
                 if o.converged || self.tips.iter().all(|t| !t.active()) {
                     run.converged = o.converged;
                     return Ok(run);
@@ -344,6 +357,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
             if self.tips.iter().all(|t| !t.active()) {
                 out.notes
                     .push(format!("every tip ended by step {k} (load {load})"));
+                out.notes.extend(self.holds_note());
                 break;
             }
             // The windows' kept factorisations end with the step, in every run, so that a
@@ -416,6 +430,12 @@ fn failure_note(k: usize, load: f64, name: &str, gave_way: bool, end: &Option<Ti
             "structural failure at step {k} (load {load}): the PD ligament at tip \
              {name} gave way (the coupling broke down with the remaining ligament in \
              the window)"
+        )
+    } else if let Some(TipEnd::Hole(hole)) = end {
+        format!(
+            "structural failure at step {k} (load {load}): tip {name} ran into hole \
+             {hole}, and its crack joined to the hole closes a chain of cracks that cuts \
+             the body apart"
         )
     } else if let Some(TipEnd::Coalescence(other)) = end {
         format!(

@@ -3,11 +3,12 @@
 //! step (the checkpoint the observer may save), and put back by
 //! [`Growth::set_state`] and [`Growth::resume`].
 
-use super::{build_geometry, Growth};
+use super::{build_geometry, join_name, Growth};
 use crate::error::CouplingError;
 use crate::growth::checkpoint::{mismatch, CrackState, GrowthState, PdBemCheckpoint, WindowState};
 use crate::growth::params::GrowthParams;
 use crate::growth::records::{GrowthResult, GrowthSetup, Scenario};
+use crate::setup::MacroCrack;
 
 /// Where a resumed run goes on: the records so far and the next step.
 #[derive(Debug, Clone)]
@@ -26,10 +27,12 @@ impl<'s, S: Scenario> Growth<'s, S> {
                 .layout
                 .cracks
                 .iter()
-                .map(|c| CrackState {
+                .enumerate()
+                .map(|(i, c)| CrackState {
                     points: c.points.clone(),
                     element_size: c.element_size,
                     segment_elements: c.segment_elements,
+                    join: (i >= self.scene_cracks).then(|| c.name.clone()),
                 })
                 .collect(),
             windows: self.setup.layout.windows.clone(),
@@ -69,28 +72,20 @@ impl<'s, S: Scenario> Growth<'s, S> {
     /// the current ones, every window takes its PD state (its kept solvers dropped), the
     /// last solution is forgotten (the next step solves first).
     pub fn set_state(&mut self, state: &GrowthState) -> Result<(), CouplingError> {
-        let layout = &mut self.setup.layout;
-        if state.cracks.len() != layout.cracks.len() || state.tips.len() != self.tips.len() {
+        let base = self.scene_cracks;
+        if state.cracks.len() < base || state.tips.len() != self.tips.len() {
             return Err(mismatch(format!(
                 "{} cracks and {} tips in the checkpoint, {} and {} in the scene",
                 state.cracks.len(),
                 state.tips.len(),
-                layout.cracks.len(),
+                base,
                 self.tips.len()
             )));
         }
-        let same = layout.windows == state.windows
-            && layout.cracks.iter().zip(&state.cracks).all(|(c, s)| {
-                c.points == s.points
-                    && c.element_size == s.element_size
-                    && c.segment_elements == s.segment_elements
-            });
-        if !same {
-            for (c, s) in layout.cracks.iter_mut().zip(&state.cracks) {
-                c.points.clone_from(&s.points);
-                c.element_size = s.element_size;
-                c.segment_elements = s.segment_elements;
-            }
+        let cracks = self.cracks_of(state)?;
+        let layout = &mut self.setup.layout;
+        if layout.windows != state.windows || layout.cracks != cracks {
+            layout.cracks = cracks;
             layout.windows.clone_from(&state.windows);
             let (problem, bem) = build_geometry(
                 &self.setup.layout,
@@ -137,6 +132,43 @@ impl<'s, S: Scenario> Growth<'s, S> {
         self.geometries = state.geometries;
         self.last = None;
         Ok(())
+    }
+
+    /// The layout's cracks of `state`: the scene's with their grown polylines, then the
+    /// cracks joining tips to holes (named, faces of the tip's crack).
+    fn cracks_of(&self, state: &GrowthState) -> Result<Vec<MacroCrack>, CouplingError> {
+        let base = self.scene_cracks;
+        state
+            .cracks
+            .iter()
+            .enumerate()
+            .map(|(i, s)| {
+                let mut c = if i < base {
+                    self.setup.layout.cracks[i].clone()
+                } else {
+                    let name = s.join.clone().ok_or_else(|| {
+                        mismatch(format!("crack {i} of the checkpoint is not in the scene"))
+                    })?;
+                    let faces = self
+                        .tips
+                        .iter()
+                        .find(|t| join_name(&t.spec.name) == name)
+                        .map(|t| self.setup.layout.cracks[t.spec.crack].faces)
+                        .ok_or_else(|| mismatch(format!("no tip for the joining crack {name}")))?;
+                    MacroCrack {
+                        name,
+                        points: Vec::new(),
+                        faces,
+                        element_size: s.element_size,
+                        segment_elements: s.segment_elements,
+                    }
+                };
+                c.points.clone_from(&s.points);
+                c.element_size = s.element_size;
+                c.segment_elements = s.segment_elements;
+                Ok(c)
+            })
+            .collect()
     }
 
     /// A run that goes on from `checkpoint` (taken from a run of the same setup and

@@ -14,6 +14,12 @@
 //!   the outline) cuts the body in two (seed 002 Alg. 2 step 9: "the crack exceeds the
 //!   boundary of the whole structure"). A tip of an interior crack that reaches the outline
 //!   stops, and the run goes on until the crack has also run out at its other end.
+//!   Tips stopped at a hole join it (the crack runs onto the hole's polygon, also when it
+//!   passes the hole within the margin: onto the nearest point), and groups that close a
+//!   chain of cuts through the holes (outline - hole - outline, a hole back to itself)
+//!   cut the body too (`cut.rs`).
+
+mod cut;
 
 use pdbem_geometry::{
     point_segment_distance, polyline_length, ray_circle, ray_polygon, ray_segment, HoleShape, P2,
@@ -279,7 +285,7 @@ impl Front {
         self.tips[t].ended = Some(reason);
     }
 
-    fn root(&self, mut i: usize) -> usize {
+    pub(super) fn root(&self, mut i: usize) -> usize {
         while self.parent[i] != i {
             i = self.parent[i];
         }
@@ -291,23 +297,6 @@ impl Front {
         if ra != rb {
             self.parent[rb] = ra;
         }
-    }
-
-    /// True when a group of joined cracks touches the outline at two points or more: the
-    /// body is cut through (structural failure).
-    pub fn separated(&self) -> bool {
-        let mut touches = vec![0usize; self.cracks.len()];
-        for (i, c) in self.cracks.iter().enumerate() {
-            if c.mouth {
-                touches[self.root(i)] += 1;
-            }
-        }
-        for t in &self.tips {
-            if t.ended.as_deref() == Some("outline") {
-                touches[self.root(t.crack)] += 1;
-            }
-        }
-        touches.iter().any(|&n| n >= 2)
     }
 
     /// Length grown at tip `t` so far (m): arc length from its initial position.
@@ -436,7 +425,17 @@ impl Front {
             None => match self.crack_within(t, &end, margin) {
                 Some(c) => Obstacle::Crack(c),
                 None => match self.hole_within(&end, margin) {
-                    Some(h) => Obstacle::Hole(h),
+                    Some(h) => {
+                        // Passing the hole within the margin: the crack joins it at the
+                        // point of its boundary nearest to the tip.
+                        if let Some(poly) = self.hole_polygon(&h) {
+                            let q = crate::growth::polyline::nearest_on_polygon(&tip, &poly);
+                            if (q - tip).norm() > 0.0 {
+                                self.set_tip(t, q);
+                            }
+                        }
+                        Obstacle::Hole(h)
+                    }
                     None => {
                         self.set_tip(t, end);
                         Obstacle::None
@@ -487,7 +486,7 @@ mod tests {
 
     /// A 10 m x 10 m plate with `cracks` (name, start, direction angle in degrees,
     /// length) and `holes`.
-    fn plate(cracks: &[(&str, (f64, f64), f64, f64)], holes: Vec<HoleShape>) -> Front {
+    pub(super) fn plate(cracks: &[(&str, (f64, f64), f64, f64)], holes: Vec<HoleShape>) -> Front {
         let outline = vec![
             P2::new(0.0, 0.0),
             P2::new(10.0, 0.0),
