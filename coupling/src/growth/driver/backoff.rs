@@ -13,7 +13,7 @@
 //! observer. Other errors of a step (a window that cannot move, a geometry that cannot
 //! be built) end the run the same way without a retry.
 
-use super::run::StepRun;
+use super::step::StepRun;
 use super::Growth;
 use crate::error::CouplingError;
 use crate::growth::checkpoint::GrowthState;

@@ -27,7 +27,7 @@
 use pdbem_bem::post::FieldEvaluator;
 use pdbem_bem::V2;
 
-use super::run::StepRun;
+use super::step::StepRun;
 use super::Growth;
 use crate::error::CouplingError;
 use crate::growth::observer::Observer;

@@ -58,6 +58,7 @@ mod ends;
 mod join;
 mod run;
 mod state;
+mod step;
 
 pub use join::join_name;
 

@@ -8,6 +8,7 @@ use pdbem_bem::post::field::FieldEvaluator;
 use pdbem_bem::V2;
 
 use super::join::Joined;
+use super::step::StepRun;
 use super::Growth;
 use crate::error::CouplingError;
 use crate::growth::observer::Observer;
@@ -387,29 +388,6 @@ impl<'s, S: Scenario> Growth<'s, S> {
         }
         Ok(out)
     }
-}
-
-/// What one completed try at a load step did.
-#[derive(Debug, Clone, Default)]
-pub(super) struct StepRun {
-    /// The load it ended at.
-    pub load: f64,
-    /// Converged (interface residual below psi, no bond breaking).
-    pub converged: bool,
-    /// Last interface residual (NaN when the coupling broke down).
-    pub residual: f64,
-    /// The tip that ended the run (structural failure).
-    pub cut: Option<usize>,
-    /// The PD ligament gave way (the coupling broke down).
-    pub gave_way: bool,
-    /// Algorithm 1 iterations.
-    pub iterations: usize,
-    /// PD seconds.
-    pub pd_s: f64,
-    /// Relocations.
-    pub relocations: usize,
-    /// The accelerator reported a restart or hand-over.
-    pub noted: bool,
 }
 
 impl StepRun {
