@@ -150,6 +150,9 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
         "dynamics".into(),
         crate::run_dynamic::summary_entry(&info.dynamics, &last),
     );
+    let angles = crate::run_dynamic::deflections(&problem, body.positions(), &phi);
+    crate::run_dynamic::log_deflections(ctx, &angles);
+    e.insert("deflection_deg".into(), json!(angles));
     e.insert("refinement".into(), json!(true));
     e.insert(
         "particles".into(),

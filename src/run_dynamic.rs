@@ -18,9 +18,9 @@
 
 use anyhow::{bail, Context, Result};
 use pdbem_pd::dynamics::{
-    self, critical_time_step, DynamicRecord, DynamicsObserver, ExplicitParams,
+    self, critical_time_step, DynamicRecord, DynamicsObserver, ExplicitParams, RegionVelocity,
 };
-use pdbem_pd::{PdModel, PdProblem, Region};
+use pdbem_pd::{PdModel, PdProblem, Region, Selection};
 use serde_json::json;
 
 use crate::output::csv::{num, CsvTable};
@@ -60,6 +60,18 @@ pub(crate) fn params(scene: &Scene) -> Result<ExplicitParams> {
         output_every: p.output_every,
         snapshots: p.snapshots.clone(),
         load: scene.load.factors().last().copied().unwrap_or(1.0),
+        velocities: p
+            .velocities
+            .iter()
+            .map(|r| RegionVelocity {
+                region: Selection::Box {
+                    min: [r.min.0, r.min.1],
+                    max: [r.max.0, r.max.1],
+                },
+                velocity: [r.velocity.0, r.velocity.1],
+                hold: r.hold,
+            })
+            .collect(),
         ..Default::default()
     })
 }
@@ -198,6 +210,9 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     summary
         .extra
         .insert("dynamics".into(), summary_entry(&info, &last));
+    let angles = deflections(&problem, &x[..n], &phi[..n]);
+    log_deflections(ctx, &angles);
+    summary.extra.insert("deflection_deg".into(), json!(angles));
     summary.extra.insert("nodes".into(), json!(model.n_real()));
     summary
         .extra
@@ -224,6 +239,18 @@ pub(crate) fn log_result(ctx: &RunContext, info: &dynamics::DynamicsInfo) {
     ctx.log(&format!(
         "  crack tip at the boundary: {}",
         us(info.boundary_time)
+    ));
+}
+
+/// The console line of the deflection angles.
+pub(crate) fn log_deflections(ctx: &RunContext, angles: &[Option<f64>]) {
+    let a: Vec<String> = angles
+        .iter()
+        .map(|a| a.map_or("-".into(), |a| format!("{a:.1}")))
+        .collect();
+    ctx.log(&format!(
+        "  crack deflection from each pre-crack tip (deg): {}",
+        a.join(", ")
     ));
 }
 
@@ -266,6 +293,33 @@ pub(crate) fn table(records: &[DynamicRecord], particles: Option<&[usize]>) -> C
         t.push(row);
     }
     t
+}
+
+/// The deflection angle (degrees, [`dynamics::angle::deflection_angle`]) of the crack
+/// grown from the last point of each pre-crack of `problem`, from the damage `phi` at
+/// the reference positions `x`: damage above 0.4, from 2 horizons of the base grid to a
+/// fifth of the body's bounding-box diagonal from the tip; `None` where nothing grew.
+pub(crate) fn deflections(problem: &PdProblem, x: &[[f64; 2]], phi: &[f64]) -> Vec<Option<f64>> {
+    let o = &problem.region.outline;
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in o {
+        for c in 0..2 {
+            lo[c] = lo[c].min(p[c]);
+            hi[c] = hi[c].max(p[c]);
+        }
+    }
+    let r_max = 0.2 * (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+    let r_min = 2.0 * problem.horizon();
+    problem
+        .cracks
+        .iter()
+        .filter(|c| c.len() >= 2)
+        .map(|c| {
+            let (a, b) = (c[c.len() - 2], c[c.len() - 1]);
+            let dir = [b[0] - a[0], b[1] - a[1]];
+            dynamics::angle::deflection_angle(x, phi, b, dir, 0.4, (r_min, r_max))
+        })
+        .collect()
 }
 
 /// The `dynamics` entry of `summary.json` from the run's info and its last record.

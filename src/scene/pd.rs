@@ -168,6 +168,26 @@ pub struct ExplicitParams {
     /// (the final state is always written).
     #[serde(default)]
     pub snapshots: Vec<f64>,
+    /// Velocities given at t = 0 to the particles of boxes (an impact, seed 004 section
+    /// 4.3), optionally held. Default: none (the body starts at rest).
+    #[serde(default)]
+    pub velocities: Vec<RegionVelocity>,
+}
+
+/// A velocity given at t = 0 to the particles whose reference positions lie in a box.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RegionVelocity {
+    /// Lower-left corner (x, y) of the box (m).
+    pub min: (f64, f64),
+    /// Upper-right corner (x, y) of the box (m), above `min` in both coordinates.
+    pub max: (f64, f64),
+    /// Velocity (vx, vy) (m/s).
+    pub velocity: (f64, f64),
+    /// Keep the velocity for the whole run (a prescribed velocity: a rigid impactor).
+    /// Default false (an initial velocity only).
+    #[serde(default)]
+    pub hold: bool,
 }
 
 impl Default for PdSolver {

@@ -248,6 +248,7 @@ fn check_explicit(c: &mut Checker, scene: &Scene, p: &crate::scene::ExplicitPara
     if let Some(dt) = p.dt {
         c.positive("pd.solver.dt", dt, "time step");
     }
+    check_velocities(c, scene, &p.velocities);
     if let Some(e) = p.output_every {
         c.positive("pd.solver.output_every", e, "record interval");
     }
@@ -259,6 +260,48 @@ fn check_explicit(c: &mut Checker, scene: &Scene, p: &crate::scene::ExplicitPara
             p.safety_factor,
             "fraction of the stable time step must lie in (0, 1]",
         );
+    }
+}
+
+/// `pd.solver.velocities`: finite boxes with `min` below `max` that overlap the body's
+/// bounding box, finite velocities (that a box holds a particle is checked by the run).
+fn check_velocities(c: &mut Checker, scene: &Scene, v: &[crate::scene::RegionVelocity]) {
+    let bbox = outline_loop(&scene.body.outline).map(|o| bounding_box(&o.points));
+    for (i, r) in v.iter().enumerate() {
+        let path = |f: &str| format!("pd.solver.velocities.{i}.{f}");
+        let finite = [r.min.0, r.min.1, r.max.0, r.max.1]
+            .iter()
+            .all(|x| c.finite(&path("min"), *x));
+        let moving =
+            c.finite(&path("velocity"), r.velocity.0) & c.finite(&path("velocity"), r.velocity.1);
+        if moving && r.velocity == (0.0, 0.0) && !r.hold {
+            c.fail(
+                path("velocity"),
+                format!("{:?}", r.velocity),
+                "a zero initial velocity changes nothing (the body starts at rest): drop the entry, or set `hold: true` to hold the box still",
+            );
+        }
+        if !finite {
+            continue;
+        }
+        if !(r.min.0 < r.max.0 && r.min.1 < r.max.1) {
+            c.fail(
+                path("max"),
+                format!("{:?}", r.max),
+                format!(
+                    "the box's upper corner must lie above and right of min = {:?}",
+                    r.min
+                ),
+            );
+        } else if let Some((lo, hi)) = bbox {
+            if r.max.0 < lo.x || r.min.0 > hi.x || r.max.1 < lo.y || r.min.1 > hi.y {
+                c.fail(
+                    path("min"),
+                    format!("{:?}", r.min),
+                    "the box lies outside the body: it holds no particle",
+                );
+            }
+        }
     }
 }
 
