@@ -77,6 +77,28 @@ fn refused_combinations_name_the_field() {
     assert!(e.contains("pd.refinement") && e.contains("Elastic"), "{e}");
 }
 
+/// `pdbem check` bounds dt by the refined particles' stable step: the unrefined
+/// particles' Gershgorin bound (2.77e-7 s at dx = 1 mm, below the uniform grid's
+/// 3.58e-7 s) halved for `max_level: 1`, so dt = 2e-7 s, stable on the uniform grid, is
+/// refused for the adaptive case, and the seed's 1e-8 s passes.
+#[test]
+fn check_bounds_dt_by_the_finest_particles() {
+    let text = case_text("seed004_branching_case1_adaptive.ron");
+    pdbem::setup::estimate::check(&parse(&text).unwrap()).expect("dt = 1e-8 s");
+    let uniform =
+        case_text("seed004_branching_case1.ron").replace("dt: Some(1e-8)", "dt: Some(2e-7)");
+    pdbem::setup::estimate::check(&parse(&uniform).unwrap()).expect("stable on the grid");
+    let text = text.replace("dt: Some(1e-8)", "dt: Some(2e-7)");
+    let e = format!(
+        "{:#}",
+        pdbem::setup::estimate::check(&parse(&text).unwrap()).expect_err("too large")
+    );
+    assert!(
+        e.contains("pd.solver.dt") && e.contains("dt_c = 1.38"),
+        "{e}"
+    );
+}
+
 /// Case 2 (sigma_B = 2 MPa) at dx = 2 mm for 20 us with the automatic dt: the particle
 /// count grows during the run and every child particle (off the 2 mm lattice) lies within
 /// one coarse horizon of a particle past phi_c = 0.4; the energy records are finite and
