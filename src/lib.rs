@@ -31,6 +31,7 @@ pub mod pd_fields;
 pub mod plot;
 pub mod provenance;
 pub mod refine;
+pub mod run_adaptive;
 pub mod run_bem;
 pub mod run_coupled;
 pub mod run_dynamic;

@@ -18,9 +18,9 @@
 
 use anyhow::{bail, Context, Result};
 use pdbem_pd::dynamics::{
-    self, critical_time_step, DynamicRecord, DynamicsObserver, ExplicitParams,
+    self, critical_time_step, DynamicRecord, DynamicsObserver, ExplicitParams, RegionVelocity,
 };
-use pdbem_pd::{PdModel, PdProblem, Region};
+use pdbem_pd::{PdModel, PdProblem, Region, Selection};
 use serde_json::json;
 
 use crate::output::csv::{num, CsvTable};
@@ -33,7 +33,7 @@ use crate::scene::{PdSolver, Scene};
 use crate::setup::pd::labelled_problem_from_scene;
 
 /// The explicit parameters of `scene`, `None` when it does not ask for dynamics.
-fn explicit(scene: &Scene) -> Option<&crate::scene::ExplicitParams> {
+pub(crate) fn explicit(scene: &Scene) -> Option<&crate::scene::ExplicitParams> {
     match &scene.pd.as_ref()?.solver {
         PdSolver::Explicit(p) => Some(p),
         _ => None,
@@ -46,7 +46,7 @@ pub fn is_dynamic(scene: &Scene) -> bool {
 }
 
 /// The library parameters of a validated explicit scene.
-fn params(scene: &Scene) -> Result<ExplicitParams> {
+pub(crate) fn params(scene: &Scene) -> Result<ExplicitParams> {
     let p = explicit(scene).context("pd.solver is not Explicit")?;
     let density = scene
         .material
@@ -60,12 +60,24 @@ fn params(scene: &Scene) -> Result<ExplicitParams> {
         output_every: p.output_every,
         snapshots: p.snapshots.clone(),
         load: scene.load.factors().last().copied().unwrap_or(1.0),
+        velocities: p
+            .velocities
+            .iter()
+            .map(|r| RegionVelocity {
+                region: Selection::Box {
+                    min: [r.min.0, r.min.1],
+                    max: [r.max.0, r.max.1],
+                },
+                velocity: [r.velocity.0, r.velocity.1],
+                hold: r.hold,
+            })
+            .collect(),
         ..Default::default()
     })
 }
 
 /// The scene's PD problem without the pins of a pure-traction scene.
-fn problem(scene: &Scene) -> Result<PdProblem> {
+pub(crate) fn problem(scene: &Scene) -> Result<PdProblem> {
     let (mut problem, labels) = labelled_problem_from_scene(scene)?;
     let keep: Vec<bool> = labels.iter().map(|l| l != "pin").collect();
     let mut k = keep.iter();
@@ -75,7 +87,8 @@ fn problem(scene: &Scene) -> Result<PdProblem> {
 
 /// Refuses `pd.solver.dt` above the stable step of a patch of the scene's grid (a square
 /// of 8 horizons with the scene's spacing, material and corrections, its edges and
-/// corners included) and a run of more than [`dynamics::MAX_BOND_STEPS`] bond updates
+/// corners included; with `pd.refinement` the refined particles' bound for the smallest
+/// particles `max_level` can make, [`crate::run_adaptive::patch_time_step`]) and a run of more than [`dynamics::MAX_BOND_STEPS`] bond updates
 /// (steps times the estimated directed bonds). Does nothing for other scenes.
 pub fn check(scene: &Scene) -> Result<()> {
     if !is_dynamic(scene) {
@@ -94,7 +107,11 @@ pub fn check(scene: &Scene) -> Result<()> {
         ..full.clone()
     };
     let model = PdModel::new(&patch).with_context(|| format!("{}: pd", file.display()))?;
-    let dt_c = critical_time_step(&model, p.density);
+    let dt_c = match scene.pd.as_ref().and_then(|pd| pd.refinement.as_ref()) {
+        Some(r) => crate::run_adaptive::patch_time_step(&patch, r, p.density)
+            .with_context(|| format!("{}: pd.refinement", file.display()))?,
+        None => critical_time_step(&model, p.density),
+    };
     if let Some(dt) = p.dt {
         if dt > dt_c {
             bail!(
@@ -169,7 +186,8 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
         mode: "pd".into(),
         ..Default::default()
     };
-    ctx.writer.write_csv("dynamics.csv", &table(&rec.records))?;
+    ctx.writer
+        .write_csv("dynamics.csv", &table(&rec.records, None))?;
     if scene.outputs.plots {
         for (name, balance) in [("energy", false), ("energy_balance", true)] {
             save_plot(
@@ -180,26 +198,21 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
                 &mut summary,
             )?;
         }
+        let x = &model.positions()[..model.n_real()];
         for (time, phi) in &rec.snapshots {
-            snapshot_plot(scene, ctx, &model, *time, phi, &mut summary)?;
+            snapshot_plot(scene, ctx, x, *time, phi, &mut summary)?;
         }
     }
     let n = model.n_real();
     let (x, u, phi) = (model.positions(), model.displacements(), model.damage());
     crate::pd_fields::write_fields(scene, ctx, (&x[..n], &u[..n], &phi[..n]), &mut summary)?;
     let last = rec.records.last().copied().unwrap_or_default();
-    summary.extra.insert(
-        "dynamics".into(),
-        json!({
-            "steps": info.steps, "dt_s": info.dt, "dt_c_s": info.dt_c,
-            "end_time_s": info.end_time, "branch_time_s": info.branch_time,
-            "branch_point": info.branch_point, "boundary_time_s": info.boundary_time,
-            "records": info.records, "stepping_wall_time_s": info.wall_time_s,
-            "final": {"kinetic_J": last.kinetic, "strain_J": last.strain,
-                      "external_work_J": last.external_work, "fracture_J": last.fracture,
-                      "tip": last.tip},
-        }),
-    );
+    summary
+        .extra
+        .insert("dynamics".into(), summary_entry(&info, &last));
+    let angles = deflections(&problem, &x[..n], &phi[..n]);
+    log_deflections(ctx, &angles);
+    summary.extra.insert("deflection_deg".into(), json!(angles));
     summary.extra.insert("nodes".into(), json!(model.n_real()));
     summary
         .extra
@@ -212,7 +225,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
 }
 
 /// The console lines of a finished run: when the crack branched and reached the boundary.
-fn log_result(ctx: &RunContext, info: &dynamics::DynamicsInfo) {
+pub(crate) fn log_result(ctx: &RunContext, info: &dynamics::DynamicsInfo) {
     let us = |t: Option<f64>| {
         t.map_or("not within the run".to_string(), |t| {
             format!("{:.1} us", t * 1e6)
@@ -229,9 +242,22 @@ fn log_result(ctx: &RunContext, info: &dynamics::DynamicsInfo) {
     ));
 }
 
-/// `dynamics.csv`: one row per record.
-fn table(records: &[DynamicRecord]) -> CsvTable {
-    let mut t = CsvTable::new(&[
+/// The console line of the deflection angles.
+pub(crate) fn log_deflections(ctx: &RunContext, angles: &[Option<f64>]) {
+    let a: Vec<String> = angles
+        .iter()
+        .map(|a| a.map_or("-".into(), |a| format!("{a:.1}")))
+        .collect();
+    ctx.log(&format!(
+        "  crack deflection from each pre-crack tip (deg): {}",
+        a.join(", ")
+    ));
+}
+
+/// `dynamics.csv`: one row per record; with `particles` (an adaptive run: the particle
+/// count at each record) a last column `particles`.
+pub(crate) fn table(records: &[DynamicRecord], particles: Option<&[usize]>) -> CsvTable {
+    let mut head = vec![
         "step",
         "time",
         "kinetic",
@@ -242,10 +268,14 @@ fn table(records: &[DynamicRecord]) -> CsvTable {
         "tip_x",
         "tip_y",
         "branched",
-    ]);
+    ];
+    if particles.is_some() {
+        head.push("particles");
+    }
+    let mut t = CsvTable::new(&head);
     let opt = |v: Option<f64>| v.map_or(String::new(), num);
-    for r in records {
-        t.push(vec![
+    for (k, r) in records.iter().enumerate() {
+        let mut row = vec![
             r.step.to_string(),
             num(r.time),
             num(r.kinetic),
@@ -256,15 +286,62 @@ fn table(records: &[DynamicRecord]) -> CsvTable {
             opt(r.tip.map(|p| p[0])),
             opt(r.tip.map(|p| p[1])),
             u8::from(r.branched).to_string(),
-        ]);
+        ];
+        if let Some(n) = particles {
+            row.push(n.get(k).map_or(String::new(), |n| n.to_string()));
+        }
+        t.push(row);
     }
     t
+}
+
+/// The deflection angle (degrees, [`dynamics::angle::deflection_angle`]) of the crack
+/// grown from the last point of each pre-crack of `problem`, from the damage `phi` at
+/// the reference positions `x`: damage above 0.4, from 2 horizons of the base grid to a
+/// fifth of the body's bounding-box diagonal from the tip; `None` where nothing grew.
+pub(crate) fn deflections(problem: &PdProblem, x: &[[f64; 2]], phi: &[f64]) -> Vec<Option<f64>> {
+    let o = &problem.region.outline;
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in o {
+        for c in 0..2 {
+            lo[c] = lo[c].min(p[c]);
+            hi[c] = hi[c].max(p[c]);
+        }
+    }
+    let r_max = 0.2 * (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+    let r_min = 2.0 * problem.horizon();
+    problem
+        .cracks
+        .iter()
+        .filter(|c| c.len() >= 2)
+        .map(|c| {
+            let (a, b) = (c[c.len() - 2], c[c.len() - 1]);
+            let dir = [b[0] - a[0], b[1] - a[1]];
+            dynamics::angle::deflection_angle(x, phi, b, dir, 0.4, (r_min, r_max))
+        })
+        .collect()
+}
+
+/// The `dynamics` entry of `summary.json` from the run's info and its last record.
+pub(crate) fn summary_entry(
+    info: &dynamics::DynamicsInfo,
+    last: &DynamicRecord,
+) -> serde_json::Value {
+    json!({
+        "steps": info.steps, "dt_s": info.dt, "dt_c_s": info.dt_c,
+        "end_time_s": info.end_time, "branch_time_s": info.branch_time,
+        "branch_point": info.branch_point, "boundary_time_s": info.boundary_time,
+        "records": info.records, "stepping_wall_time_s": info.wall_time_s,
+        "final": {"kinetic_J": last.kinetic, "strain_J": last.strain,
+                  "external_work_J": last.external_work, "fracture_J": last.fracture,
+                  "tip": last.tip},
+    })
 }
 
 /// Energies against time (us): `balance` false gives the strain and fracture energy (seed
 /// 004 Figs. 10 and 13, on a scale where they can be read), true the whole balance (the
 /// work of the loads, kinetic, strain and fracture energy).
-fn energy_plot(scene: &Scene, records: &[DynamicRecord], balance: bool) -> XyPlot {
+pub(crate) fn energy_plot(scene: &Scene, records: &[DynamicRecord], balance: bool) -> XyPlot {
     let title = if balance {
         format!("{}: energy balance", scene.name)
     } else {
@@ -287,16 +364,16 @@ fn energy_plot(scene: &Scene, records: &[DynamicRecord], balance: bool) -> XyPlo
     p
 }
 
-/// The damage plot `damage_t<time>us` of one snapshot.
-fn snapshot_plot(
+/// The damage plot `damage_t<time>us` of one snapshot: damage `phi` at the reference
+/// positions `x`.
+pub(crate) fn snapshot_plot(
     scene: &Scene,
     ctx: &RunContext,
-    model: &PdModel,
+    x: &[[f64; 2]],
     time: f64,
     phi: &[f64],
     summary: &mut RunSummary,
 ) -> Result<()> {
-    let x = &model.positions()[..phi.len()];
     let geo = SceneGeometry::of(scene);
     let loops = geo
         .outline

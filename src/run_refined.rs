@@ -4,7 +4,9 @@
 //! `critical_damage` by the pre-cracks (Eq. 15) split into four children (level by level
 //! up to `max_level`), and the elastic equilibrium at the final load factor is solved by
 //! conjugate gradients. Writes the particle table and plots like [`crate::run_pd`]
-//! (`nodes.csv` holds the particles) and reports the particle counts and times.
+//! (`nodes.csv` holds the particles) and reports the particle counts and times. With
+//! `pd.solver: Explicit` the refined body runs explicit dynamics instead
+//! ([`crate::run_adaptive`]).
 
 use std::time::Instant;
 
@@ -45,8 +47,12 @@ pub fn settings(r: &PdRefinement, cracks: &[Vec<[f64; 2]>]) -> Refinement {
     }
 }
 
-/// Solves `scene` with refined particles and writes its fields.
+/// Solves `scene` with refined particles and writes its fields; with `pd.solver:
+/// Explicit` runs the adaptive dynamics ([`crate::run_adaptive`]).
 pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
+    if crate::run_dynamic::explicit(scene).is_some() {
+        return crate::run_adaptive::run(scene, ctx);
+    }
     let t0 = Instant::now();
     let file = scene.file_label();
     let (problem, _) = labelled_problem_from_scene(scene)?;

@@ -49,7 +49,8 @@ pub struct PdSettings {
     #[serde(default)]
     pub traction: PdTraction,
     /// Adaptive particle refinement on dual horizons (seed 004 section 3), stand-alone
-    /// state-based PD only. Default: none (a uniform grid).
+    /// state-based PD only: an elastic solve, or with `solver: Explicit` adaptive
+    /// dynamics. Default: none (a uniform grid).
     #[serde(default)]
     pub refinement: Option<PdRefinement>,
 }
@@ -73,6 +74,12 @@ pub struct PdRefinement {
     /// Children keep their parent's horizon (seed 004 Table 3, delta_2 = delta_1) instead
     /// of halving it. Default false.
     pub keep_horizon: bool,
+    /// Factor alpha of seed 004 Eq. 16 (split a particle whose accumulated strain passes
+    /// alpha s_c), in (0, 1); explicit dynamics with a breaking failure law only. Default
+    /// none (no strain criterion; the seed uses 0.5).
+    pub strain_factor: Option<f64>,
+    /// Explicit dynamics: time steps between the refinement checks, >= 1. Default 10.
+    pub check_every: usize,
 }
 
 impl Default for PdRefinement {
@@ -84,6 +91,8 @@ impl Default for PdRefinement {
             max_level: 1,
             tolerance: 1e-10,
             keep_horizon: false,
+            strain_factor: None,
+            check_every: 10,
         }
     }
 }
@@ -159,6 +168,26 @@ pub struct ExplicitParams {
     /// (the final state is always written).
     #[serde(default)]
     pub snapshots: Vec<f64>,
+    /// Velocities given at t = 0 to the particles of boxes (an impact, seed 004 section
+    /// 4.3), optionally held. Default: none (the body starts at rest).
+    #[serde(default)]
+    pub velocities: Vec<RegionVelocity>,
+}
+
+/// A velocity given at t = 0 to the particles whose reference positions lie in a box.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RegionVelocity {
+    /// Lower-left corner (x, y) of the box (m).
+    pub min: (f64, f64),
+    /// Upper-right corner (x, y) of the box (m), above `min` in both coordinates.
+    pub max: (f64, f64),
+    /// Velocity (vx, vy) (m/s).
+    pub velocity: (f64, f64),
+    /// Keep the velocity for the whole run (a prescribed velocity: a rigid impactor).
+    /// Default false (an initial velocity only).
+    #[serde(default)]
+    pub hold: bool,
 }
 
 impl Default for PdSolver {

@@ -15,6 +15,14 @@
 //! The force pass at $u^{n+1}$ commits the bond history ([`History::Update`]): every
 //! bond past its critical stretch breaks in that step and carries no force from it on.
 //!
+//! **Region velocities** ([`RegionVelocity`], the impact of seed 004 section 4.3): the
+//! free components of the real nodes in a region start with $v^0 = \bar v$ instead of
+//! rest; with `hold` they keep it for the whole run (their acceleration is set to zero,
+//! so $u = \bar v\,t$: a prescribed velocity, the rigid impactor of Silling's 2003
+//! Kalthoff-Winkler model). A node in several regions takes the last one's. The work of
+//! the loads $W$ below then includes the work of the constraint forces that hold them,
+//! $-\int \sum V (F + \lambda b)\cdot\bar v\,dt$ (trapezoidal rule over the steps).
+//!
 //! **Stable time step.** Central differences are stable for $\Delta t \le 2/\omega_{max}$
 //! with $\omega_{max}^2$ the largest eigenvalue of $K/\rho$ ($K = -\partial F/\partial u$,
 //! linearised at the reference configuration). Gershgorin's theorem bounds it by the
@@ -42,11 +50,14 @@
 //! [`MAX_BOND_STEPS`] bond updates in all, more than [`MAX_RECORDS`] records and more
 //! than [`MAX_SNAPSHOTS`] snapshots, before a step is taken.
 //!
-//! Crack measures (tip, branching) come from [`crack::CrackTracker`].
+//! Crack measures (tip, branching) come from [`crack::CrackTracker`], the deflection
+//! angle of a crack grown from a pre-crack tip from [`angle::deflection_angle`].
 
+pub mod angle;
 #[cfg(any(test, feature = "bench"))]
 pub mod bench;
 pub mod crack;
+mod impact;
 #[cfg(test)]
 mod tests;
 
@@ -60,6 +71,8 @@ use crate::geometry::P2;
 use crate::model::PdModel;
 use crate::solvers::adr::row_bounds;
 use crack::CrackTracker;
+pub(crate) use impact::region_velocities;
+pub use impact::RegionVelocity;
 
 /// Most time steps of a run.
 pub const MAX_STEPS: usize = 10_000_000;
@@ -92,6 +105,8 @@ pub struct ExplicitParams {
     /// Damage above which a node counts as cracked for the tip and branch measures
     /// ([`crack::CrackTracker`]). Default 0.4 (seed 004's phi_c).
     pub damage_threshold: f64,
+    /// Velocities given to the nodes of regions at t = 0 (module docs). Default none.
+    pub velocities: Vec<RegionVelocity>,
 }
 
 impl Default for ExplicitParams {
@@ -105,6 +120,7 @@ impl Default for ExplicitParams {
             snapshots: Vec::new(),
             load: 1.0,
             damage_threshold: 0.4,
+            velocities: Vec::new(),
         }
     }
 }
@@ -342,6 +358,10 @@ pub(crate) fn plan_with(
 pub(crate) struct Verlet {
     pub(crate) v: Vec<P2>,
     a: Vec<P2>,
+    /// Components whose velocity is held (zero acceleration).
+    held: Vec<[bool; 2]>,
+    /// Work done by the constraints holding them since t = 0 (J, trapezoidal rule).
+    held_work: f64,
     dt: f64,
     rho: f64,
 }
@@ -353,6 +373,8 @@ impl Verlet {
         let mut s = Verlet {
             v: vec![[0.0; 2]; n],
             a: vec![[0.0; 2]; n],
+            held: vec![[false; 2]; n],
+            held_work: 0.0,
             dt,
             rho: density,
         };
@@ -366,7 +388,7 @@ impl Verlet {
         let (f, b, fixed) = (&model.force, &model.bc.body, &model.bc.fixed);
         for i in 0..self.a.len() {
             for d in 0..2 {
-                self.a[i][d] = if fixed[i][d] {
+                self.a[i][d] = if fixed[i][d] || self.held[i][d] {
                     0.0
                 } else {
                     (f[i][d] + lam * b[i][d]) / self.rho
@@ -385,6 +407,7 @@ impl Verlet {
 
     /// One step (Eqs. 24-27); returns the directed bonds broken in it.
     pub(crate) fn step(&mut self, model: &mut PdModel) -> usize {
+        let p0 = self.held_power(model);
         self.half_kick();
         for (u, v) in model.u.iter_mut().zip(&self.v) {
             u[0] += self.dt * v[0];
@@ -393,7 +416,24 @@ impl Verlet {
         let stats = model.compute_forces(History::Update);
         self.accelerate(model);
         self.half_kick();
+        self.held_work += 0.5 * self.dt * (p0 + self.held_power(model));
         stats.newly_broken
+    }
+
+    /// Power (W) of the constraint forces that hold the held components' velocities:
+    /// $-\sum V (F + \lambda b)\cdot\bar v$ over the held components.
+    fn held_power(&self, model: &PdModel) -> f64 {
+        let lam = model.load;
+        let (f, b) = (&model.force, &model.bc.body);
+        let mut p = 0.0;
+        for (i, h) in self.held.iter().enumerate() {
+            for d in 0..2 {
+                if h[d] {
+                    p -= (f[i][d] + lam * b[i][d]) * self.v[i][d];
+                }
+            }
+        }
+        p * model.grid.volume
     }
 
     /// Kinetic energy (J).
@@ -435,6 +475,16 @@ pub fn run(
     model.set_load_factor(p.load);
     let tracker = CrackTracker::new(model, cracks, p.damage_threshold);
     let mut vv = Verlet::new(model, p.density, plan.dt);
+    let n = model.n_real();
+    let (v, held) = region_velocities(
+        &p.velocities,
+        &model.positions()[..n],
+        &model.bc.fixed[..n],
+        model.grid.delta,
+    )?;
+    vv.v[..n].copy_from_slice(&v);
+    vv.held[..n].copy_from_slice(&held);
+    vv.accelerate(model);
     let e0 = vv.kinetic(model) + model.energy();
     let w0 = external_work(model);
     let mut info = DynamicsInfo {
@@ -464,7 +514,7 @@ pub fn run(
             });
         }
         let (kinetic, strain) = (vv.kinetic(model), model.energy());
-        let work = external_work(model) - w0;
+        let work = external_work(model) - w0 + vv.held_work;
         let crack = tracker.measure(model);
         let r = DynamicRecord {
             step,

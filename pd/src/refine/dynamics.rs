@@ -7,6 +7,11 @@
 //! density at load factor 1): $\rho V_k\,\ddot u_k = F_k(u) + \lambda b_k V_k$. Prescribed
 //! components keep $\lambda\bar u$ and zero velocity.
 //!
+//! Region velocities ([`crate::dynamics::RegionVelocity`]) start, and with `hold` keep,
+//! the particles of a region at a velocity as in [`crate::dynamics`]; children inherit
+//! their parent's held components, and the work of the holding constraints joins the
+//! work of the loads.
+//!
 //! **Bond breaking.** Every step, after the position update, the bond $b = k\to j$ of
 //! owner $k$ breaks for good when its stretch passes the critical stretch of its owner,
 //! $s_b > s_c(\delta_k)$ ([`Body::critical_stretch`]: seed 004 Eq. 11 from $G_c$ with the
@@ -44,7 +49,7 @@ pub use super::pass::{critical_time_step, forces_breaking};
 use super::run::flagged;
 use super::{Body, Refinement};
 use crate::dynamics::crack::CrackTracker;
-use crate::dynamics::{DynamicRecord, DynamicsInfo, ExplicitParams};
+use crate::dynamics::{region_velocities, DynamicRecord, DynamicsInfo, ExplicitParams};
 use crate::error::PdError;
 use crate::geometry::{segment_crosses_crack, P2};
 use crate::problem::PdProblem;
@@ -108,6 +113,12 @@ pub struct AdaptiveInfo {
 struct State {
     v: Vec<P2>,
     a: Vec<P2>,
+    /// Components whose velocity is held ([`crate::dynamics::RegionVelocity::hold`]).
+    held: Vec<[bool; 2]>,
+    /// Work of the constraints holding them since t = 0 (J).
+    held_work: f64,
+    /// Forces (N) at the current state.
+    f: Vec<P2>,
     owner: Vec<u32>,
     sc: Option<Vec<f64>>,
     rho: f64,
@@ -126,7 +137,7 @@ impl State {
         for (k, a) in self.a.iter_mut().enumerate() {
             let m = self.rho * body.dh.volume[k];
             for c in 0..2 {
-                a[c] = if body.fixed[k][c] {
+                a[c] = if body.fixed[k][c] || self.held[k][c] {
                     0.0
                 } else {
                     (f[k][c] + self.load * body.body[k][c] * body.dh.volume[k]) / m
@@ -144,6 +155,7 @@ impl State {
 
     /// One velocity-Verlet step with bond breaking; returns the directed bonds broken.
     fn step(&mut self, body: &mut Body, dt: f64) -> usize {
+        let p0 = self.held_power(body, &self.f);
         self.half_kick(dt);
         for (u, v) in body.u.iter_mut().zip(&self.v) {
             u[0] += dt * v[0];
@@ -152,7 +164,23 @@ impl State {
         let (f, broken) = forces_breaking(&mut body.dh, &self.owner, &body.u, self.sc.as_deref());
         self.accelerate(body, &f);
         self.half_kick(dt);
+        self.held_work += 0.5 * dt * (p0 + self.held_power(body, &f));
+        self.f = f;
         broken
+    }
+
+    /// Power (W) of the constraint forces holding the held components at forces `f`.
+    fn held_power(&self, body: &Body, f: &[P2]) -> f64 {
+        let mut p = 0.0;
+        for (k, h) in self.held.iter().enumerate() {
+            for c in 0..2 {
+                if h[c] {
+                    let load = self.load * body.body[k][c] * body.dh.volume[k];
+                    p -= (f[k][c] + load) * self.v[k][c];
+                }
+            }
+        }
+        p
     }
 
     fn kinetic(&self, body: &Body) -> f64 {
@@ -175,8 +203,13 @@ impl State {
             .filter(|&k| !is_parent[k])
             .map(|k| self.v[k])
             .collect();
+        let mut held: Vec<[bool; 2]> = (0..body.len())
+            .filter(|&k| !is_parent[k])
+            .map(|k| self.held[k])
+            .collect();
         for &k in parents {
             v.extend([self.v[k]; 4]);
+            held.extend([self.held[k]; 4]);
         }
         let split = body.split(parents)?;
         for (u, (f, b)) in body.u.iter_mut().zip(body.fixed.iter().zip(&body.base)) {
@@ -187,11 +220,13 @@ impl State {
             }
         }
         self.v = v;
+        self.held = held;
         self.a = vec![[0.0; 2]; body.len()];
         (self.owner, self.sc) = Self::caches(body);
         // Bonds born past their critical stretch start broken (part of the split).
         let (f, _) = forces_breaking(&mut body.dh, &self.owner, &body.u, self.sc.as_deref());
         self.accelerate(body, &f);
+        self.f = f;
         Ok(split)
     }
 }
@@ -287,9 +322,15 @@ pub fn run_dynamic(
         }
     }
     let (owner, sc) = State::caches(&body);
+    let fixed = body.fixed.clone();
+    let delta_max = body.dh.delta.iter().fold(0.0f64, |a, &b| a.max(b));
+    let (v, held) = region_velocities(&ex.velocities, body.positions(), &fixed, delta_max)?;
     let mut st = State {
-        v: vec![[0.0; 2]; body.len()],
+        v,
         a: vec![[0.0; 2]; body.len()],
+        held,
+        held_work: 0.0,
+        f: Vec::new(),
         owner,
         sc,
         rho: ex.density,
@@ -297,6 +338,7 @@ pub fn run_dynamic(
     };
     let (f, _) = forces_breaking(&mut body.dh, &st.owner, &body.u, None);
     st.accelerate(&body, &f);
+    st.f = f;
     let (dx0, delta0) = (
         body.size.iter().fold(0.0f64, |a, &b| a.max(b)),
         body.dh.delta.iter().fold(0.0f64, |a, &b| a.max(b)),
@@ -379,7 +421,7 @@ pub fn run_dynamic(
             });
         }
         let (kinetic, strain) = (st.kinetic(&body), body.dh.energy(&body.u));
-        let work = external_work(&body, ex.load) - w0;
+        let work = external_work(&body, ex.load) - w0 + st.held_work;
         let phi = body.damage();
         let crack = tracker.measure_points(&body.dh.pos, &phi, &body.dh.bonds);
         let zeros = body.dh.intact.iter().filter(|&&f| f == 0).count();

@@ -96,14 +96,19 @@ fn check_load(c: &mut Checker, scene: &Scene) {
     c.at_least("load.count", scene.load.count, 1, "number of load steps");
 }
 
-/// Something must load the body: a non-zero boundary value or remote stress,
-/// and a non-zero load factor in some step.
+/// Something must load the body: a non-zero boundary value, remote stress or an
+/// explicit-dynamics velocity, and a non-zero load factor in some step.
 fn check_something_loads(c: &mut Checker, scene: &Scene) {
     let remote = match scene.body.outline {
         Outline::Infinite { sxx, syy, sxy } => sxx != 0.0 || syy != 0.0 || sxy != 0.0,
         _ => false,
     };
-    let loaded = remote || scene.boundary.iter().any(BoundaryCondition::is_loading);
+    // An explicit-dynamics impact (`pd.solver.velocities`) sets the body moving.
+    let impact = scene.pd.as_ref().is_some_and(|pd| match &pd.solver {
+        crate::scene::PdSolver::Explicit(p) => !p.velocities.is_empty(),
+        _ => false,
+    });
+    let loaded = remote || impact || scene.boundary.iter().any(BoundaryCondition::is_loading);
     if !loaded {
         let why = if scene.boundary.is_empty() {
             "nothing to solve: the body has no boundary condition and no remote stress"

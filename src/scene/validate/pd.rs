@@ -55,7 +55,7 @@ fn check_pd(c: &mut Checker, scene: &Scene, pd: &crate::scene::PdSettings) {
     }
     check_solver(c, &pd.solver);
     if let PdSolver::Explicit(p) = &pd.solver {
-        check_explicit(c, scene, pd, p);
+        check_explicit(c, scene, p);
     }
     check_failure(c, scene, &pd.failure);
     let full_pd = scene
@@ -84,8 +84,9 @@ fn check_pd(c: &mut Checker, scene: &Scene, pd: &crate::scene::PdSettings) {
     }
 }
 
-/// `pd.refinement`: stand-alone, elastic, state-based, traction-loaded (the refined
-/// particles hold no fictitious layer), and its numbers in range.
+/// `pd.refinement`: stand-alone, state-based, traction-loaded (the refined particles
+/// hold no fictitious layer), elastic unless the solver is `Explicit`
+/// ([`check_refinement_law`]), and its numbers in range.
 fn check_refinement(
     c: &mut Checker,
     scene: &Scene,
@@ -104,12 +105,7 @@ fn check_refinement(
             "refinement needs `model: StateBased` (dual-horizon state-based particles, seed 004)",
         );
     }
-    if pd.failure != Failure::Elastic {
-        c.fail_at(
-            "pd.refinement",
-            "refinement solves elastic equilibrium (no bond breaking): use `failure: Elastic`",
-        );
-    }
+    check_refinement_law(c, pd, r);
     let displaced = scene.boundary.iter().any(|b| {
         [b.x, b.y]
             .iter()
@@ -161,25 +157,74 @@ fn check_refinement(
     }
 }
 
-/// `pd.solver: Explicit`: stand-alone PD (no coupling, growth or refinement), a mass
+/// The solver and failure law a refined body can run: the elastic solve (`failure:
+/// Elastic`, no strain criterion) or adaptive explicit dynamics (`solver: Explicit`,
+/// bonds breaking at a critical stretch, children with halved horizons, `check_every`
+/// at least 1, `strain_factor` alpha in (0, 1) with a breaking law).
+fn check_refinement_law(
+    c: &mut Checker,
+    pd: &crate::scene::PdSettings,
+    r: &crate::scene::PdRefinement,
+) {
+    let explicit = matches!(pd.solver, PdSolver::Explicit(_));
+    if !explicit {
+        if pd.failure != Failure::Elastic {
+            c.fail_at(
+                "pd.refinement",
+                "a refined body solves elastic equilibrium (no bond breaking) unless `solver: Explicit` (adaptive dynamics): use `failure: Elastic` or the Explicit solver",
+            );
+        }
+        if r.strain_factor.is_some() {
+            c.fail_at(
+                "pd.refinement.strain_factor",
+                "Eq. 16's strain criterion refines during explicit dynamics only: drop the field or use `solver: Explicit`",
+            );
+        }
+        return;
+    }
+    if matches!(pd.failure, Failure::Degradation { .. }) {
+        c.fail_at(
+            "pd.failure",
+            "adaptive dynamics breaks bonds at a critical stretch (the refined body has no tanh degradation): use CriticalStretch or FromGc",
+        );
+    }
+    if r.keep_horizon {
+        c.fail_at(
+            "pd.refinement.keep_horizon",
+            "adaptive dynamics needs children with halved horizons (the stable time step is bounded through the spacing at a fixed horizon factor): drop the field",
+        );
+    }
+    c.at_least(
+        "pd.refinement.check_every",
+        r.check_every,
+        1,
+        "time steps between refinement checks",
+    );
+    if let Some(a) = r.strain_factor {
+        if c.finite("pd.refinement.strain_factor", a) && !(a > 0.0 && a < 1.0) {
+            c.fail(
+                "pd.refinement.strain_factor",
+                a,
+                "alpha of seed 004 Eq. 16 must lie in (0, 1) (the seed's 0.5)",
+            );
+        }
+        if pd.failure == Failure::Elastic {
+            c.fail_at(
+                "pd.refinement.strain_factor",
+                "Eq. 16 compares the strain with the critical stretch: it needs a breaking `pd.failure` (CriticalStretch or FromGc)",
+            );
+        }
+    }
+}
+
+/// `pd.solver: Explicit`: stand-alone PD (no coupling or growth), a mass
 /// density, and its times in range (the stable step and the work bound are checked
 /// against the grid by `crate::run_dynamic::check`).
-fn check_explicit(
-    c: &mut Checker,
-    scene: &Scene,
-    pd: &crate::scene::PdSettings,
-    p: &crate::scene::ExplicitParams,
-) {
+fn check_explicit(c: &mut Checker, scene: &Scene, p: &crate::scene::ExplicitParams) {
     if scene.coupling.is_some() || scene.growth.is_some() {
         c.fail_at(
             "pd.solver",
             "Explicit dynamics runs in stand-alone PD only (not in PD-BEM windows or growth): drop `coupling`/`growth` or choose Adr, Implicit or Switching",
-        );
-    }
-    if pd.refinement.is_some() {
-        c.fail_at(
-            "pd.solver",
-            "Explicit dynamics runs on the uniform grid: drop `pd.refinement`",
         );
     }
     if scene.material.density.is_none() {
@@ -203,6 +248,7 @@ fn check_explicit(
     if let Some(dt) = p.dt {
         c.positive("pd.solver.dt", dt, "time step");
     }
+    check_velocities(c, scene, &p.velocities);
     if let Some(e) = p.output_every {
         c.positive("pd.solver.output_every", e, "record interval");
     }
@@ -214,6 +260,48 @@ fn check_explicit(
             p.safety_factor,
             "fraction of the stable time step must lie in (0, 1]",
         );
+    }
+}
+
+/// `pd.solver.velocities`: finite boxes with `min` below `max` that overlap the body's
+/// bounding box, finite velocities (that a box holds a particle is checked by the run).
+fn check_velocities(c: &mut Checker, scene: &Scene, v: &[crate::scene::RegionVelocity]) {
+    let bbox = outline_loop(&scene.body.outline).map(|o| bounding_box(&o.points));
+    for (i, r) in v.iter().enumerate() {
+        let path = |f: &str| format!("pd.solver.velocities.{i}.{f}");
+        let finite = [r.min.0, r.min.1, r.max.0, r.max.1]
+            .iter()
+            .all(|x| c.finite(&path("min"), *x));
+        let moving =
+            c.finite(&path("velocity"), r.velocity.0) & c.finite(&path("velocity"), r.velocity.1);
+        if moving && r.velocity == (0.0, 0.0) && !r.hold {
+            c.fail(
+                path("velocity"),
+                format!("{:?}", r.velocity),
+                "a zero initial velocity changes nothing (the body starts at rest): drop the entry, or set `hold: true` to hold the box still",
+            );
+        }
+        if !finite {
+            continue;
+        }
+        if !(r.min.0 < r.max.0 && r.min.1 < r.max.1) {
+            c.fail(
+                path("max"),
+                format!("{:?}", r.max),
+                format!(
+                    "the box's upper corner must lie above and right of min = {:?}",
+                    r.min
+                ),
+            );
+        } else if let Some((lo, hi)) = bbox {
+            if r.max.0 < lo.x || r.min.0 > hi.x || r.max.1 < lo.y || r.min.1 > hi.y {
+                c.fail(
+                    path("min"),
+                    format!("{:?}", r.min),
+                    "the box lies outside the body: it holds no particle",
+                );
+            }
+        }
     }
 }
 
