@@ -19,7 +19,6 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use pdbem_pd::dynamics::DynamicRecord;
 use pdbem_pd::refine::{self, AdaptiveObserver, Body, Refinement, SplitEvent};
-use pdbem_pd::PdProblem;
 use serde_json::json;
 
 use crate::output::csv::{num, CsvTable};
@@ -29,15 +28,6 @@ use crate::runner::context::RunContext;
 use crate::runner::report::save_plot;
 use crate::runner::summary::RunSummary;
 use crate::scene::{PdRefinement, Scene};
-
-/// The stable step bound (s) of `patch`'s refined particles for the smallest particles
-/// `r.max_level` can make: the Gershgorin bound of the unrefined particles
-/// ([`refine::dynamics::critical_time_step`]) halved per level (the bound scales with
-/// the spacing at a fixed horizon factor), as the run's own bound.
-pub fn patch_time_step(patch: &PdProblem, r: &PdRefinement, density: f64) -> Result<f64> {
-    let body = Body::from_problem(patch)?;
-    Ok(refine::dynamics::critical_time_step(&body, density) / f64::from(1u32 << r.max_level))
-}
 
 /// The library settings of the scene's `pd.refinement` for adaptive dynamics.
 pub fn settings(r: &PdRefinement, cracks: &[Vec<[f64; 2]>]) -> Refinement {

@@ -85,10 +85,26 @@ pub(crate) fn problem(scene: &Scene) -> Result<PdProblem> {
     Ok(problem)
 }
 
+/// The stable step bound (s) of `patch`'s refined particles for the smallest particles
+/// `r.max_level` can make: the Gershgorin bound of the unrefined particles
+/// ([`pdbem_pd::refine::dynamics::critical_time_step`]) halved per level (the bound scales with
+/// the spacing at a fixed horizon factor), as the run's own bound.
+pub fn patch_time_step(
+    patch: &PdProblem,
+    r: &crate::scene::PdRefinement,
+    density: f64,
+) -> Result<f64> {
+    let body = pdbem_pd::refine::Body::from_problem(patch)?;
+    Ok(
+        pdbem_pd::refine::dynamics::critical_time_step(&body, density)
+            / f64::from(1u32 << r.max_level),
+    )
+}
+
 /// Refuses `pd.solver.dt` above the stable step of a patch of the scene's grid (a square
 /// of 8 horizons with the scene's spacing, material and corrections, its edges and
 /// corners included; with `pd.refinement` the refined particles' bound for the smallest
-/// particles `max_level` can make, [`crate::run_adaptive::patch_time_step`]) and a run of more than [`dynamics::MAX_BOND_STEPS`] bond updates
+/// particles `max_level` can make, [`patch_time_step`]) and a run of more than [`dynamics::MAX_BOND_STEPS`] bond updates
 /// (steps times the estimated directed bonds). Does nothing for other scenes.
 pub fn check(scene: &Scene) -> Result<()> {
     if !is_dynamic(scene) {
@@ -108,7 +124,7 @@ pub fn check(scene: &Scene) -> Result<()> {
     };
     let model = PdModel::new(&patch).with_context(|| format!("{}: pd", file.display()))?;
     let dt_c = match scene.pd.as_ref().and_then(|pd| pd.refinement.as_ref()) {
-        Some(r) => crate::run_adaptive::patch_time_step(&patch, r, p.density)
+        Some(r) => patch_time_step(&patch, r, p.density)
             .with_context(|| format!("{}: pd.refinement", file.display()))?,
         None => critical_time_step(&model, p.density),
     };

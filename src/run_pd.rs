@@ -63,6 +63,9 @@ fn unreachable_explicit(file: &std::path::Path) -> Result<pdbem_pd::SolveInfo> {
 /// the damage and displacement plots through `ctx.writer`.
 pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     if scene.pd.as_ref().is_some_and(|pd| pd.refinement.is_some()) {
+        if crate::run_dynamic::explicit(scene).is_some() {
+            return crate::run_adaptive::run(scene, ctx);
+        }
         return crate::run_refined::run(scene, ctx);
     }
     if crate::run_dynamic::is_dynamic(scene) {

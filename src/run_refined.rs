@@ -47,12 +47,10 @@ pub fn settings(r: &PdRefinement, cracks: &[Vec<[f64; 2]>]) -> Refinement {
     }
 }
 
-/// Solves `scene` with refined particles and writes its fields; with `pd.solver:
-/// Explicit` runs the adaptive dynamics ([`crate::run_adaptive`]).
+/// Solves `scene` with refined particles and writes its fields (elastic; `pd.solver:
+/// Explicit` runs the adaptive dynamics of [`crate::run_adaptive`] instead, chosen by
+/// [`crate::run_pd::run`]).
 pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
-    if crate::run_dynamic::explicit(scene).is_some() {
-        return crate::run_adaptive::run(scene, ctx);
-    }
     let t0 = Instant::now();
     let file = scene.file_label();
     let (problem, _) = labelled_problem_from_scene(scene)?;

@@ -139,8 +139,8 @@ fn inclined_crack_kinks_towards_the_perpendicular_of_the_load() {
 }
 
 /// Seed 001 section 6.2, Fig. 14: two colinear 5 mm edge cracks. The handbook's
-/// double-edge-notched strip (Tada: F(a/b) = [1.122 - 0.561 r - 0.205 r^2 + 0.471 r^3
-/// - 0.190 r^4] / sqrt(1 - r), r = a/b, b the half width) gives 12.9 MPa; this
+/// double-edge-notched strip (Tada: F(a/b) = (1.122 - 0.561 r - 0.205 r^2 +
+/// 0.471 r^3 - 0.190 r^4) / sqrt(1 - r), r = a/b, b the half width) gives 12.9 MPa; this
 /// engine's BEM for the square plate 12.3 MPa; PD 12.2. The seed reports 8.5 MPa,
 /// its load for the single edge crack: a K 1.45 times the handbook's, which no
 /// 5 mm crack pair in a 50 mm plate has (docs/seed001_traction.md).
