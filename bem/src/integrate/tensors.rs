@@ -51,18 +51,51 @@ pub fn kernel_integrals(
     mo: &Moments,
     kc: &KernelConsts,
 ) -> PairIntegrals {
-    kernel_integrals_selected(e, n, m, mo, kc, true)
+    kernel_integrals_selected(e, n, m, mo, kc, Kernels::ALL)
 }
 
-/// As [`kernel_integrals`]; with `all = false` only T and H are computed (U and K stay
-/// zero): the first-moment integrals multiply the reconstructed displacement only.
+/// Which of the four kernel integrals [`kernel_integrals_selected`] computes; the others
+/// stay zero. Each computed one is the same expression as in [`kernel_integrals`], so it
+/// equals that one bit for bit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Kernels {
+    /// U and K (the single-layer kernels, multiplying tractions).
+    pub single: bool,
+    /// H (the hypersingular kernel; T is always computed).
+    pub h: bool,
+}
+
+impl Kernels {
+    /// U, T, K and H.
+    pub const ALL: Kernels = Kernels {
+        single: true,
+        h: true,
+    };
+    /// T and H: the first-moment integrals multiply the reconstructed displacement only.
+    pub const DOUBLE_LAYER: Kernels = Kernels {
+        single: false,
+        h: true,
+    };
+    /// U and T (K is computed with U): an interior displacement needs no more.
+    pub const DISPLACEMENT: Kernels = Kernels {
+        single: true,
+        h: false,
+    };
+    /// T alone: the first-moment part of an interior displacement.
+    pub const T_ONLY: Kernels = Kernels {
+        single: false,
+        h: false,
+    };
+}
+
+/// As [`kernel_integrals`], computing only the kernels `which` selects.
 pub fn kernel_integrals_selected(
     e: &Vector2<f64>,
     n: &Vector2<f64>,
     m: &Vector2<f64>,
     mo: &Moments,
     kc: &KernelConsts,
-    all: bool,
+    which: Kernels,
 ) -> PairIntegrals {
     let (mu, nu) = (kc.mu, kc.nu);
     let cu = 1.0 / (8.0 * PI * mu * (1.0 - nu));
@@ -100,7 +133,7 @@ pub fn kernel_integrals_selected(
         for j in 0..2 {
             let d = delta(i, j);
             let (jj, kk) = (i, j);
-            if all {
+            if which.single {
                 lu[i][j] = cu * (-(3.0 - 4.0 * nu) * d * mo.l + q1[i][j]);
                 lk[jj][kk] = ct
                     * (a * (v1m * delta(kk, jj) + v1[jj] * ml[kk] - v1[kk] * ml[jj])
@@ -109,6 +142,9 @@ pub fn kernel_integrals_selected(
             lt[i][j] = -ct
                 * (a * d * eta * s0 + 2.0 * eta * q2[i][j]
                     - a * (v1[i] * nloc[j] - v1[j] * nloc[i]));
+            if !which.h {
+                continue;
+            }
             lh[jj][kk] = cs
                 * (2.0
                     * eta
@@ -132,19 +168,12 @@ pub fn kernel_integrals_selected(
         }
         out
     };
-    if all {
-        PairIntegrals {
-            u: rot(&lu),
-            t: rot(&lt),
-            k: rot(&lk),
-            h: rot(&lh),
-        }
-    } else {
-        PairIntegrals {
-            t: rot(&lt),
-            h: rot(&lh),
-            ..Default::default()
-        }
+    let zero = [[0.0; 2]; 2];
+    PairIntegrals {
+        u: if which.single { rot(&lu) } else { zero },
+        t: rot(&lt),
+        k: if which.single { rot(&lk) } else { zero },
+        h: if which.h { rot(&lh) } else { zero },
     }
 }
 

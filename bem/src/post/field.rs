@@ -3,7 +3,10 @@
 //! $\sigma_{ij}(x) = \sum_e \int D_{kij} t_k - \int S_{kij} u_k$ (REFERENCES.md), the stress
 //! obtained row by row as the traction on the planes with normals $e_1$ and $e_2$.
 
-use crate::integrate::{integrate_element, integrate_element_linear, KernelConsts, PairIntegrals};
+use crate::integrate::{
+    integrate_element, integrate_element_linear, integrate_element_linear_displacement,
+    KernelConsts, PairIntegrals,
+};
 use crate::mesh::{Mesh, V2};
 use crate::{Material, Solution};
 use rayon::prelude::*;
@@ -59,12 +62,23 @@ impl<'a> FieldEvaluator<'a> {
 
     /// Element integrals for field point x (normal m) and the element's displacement as
     /// seen by the integrals: (integrals, first-moment integrals, derivative).
-    fn pair(&self, x: V2, m: V2, e: usize) -> (PairIntegrals, Option<(PairIntegrals, [f64; 2])>) {
+    /// `displacement_only`: the H blocks are not needed (and stay zero).
+    fn pair(
+        &self,
+        x: V2,
+        m: V2,
+        e: usize,
+        displacement_only: bool,
+    ) -> (PairIntegrals, Option<(PairIntegrals, [f64; 2])>) {
         let el = &self.mesh.elements[e];
         if self.sol.du.is_empty() {
             (integrate_element(x, m, el, &self.kc), None)
         } else {
-            let (p, p1) = integrate_element_linear(x, m, el, &self.kc);
+            let (p, p1) = if displacement_only {
+                integrate_element_linear_displacement(x, m, el, &self.kc)
+            } else {
+                integrate_element_linear(x, m, el, &self.kc)
+            };
             (p, Some((p1, self.sol.du[e])))
         }
     }
@@ -73,7 +87,7 @@ impl<'a> FieldEvaluator<'a> {
     pub fn displacement(&self, x: V2) -> [f64; 2] {
         let mut u = self.background_u(x);
         for (e, (ue, te)) in self.sol.u.iter().zip(&self.sol.t).enumerate() {
-            let (p, lin) = self.pair(x, V2::new(1.0, 0.0), e);
+            let (p, lin) = self.pair(x, V2::new(1.0, 0.0), e, true);
             for i in 0..2 {
                 for j in 0..2 {
                     u[i] += p.u[i][j] * te[j] - p.t[i][j] * ue[j];
@@ -91,7 +105,7 @@ impl<'a> FieldEvaluator<'a> {
         let mut s = [[0.0; 2]; 2];
         for (e, (ue, te)) in self.sol.u.iter().zip(&self.sol.t).enumerate() {
             for (row, m) in [V2::new(1.0, 0.0), V2::new(0.0, 1.0)].iter().enumerate() {
-                let (p, lin) = self.pair(x, *m, e);
+                let (p, lin) = self.pair(x, *m, e, false);
                 for j in 0..2 {
                     for k in 0..2 {
                         s[row][j] += p.k[j][k] * te[k] - p.h[j][k] * ue[k];

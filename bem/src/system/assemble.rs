@@ -48,11 +48,18 @@ pub(super) fn assemble(
         None => vec![None; nel],
     };
     let reused = old.iter().filter(|o| o.is_some()).count().pow(2);
+    let mut cache = cache;
     let keep = cache.is_some() && PairCache::keeps(nel);
-    let mut kept: Vec<PairBlocks> = if keep {
-        vec![[0.0; 12]; nel * nel]
-    } else {
-        Vec::new()
+    let mut kept: Vec<PairBlocks> = match cache.as_deref_mut() {
+        Some(c) if keep => c.take_blocks(nel * nel),
+        _ => Vec::new(),
+    };
+    let ndof = 2 * nel;
+    // First-moment (reconstruction) coefficients of u, column (j, c) = H^c_1[:, (j, c)].
+    let mut first = match (stencil.is_some(), cache.as_deref_mut()) {
+        (false, _) => Vec::new(),
+        (true, Some(c)) => c.take_moments(ndof * ndof),
+        (true, None) => vec![0.0; ndof * ndof],
     };
     let mut kept_cols: Vec<Option<&mut [PairBlocks]>> = if keep {
         kept.chunks_mut(nel).map(Some).collect()
@@ -60,7 +67,6 @@ pub(super) fn assemble(
         (0..nel).map(|_| None).collect()
     };
     let from = cache.as_deref();
-    let ndof = 2 * nel;
     let n = ndof + modes.len();
     let mut a = vec![0.0; n * n];
     let els = &mesh.elements;
@@ -69,12 +75,6 @@ pub(super) fn assemble(
         .map(|e| params.variable_groups.contains(&e.group))
         .collect();
 
-    // First-moment (reconstruction) coefficients of u, column (j, c) = H^c_1[:, (j, c)].
-    let mut first = if stencil.is_some() {
-        vec![0.0; ndof * ndof]
-    } else {
-        Vec::new()
-    };
     let mut first_cols: Vec<Option<&mut [f64]>> = if stencil.is_some() {
         first.chunks_mut(2 * ndof).map(Some).collect()
     } else {
@@ -191,11 +191,12 @@ pub(super) fn assemble(
     variable.sort_by_key(|(d, _)| *d);
     drop(first_cols);
     drop(kept_cols);
-    if let Some(c) = cache {
-        c.store(mesh, material, params, kept);
-    }
     if let Some(st) = stencil {
         add_reconstruction(&mut a, n, ndof, &first, st, bcs, &mut rhs, &mut variable);
+    }
+    if let Some(c) = cache {
+        c.store(mesh, material, params, kept);
+        c.give_moments(first);
     }
 
     // Bordering columns: R over all equation rows.
