@@ -1,0 +1,221 @@
+//! Scene validation of the `pd`, `coupling` and `growth` sections: one test per rule;
+//! every message names the file, the dotted field path and the reason (the other
+//! sections: `scene_validation.rs`).
+
+use pdbem::scene::{Scene, SceneError};
+
+const FILE: &str = "cases/x.ron";
+const MAT: &str = "(E: 1e4, nu: 0.3, plane: Stress)";
+const BODY: &str = "(outline: Rectangle(x0: 0, y0: 0, width: 10, height: 20))";
+const CRACKS: &str = r#"[(name: "c", start: (0, 10), angle_deg: 0, length: 3)]"#;
+const BOUNDARY: &str = r#"[(on: "top", y: Traction(1)), (on: "bottom", y: Traction(-1))]"#;
+
+fn make(mat: &str, body: &str, cracks: &str, boundary: &str, extra: &str) -> String {
+    format!(
+        "(name: \"t\", material: {mat}, body: {body}, cracks: {cracks}, boundary: {boundary}, {extra})"
+    )
+}
+
+fn base_with(extra: &str) -> String {
+    make(MAT, BODY, CRACKS, BOUNDARY, extra)
+}
+
+fn load(src: &str) -> Result<Scene, SceneError> {
+    Scene::from_ron_str(src, FILE)
+}
+
+/// The error text, which must name the file and contain `path` and `reason`.
+fn assert_invalid(src: &str, path: &str, reason: &str) -> String {
+    let text = match load(src) {
+        Ok(_) => panic!("scene should be invalid ({path}):\n{src}"),
+        Err(e) => e.to_string(),
+    };
+    assert!(
+        text.contains(&format!("{FILE}: {path}")),
+        "no '{FILE}: {path}' in:\n{text}"
+    );
+    assert!(text.contains(reason), "no '{reason}' in:\n{text}");
+    text
+}
+
+#[test]
+fn pd_horizon_smaller_than_dx() {
+    // Below 2 the PD calibration no longer holds (scene_validation_limits: the range).
+    assert_invalid(
+        &base_with("pd: (dx: 0.1, horizon_factor: 0.8)"),
+        "pd.horizon_factor = 0.8",
+        "must lie in [2, 6]",
+    );
+}
+
+#[test]
+fn pd_dx_must_be_positive() {
+    assert_invalid(
+        &base_with("pd: (dx: 0)"),
+        "pd.dx = 0",
+        "grid spacing dx must be > 0",
+    );
+    assert_invalid(&base_with("pd: ()"), "pd", "give the grid spacing");
+}
+
+#[test]
+fn pd_degradation_needs_s_m_below_s_c() {
+    let extra = "pd: (dx: 0.1, failure: Degradation(s_m: 0.02, s_c: 0.015, beta: 3))";
+    assert_invalid(
+        &base_with(extra),
+        "pd.failure.s_m = 0.02",
+        "s_m must be below s_c",
+    );
+}
+
+#[test]
+fn pd_from_gc_needs_gc() {
+    assert_invalid(
+        &base_with("pd: (dx: 0.1, failure: FromGc)"),
+        "pd.failure",
+        "needs material.fracture.g_c",
+    );
+}
+
+#[test]
+fn pd_solver_params_are_checked() {
+    assert_invalid(
+        &base_with("pd: (dx: 0.1, solver: Adr(tolerance: -1))"),
+        "pd.solver.tolerance = -1",
+        "must be > 0",
+    );
+    load(&base_with("pd: (dx: 0.1, solver: Implicit(max_iter: 20))")).expect("valid");
+}
+
+#[test]
+fn coupling_window_larger_than_the_body() {
+    let extra = "pd: (), coupling: (side: 12, n: 20)";
+    assert_invalid(
+        &base_with(extra),
+        "coupling.side = 12",
+        "larger than the body",
+    );
+}
+
+#[test]
+fn coupling_window_outside_the_body() {
+    let extra = "pd: (), coupling: (side: 2, n: 20, placement: Centered(center: (9.5, 5)))";
+    assert_invalid(&base_with(extra), "coupling.placement", "outside the body");
+}
+
+#[test]
+fn coupling_region_width_must_be_the_side() {
+    // dx = side / n for every placement: a Region narrower than `side` would silently
+    // take another spacing.
+    let extra =
+        "pd: (), coupling: (side: 2, n: 20, placement: Region(x0: 1, y0: 1, width: 3, height: 2))";
+    assert_invalid(&base_with(extra), "coupling.side = 2", "region width 3");
+}
+
+#[test]
+fn iqn_ils_reuse_is_not_a_field() {
+    // Parsed and then dropped until now: secant pairs are not carried between load steps.
+    let extra = "pd: (), coupling: (side: 2, n: 20, relaxation: IqnIls(w0: 0.1, reuse: 2))";
+    let text = base_with(extra);
+    let err = pdbem::scene::Scene::from_ron_str(&text, "t.ron")
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("reuse"), "{err}");
+}
+
+#[test]
+fn adr_dt_is_not_a_field() {
+    // ADR's fictitious density comes from the Gershgorin bound at dt = 1 (seed 002
+    // Eqs. 9-15): a time step would only rescale it, so the field was parsed and dropped.
+    let text = base_with("pd: (solver: Adr(dt: 0.5))");
+    let err = pdbem::scene::Scene::from_ron_str(&text, "t.ron")
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("dt"), "{err}");
+}
+
+#[test]
+fn coupling_relaxation_range() {
+    let extra = "pd: (), coupling: (side: 2, n: 20, relaxation: Constant(1.5))";
+    assert_invalid(&base_with(extra), "coupling.relaxation = 1.5", "(0, 1]");
+}
+
+#[test]
+fn growth_move_distance_larger_than_the_window() {
+    let extra = "pd: (), coupling: (side: 2, n: 20), growth: (move_distance: 3)";
+    assert_invalid(
+        &base_with(extra),
+        "growth.move_distance = 3",
+        "larger than the window",
+    );
+}
+
+#[test]
+fn growth_trigger_ratio_range() {
+    let extra = "pd: (), coupling: (side: 2, n: 20), growth: (trigger_ratio: 1.2)";
+    assert_invalid(
+        &base_with(extra),
+        "growth.trigger_ratio = 1.2",
+        "must lie in (0, 1)",
+    );
+    let extra = "pd: (), coupling: (side: 2, n: 20), growth: (trigger_ratio: 0)";
+    assert_invalid(
+        &base_with(extra),
+        "growth.trigger_ratio = 0",
+        "must lie in (0, 1)",
+    );
+}
+
+#[test]
+fn growth_pd_bem_needs_coupling() {
+    assert_invalid(
+        &base_with("growth: ()"),
+        "growth.mode",
+        "needs a `coupling` section",
+    );
+}
+
+#[test]
+fn pd_refinement_rules() {
+    let ok = "pd: (dx: 0.5, model: StateBased, refinement: (near_cracks: 1, circles: [(centre: (3, 10), radius: 1)]))";
+    load(&base_with(ok)).expect("valid refinement");
+    assert_invalid(
+        &base_with("pd: (dx: 0.5, refinement: ())"),
+        "pd.refinement",
+        "model: StateBased",
+    );
+    assert_invalid(
+        &base_with(
+            "pd: (dx: 0.5, model: StateBased, failure: CriticalStretch(0.01), refinement: ())",
+        ),
+        "pd.refinement",
+        "failure: Elastic",
+    );
+    assert_invalid(
+        &base_with("pd: (dx: 0.5, model: StateBased, refinement: (critical_damage: 1.2))"),
+        "pd.refinement.critical_damage",
+        "(0, 1)",
+    );
+    assert_invalid(
+        &base_with("pd: (dx: 0.5, model: StateBased, refinement: (max_level: 0))"),
+        "pd.refinement.max_level",
+        "1 to 4",
+    );
+    assert_invalid(
+        &base_with("pd: (dx: 0.5, model: StateBased, refinement: (circles: [(centre: (3, 10), radius: 0)]))"),
+        "pd.refinement.circles.0.radius",
+        "radius must be > 0",
+    );
+    let displaced = r#"[(on: "top", y: Displacement(0.1)), (on: "bottom", y: Traction(-1))]"#;
+    assert_invalid(
+        &make(
+            MAT,
+            BODY,
+            CRACKS,
+            displaced,
+            "pd: (dx: 0.5, model: StateBased, refinement: ())",
+        ),
+        "pd.refinement",
+        "traction-loaded",
+    );
+}
