@@ -218,4 +218,8 @@ fn pd_refinement_rules() {
         "pd.refinement",
         "traction-loaded",
     );
+    // Adaptive dynamics holds the fictitious layer of a displacement condition.
+    let dynamic = "pd: (dx: 0.5, model: StateBased, failure: FromGc, refinement: (), solver: Explicit(end_time: 1e-3)), material: (E: 1e4, nu: 0.3, plane: Stress, density: 1000, fracture: (g_c: 1))";
+    let src = make(MAT, BODY, CRACKS, displaced, dynamic);
+    load(&src.replace(&format!("material: {MAT}, "), "")).expect("valid");
 }

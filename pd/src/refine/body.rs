@@ -45,9 +45,12 @@ pub struct Body {
 }
 
 impl Body {
-    /// The particles of `p`'s grid (one per real node), its loads at load factor 1 and its
-    /// pre-cracks. Needs the state-based material and no fictitious layer (displacements
-    /// on `Layer::Real` nodes only).
+    /// The particles of `p`'s grid, its loads at load factor 1 and its pre-cracks. Needs
+    /// the state-based material. A fictitious layer (a displacement condition with
+    /// `Layer::Fictitious`) joins as particles `n_real..` of the grid's spacing, prescribed
+    /// as the uniform grid prescribes them: a particle of the layer keeps $\lambda\bar u$
+    /// in its prescribed components (zero velocity, [`crate::refine::dynamics`]), and its
+    /// children inherit the prescription ([`Body::split`]).
     pub fn from_problem(p: &PdProblem) -> Result<Self, PdError> {
         p.validate()?;
         let PdMaterial::StateBased { poisson_ratio } = p.material else {
@@ -57,14 +60,8 @@ impl Body {
             ));
         };
         let grid = build_grid(p)?;
-        if grid.len() > grid.n_real {
-            return Err(PdError::invalid(
-                "boundary",
-                "refinement supports displacements on real nodes only (layer: Real), not fictitious layers",
-            ));
-        }
         let bc = resolve(p, &grid)?;
-        let n = grid.n_real;
+        let n = grid.len();
         let size = vec![grid.dx; n];
         let volume = vec![grid.volume; n];
         let delta = vec![grid.delta; n];

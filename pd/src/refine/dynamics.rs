@@ -5,7 +5,13 @@
 //! Eqs. 24-27, as [`crate::dynamics`]) under the dual-horizon force $F_k$ (N, seed 004
 //! Eq. 13, [`crate::state_based::dual_horizon::DualHorizon::forces`]) and its load $\lambda b_k V_k$ ($b_k$ the body-force
 //! density at load factor 1): $\rho V_k\,\ddot u_k = F_k(u) + \lambda b_k V_k$. Prescribed
-//! components keep $\lambda\bar u$ and zero velocity.
+//! components keep $\lambda\bar u$ and zero velocity: $u_{k,c}(t) = \lambda\bar u_{k,c}$,
+//! $\dot u_{k,c} = \ddot u_{k,c} = 0$ every step, as the uniform grid holds its
+//! fictitious layer ([`crate::dynamics`]; seed 000 section 2.3). A displacement condition's
+//! fictitious layer is part of the body ([`Body::from_problem`]): its particles bond with
+//! the real ones, hold their prescribed components, may split like any particle, and
+//! their children hold their parent's prescription ([`Body::split`]). A held component
+//! does no work ($\dot u = 0$), so the balance $W = K + U + D$ needs no reaction term.
 //!
 //! Region velocities ([`crate::dynamics::RegionVelocity`]) start, and with `hold` keep,
 //! the particles of a region at a velocity as in [`crate::dynamics`]; children inherit

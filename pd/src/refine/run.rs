@@ -56,7 +56,8 @@ pub fn flagged(body: &Body, r: &Refinement, with_regions: bool, with_strain: boo
         .collect()
 }
 
-/// Solve `p` with adaptive refinement `r` at load factor `load`.
+/// Solve `p` with adaptive refinement `r` at load factor `load` (displacements on real
+/// nodes only: a fictitious layer is refused, naming `boundary`).
 pub fn run(p: &PdProblem, r: &Refinement, load: f64) -> Result<RefinedRun, PdError> {
     if !load.is_finite() {
         return Err(PdError::invalid(
@@ -65,6 +66,13 @@ pub fn run(p: &PdProblem, r: &Refinement, load: f64) -> Result<RefinedRun, PdErr
         ));
     }
     r.validate()?;
+    let grid = crate::grid::build_grid(p)?;
+    if grid.len() > grid.n_real {
+        return Err(PdError::invalid(
+            "boundary",
+            "the refined elastic solve supports displacements on real nodes only (layer: Real); fictitious layers run in adaptive dynamics (refine::run_dynamic)",
+        ));
+    }
     let mut body = Body::from_problem(p)?;
     body.keep_horizon = r.keep_horizon;
     if r.strain_factor.is_some() && body.critical_stretch(0).is_none() {

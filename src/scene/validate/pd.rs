@@ -84,8 +84,9 @@ fn check_pd(c: &mut Checker, scene: &Scene, pd: &crate::scene::PdSettings) {
     }
 }
 
-/// `pd.refinement`: stand-alone, state-based, traction-loaded (the refined particles
-/// hold no fictitious layer), elastic unless the solver is `Explicit`
+/// `pd.refinement`: stand-alone, state-based, traction-loaded unless the solver is
+/// `Explicit` (adaptive dynamics holds a displacement condition's fictitious layer at its
+/// value), elastic unless the solver is `Explicit`
 /// ([`check_refinement_law`]), and its numbers in range.
 fn check_refinement(
     c: &mut Checker,
@@ -111,10 +112,10 @@ fn check_refinement(
             .iter()
             .any(|v| matches!(v, crate::scene::Component::Displacement(_)))
     });
-    if displaced {
+    if displaced && !matches!(pd.solver, PdSolver::Explicit(_)) {
         c.fail_at(
             "pd.refinement",
-            "refinement takes traction-loaded bodies only (prescribed displacements need fictitious layers the refined particles do not have)",
+            "the refined elastic solve takes traction-loaded bodies only (prescribed displacements on refined particles run in adaptive dynamics, `solver: Explicit`)",
         );
     }
     if let Some(phi) = r.critical_damage {
