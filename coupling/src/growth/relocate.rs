@@ -145,9 +145,11 @@ pub fn moved_spec(
         c.center += snap(tip - w.spec.center, e1, e2, dx);
         spec = clamp_into(&c, body);
     }
+    // A candidate back at the old window would re-place it and trigger again at once.
+    let moves = |s: &WindowSpec| (s.center - w.spec.center).norm() >= 1e-9 * dx;
     if let Some(clear) = clear_of_strips(&spec, body)
         .into_iter()
-        .find(|s| fits(s).is_some())
+        .find(|s| moves(s) && fits(s).is_some())
     {
         spec = clear;
     }
@@ -350,6 +352,12 @@ mod tests {
         // m) above the edge instead.
         let s = moved_spec(&w, V2::new(10.0, 0.8), down, 0.45, 0.9, &body(), "t").unwrap();
         assert!((s.center.y - 0.75).abs() < 1e-12, "{:?}", s.center);
+        // From a quarter side above the edge (y = 0.75) by 0.1 m to 0.65: the flush window
+        // has the tip (0.8) in its trigger band, and a quarter side away is the old window,
+        // which would trigger again at once; the window keeps its move (strip 0.15 m).
+        let w = window(10.0, 0.75);
+        let s = moved_spec(&w, V2::new(10.0, 0.8), down, 0.1, 0.9, &body(), "t").unwrap();
+        assert!((s.center.y - 0.65).abs() < 1e-12, "{:?}", s.center);
         // A strip of a quarter side or more is left alone.
         let w = window(10.0, 1.3);
         let s = moved_spec(&w, V2::new(10.0, 0.9), down, 0.5, 0.9, &body(), "t").unwrap();
