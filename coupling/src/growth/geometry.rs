@@ -9,7 +9,6 @@
 
 use std::time::Instant;
 
-use pdbem_bem::post::FieldEvaluator;
 use pdbem_bem::V2;
 
 use crate::error::CouplingError;
@@ -21,8 +20,6 @@ use crate::growth::records::{RelocationPlan, RelocationRecord, Scenario};
 use crate::growth::relocate::{extend_crack, moved_spec};
 use crate::growth::tips::{entry_point, hole_name, margins, towards_tip, TipEnd, TipState};
 use crate::growth::topology::cuts_body;
-use crate::growth::transfer::transfer_state;
-use crate::relaxation::SecantColumns;
 use crate::setup::Layout;
 use crate::window::{Window, WindowSpec};
 
@@ -126,14 +123,13 @@ impl<S: Scenario> Growth<'_, S> {
             moves,
             ..
         } = plan;
-        let (mut problem, bem) = build_geometry(
+        let (problem, bem) = build_geometry(
             &layout,
             &self.setup,
             self.scenario,
             self.params.trigger_ratio,
             &mut self.pairs,
         )?;
-        let old = std::mem::take(&mut self.problem.windows);
         // The last solution belongs to the old mesh: it serves the transfer and goes, so
         // nothing pairs it with the new mesh (element indices differ).
         let sol = self.last.take().ok_or_else(|| CouplingError::Relocation {
@@ -142,30 +138,8 @@ impl<S: Scenario> Growth<'_, S> {
                 .map_or_else(String::new, |m| names[m.0].clone()),
             reason: "no solution to take the new window's state from".into(),
         })?;
-        let ev = FieldEvaluator::new(
-            &self.problem.mesh,
-            &self.problem.material,
-            &sol.solution,
-            self.problem.background,
-        );
-        let mut x0 = Vec::new();
-        let mut infos = Vec::new();
-        for wm in problem.windows.iter_mut() {
-            let (x, info) = transfer_state(&old, &ev, wm, load);
-            x0.extend(x);
-            infos.push(info);
-        }
         let old_paths: Vec<Vec<V2>> = self.tips.iter().map(TipState::path_points).collect();
-        self.problem = problem;
-        self.bem = bem;
-        self.setup.layout = layout;
-        self.start = Some((x0, load));
-        // The secant columns belong to the old interface: measured on the tension plate,
-        // reusing them by interface index saved 1-2 of the 8-9 first iterations of a
-        // moved window but stalled the coupling (e near 1 for 40 iterations) once the
-        // moved window cut the BEM body apart.
-        self.secants = SecantColumns::default();
-        self.geometries += 1;
+        let infos = self.install_geometry(layout, problem, bem, &sol, load);
         for (t, &o) in owner.iter().enumerate() {
             self.tips[t].window = o;
             let spec = &self.tips[t].spec;

@@ -24,7 +24,6 @@
 //! crack from a hole back to it) cuts the body apart: the run ends with structural
 //! failure naming the tip and the hole ([`join_cuts`]).
 
-use pdbem_bem::post::FieldEvaluator;
 use pdbem_bem::V2;
 
 use super::step::StepRun;
@@ -35,8 +34,6 @@ use crate::growth::records::Scenario;
 use crate::growth::relocate::snap_to_element_end;
 use crate::growth::tips::{TipEnd, TipState};
 use crate::growth::topology::join_cuts;
-use crate::growth::transfer::transfer_state;
-use crate::relaxation::SecantColumns;
 use crate::setup::{Layout, MacroCrack};
 
 /// Name of the crack that joins tip `tip` to the hole it ended at.
@@ -150,7 +147,7 @@ impl<S: Scenario> Growth<'_, S> {
         if let Some(k) = join_cuts(&layout, &self.body, first) {
             return Ok(Joined::Cuts(tips[k]));
         }
-        let (mut problem, bem) = super::build_geometry(
+        let (problem, bem) = super::build_geometry(
             &layout,
             &self.setup,
             self.scenario,
@@ -160,22 +157,7 @@ impl<S: Scenario> Growth<'_, S> {
         let Some(sol) = self.last.take() else {
             return Ok(Joined::Nothing);
         };
-        let ev = FieldEvaluator::new(
-            &self.problem.mesh,
-            &self.problem.material,
-            &sol.solution,
-            self.problem.background,
-        );
-        let mut x0 = Vec::new();
-        for wm in problem.windows.iter_mut() {
-            x0.extend(transfer_state(&self.problem.windows, &ev, wm, load).0);
-        }
-        self.problem = problem;
-        self.bem = bem;
-        self.setup.layout = layout;
-        self.start = Some((x0, load));
-        self.secants = SecantColumns::default();
-        self.geometries += 1;
+        self.install_geometry(layout, problem, bem, &sol, load);
         for &(t, h) in &pending {
             let tip: &TipState = &self.tips[t];
             let k = tips.iter().position(|&x| x == t).unwrap_or(0);

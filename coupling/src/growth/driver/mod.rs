@@ -63,6 +63,7 @@ mod step;
 pub use join::join_name;
 
 use pdbem_bem::post::sif::cmod;
+use pdbem_bem::post::FieldEvaluator;
 use pdbem_bem::{PairCache, V2};
 use pdbem_pd::crack_path::CrackPath;
 
@@ -72,6 +73,7 @@ use crate::growth::params::GrowthParams;
 use crate::growth::polyline;
 use crate::growth::records::{GrowthSetup, Scenario};
 use crate::growth::tips::{entry_point, protect_band, towards_tip, track, TipEnd, TipState};
+use crate::growth::transfer::{transfer_state, TransferInfo};
 use crate::iteration::{CoupledProblem, CoupledSolution, PreparedBem};
 use crate::relaxation::SecantColumns;
 use crate::setup::{build, Layout};
@@ -147,6 +149,44 @@ pub(super) fn build_geometry<S: Scenario>(
 }
 
 impl<'s, S: Scenario> Growth<'s, S> {
+    /// Puts a rebuilt geometry (`layout`, its `problem` and `bem`) in place: every window
+    /// of `problem` takes its state from the current windows and the BEM field of `sol`,
+    /// the last solution on the current mesh ([`transfer_state`]); the coupling restarts
+    /// at `load` from those interface values. Returns where each window's state came from.
+    pub(super) fn install_geometry(
+        &mut self,
+        layout: Layout,
+        mut problem: CoupledProblem,
+        bem: PreparedBem,
+        sol: &CoupledSolution,
+        load: f64,
+    ) -> Vec<TransferInfo> {
+        let ev = FieldEvaluator::new(
+            &self.problem.mesh,
+            &self.problem.material,
+            &sol.solution,
+            self.problem.background,
+        );
+        let mut x0 = Vec::new();
+        let mut infos = Vec::new();
+        for wm in problem.windows.iter_mut() {
+            let (x, info) = transfer_state(&self.problem.windows, &ev, wm, load);
+            x0.extend(x);
+            infos.push(info);
+        }
+        self.problem = problem;
+        self.bem = bem;
+        self.setup.layout = layout;
+        self.start = Some((x0, load));
+        // The secant columns belong to the old interface: measured on the tension plate,
+        // reusing them by interface index saved 1-2 of the 8-9 first iterations of a
+        // moved window but stalled the coupling (e near 1 for 40 iterations) once the
+        // moved window cut the BEM body apart.
+        self.secants = SecantColumns::default();
+        self.geometries += 1;
+        infos
+    }
+
     /// Validates the parameters, builds the initial geometry and assigns the tips to
     /// their windows (overlapping windows merged).
     pub fn new(
