@@ -37,6 +37,27 @@ fn attachment(p: V2, windows: &[Window], body: &Body, tol: f64) -> Option<usize>
         .map(|i| i + 1)
 }
 
+/// The windows of `layout` that can be placed in `body`.
+fn placed_windows(layout: &Layout, body: &Body) -> Vec<Window> {
+    layout
+        .windows
+        .iter()
+        .enumerate()
+        .filter_map(|(i, s)| Window::place(i, s.clone(), body).ok())
+        .collect()
+}
+
+/// The graph's edges from the outline (node 0) to every window (node i + 1) with a side
+/// on it.
+fn outline_edges(windows: &[Window]) -> Vec<(usize, usize)> {
+    windows
+        .iter()
+        .enumerate()
+        .filter(|(_, w)| w.sides.contains(&SideKind::Outer))
+        .map(|(i, _)| (0, i + 1))
+        .collect()
+}
+
 /// Whether the cracks of `layout` from index `first` on (cracks joining a tip to a hole,
 /// [`crate::growth::driver::join_name`]) close a chain of cuts: the graph of the module
 /// docs with every hole a node too, the outline-window edges and the cracks before
@@ -45,12 +66,7 @@ fn attachment(p: V2, windows: &[Window], body: &Body, tol: f64) -> Option<usize>
 /// crack that closes a cycle: a crack from the outline into a hole and another from the
 /// hole to the outline, or from a hole back to it, cut a piece of the body off.
 pub fn join_cuts(layout: &Layout, body: &Body, first: usize) -> Option<usize> {
-    let windows: Vec<Window> = layout
-        .windows
-        .iter()
-        .enumerate()
-        .filter_map(|(i, s)| Window::place(i, s.clone(), body).ok())
-        .collect();
+    let windows = placed_windows(layout, body);
     let tol = windows.iter().map(Window::tol).fold(1e-12, f64::max);
     let nw = windows.len();
     let node = |p: V2| {
@@ -62,12 +78,7 @@ pub fn join_cuts(layout: &Layout, body: &Body, first: usize) -> Option<usize> {
         })
     };
     let mut parent: Vec<usize> = (0..=nw + body.holes.len()).collect();
-    let mut edges: Vec<(usize, usize)> = windows
-        .iter()
-        .enumerate()
-        .filter(|(_, w)| w.sides.contains(&SideKind::Outer))
-        .map(|(i, _)| (0, i + 1))
-        .collect();
+    let mut edges = outline_edges(&windows);
     let ends = |c: &crate::setup::MacroCrack| {
         let (a, b) = (c.points[0], *c.points.last().expect("a crack has points"));
         node(a).zip(node(b))
@@ -91,23 +102,13 @@ pub fn join_cuts(layout: &Layout, body: &Body, first: usize) -> Option<usize> {
 /// Whether the cracks and windows of `layout` cut the BEM body of `body` apart (see the
 /// module docs). Windows that cannot be placed count as not reaching the outline.
 pub fn cuts_body(layout: &Layout, body: &Body) -> bool {
-    let windows: Vec<Window> = layout
-        .windows
-        .iter()
-        .enumerate()
-        .filter_map(|(i, s)| Window::place(i, s.clone(), body).ok())
-        .collect();
+    let windows = placed_windows(layout, body);
     if windows.len() != layout.windows.len() {
         return false;
     }
     let tol = windows.iter().map(Window::tol).fold(1e-12, f64::max);
     let mut parent: Vec<usize> = (0..=windows.len()).collect();
-    let mut edges: Vec<(usize, usize)> = windows
-        .iter()
-        .enumerate()
-        .filter(|(_, w)| w.sides.contains(&SideKind::Outer))
-        .map(|(i, _)| (0, i + 1))
-        .collect();
+    let mut edges = outline_edges(&windows);
     for c in &layout.cracks {
         let (a, b) = (c.points[0], *c.points.last().expect("a crack has points"));
         if let (Some(x), Some(y)) = (
