@@ -2,41 +2,9 @@
 //! every message names the file, the dotted field path and the reason (the other
 //! sections: `scene_validation.rs`).
 
-use pdbem::scene::{Scene, SceneError};
+mod scene_validation_common;
 
-const FILE: &str = "cases/x.ron";
-const MAT: &str = "(E: 1e4, nu: 0.3, plane: Stress)";
-const BODY: &str = "(outline: Rectangle(x0: 0, y0: 0, width: 10, height: 20))";
-const CRACKS: &str = r#"[(name: "c", start: (0, 10), angle_deg: 0, length: 3)]"#;
-const BOUNDARY: &str = r#"[(on: "top", y: Traction(1)), (on: "bottom", y: Traction(-1))]"#;
-
-fn make(mat: &str, body: &str, cracks: &str, boundary: &str, extra: &str) -> String {
-    format!(
-        "(name: \"t\", material: {mat}, body: {body}, cracks: {cracks}, boundary: {boundary}, {extra})"
-    )
-}
-
-fn base_with(extra: &str) -> String {
-    make(MAT, BODY, CRACKS, BOUNDARY, extra)
-}
-
-fn load(src: &str) -> Result<Scene, SceneError> {
-    Scene::from_ron_str(src, FILE)
-}
-
-/// The error text, which must name the file and contain `path` and `reason`.
-fn assert_invalid(src: &str, path: &str, reason: &str) -> String {
-    let text = match load(src) {
-        Ok(_) => panic!("scene should be invalid ({path}):\n{src}"),
-        Err(e) => e.to_string(),
-    };
-    assert!(
-        text.contains(&format!("{FILE}: {path}")),
-        "no '{FILE}: {path}' in:\n{text}"
-    );
-    assert!(text.contains(reason), "no '{reason}' in:\n{text}");
-    text
-}
+use scene_validation_common::*;
 
 #[test]
 fn pd_horizon_smaller_than_dx() {
