@@ -428,11 +428,17 @@ fn print_summary(s: &RunSummary, out_dir: &Path) {
 
 fn plot_paths(runs: &[PathBuf], out: Option<PathBuf>) -> anyhow::Result<()> {
     let out = out.unwrap_or_else(|| PathBuf::from("paths"));
-    let (files, warnings) = crate::growth::overlay::plot_paths(runs, &out)?;
-    for w in warnings {
+    let done = crate::growth::overlay::plot_paths(runs, &out)?;
+    for w in &done.warnings {
         eprintln!("warning: {w}");
     }
-    for f in files {
+    for d in &done.deviations {
+        println!(
+            "{} {}: {:.4e} m from {} over a common reach of {:.4e} m",
+            d.run, d.tip, d.deviation, done.reference, d.reach
+        );
+    }
+    for f in &done.files {
         println!("{}", f.display());
     }
     Ok(())

@@ -480,9 +480,14 @@ fn plot_paths_overlays_two_run_folders() {
     // Different bodies: the second run is flagged.
     assert_eq!(warnings.len(), 1, "{warnings:?}");
     let out = scratch("overlay_out").join("paths");
-    let (files, _) = overlay::plot_paths(&runs, &out).expect("plot-paths");
-    assert_eq!(files.len(), 2);
-    for f in &files {
+    let done = overlay::plot_paths(&runs, &out).expect("plot-paths");
+    // Two figures and the deviation table.
+    assert_eq!(done.files.len(), 3, "{:?}", done.files);
+    for f in done
+        .files
+        .iter()
+        .filter(|f| f.extension().is_some_and(|e| e != "csv"))
+    {
         assert!(
             std::fs::metadata(f).expect("plot").len() > 1000,
             "{}",
@@ -490,8 +495,8 @@ fn plot_paths_overlays_two_run_folders() {
         );
     }
     let png_only = out.with_extension("png");
-    let (files, _) = overlay::plot_paths(&runs[..1], &png_only).expect("png only");
-    assert_eq!(files, vec![png_only.clone()]);
+    let done = overlay::plot_paths(&runs[..1], &png_only).expect("png only");
+    assert_eq!(done.files, vec![png_only.clone()]);
     assert!(overlay::plot_paths(&[scratch("not_a_run")], &out).is_err());
     for d in [bem, pd, out.parent().expect("dir").to_path_buf()] {
         let _ = std::fs::remove_dir_all(d);

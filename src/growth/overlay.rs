@@ -7,6 +7,11 @@
 //! and one legend entry per run: `<growth mode> (<folder name>)`. `FILE` ending in `.png` or
 //! `.svg` gives that format only, any other name is a stem for both; the files are written
 //! atomically (staged, then moved).
+//!
+//! With two runs or more, `<stem>_deviation.csv` lists how far every later run's tip paths
+//! lie from the first run's paths of the same tip ([`deviations`]): the Hausdorff distance
+//! over the common reach from the initial tip (`pdbem_coupling::growth::compare`, the
+//! measure `pdbem bench growth` reports).
 
 use std::path::{Path, PathBuf};
 
@@ -15,7 +20,7 @@ use serde_json::Value;
 
 use super::output::{GEOMETRY_FILE, HISTORY_FILE};
 use super::GrowthHistory;
-use crate::output::OutputWriter;
+use crate::output::{CsvTable, OutputWriter};
 use crate::plot::{PathGroup, PathsPlot};
 use crate::runner::summary::RunSummary;
 use crate::scene::PlotFormat;
@@ -127,6 +132,65 @@ pub fn overlay(runs: &[RunPaths]) -> (PathsPlot, Vec<String>) {
     (plot, warnings)
 }
 
+/// How far one tip path of a run lies from the same tip's path in the first run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Deviation {
+    /// Legend label of the run (`<mode> (<folder name>)`).
+    pub run: String,
+    /// Tip name.
+    pub tip: String,
+    /// Hausdorff distance of the two paths over their common reach (m).
+    pub deviation: f64,
+    /// The common reach from the initial tip (m).
+    pub reach: f64,
+}
+
+/// The deviation of every tip path of `runs[1..]` from the first run's path of the same
+/// tip; a tip the first run does not have gives a warning instead.
+pub fn deviations(runs: &[RunPaths]) -> (Vec<Deviation>, Vec<String>) {
+    let (mut out, mut warnings) = (Vec::new(), Vec::new());
+    let Some(first) = runs.first() else {
+        return (out, warnings);
+    };
+    for r in &runs[1..] {
+        for p in &r.history.paths {
+            match first.history.paths.iter().find(|q| q.name == p.name) {
+                Some(q) => {
+                    let (deviation, reach) = pdbem_coupling::growth::compare::path_deviation(q, p);
+                    out.push(Deviation {
+                        run: label(r),
+                        tip: p.name.clone(),
+                        deviation,
+                        reach,
+                    });
+                }
+                None => warnings.push(format!(
+                    "{}: tip {} has no path in {}; no deviation for it",
+                    r.dir.display(),
+                    p.name,
+                    first.dir.display()
+                )),
+            }
+        }
+    }
+    (out, warnings)
+}
+
+/// The table of [`deviations`] against `reference` (the first run's label).
+pub fn deviation_table(reference: &str, devs: &[Deviation]) -> CsvTable {
+    let mut t = CsvTable::new(&["reference", "run", "tip", "deviation_m", "common_reach_m"]);
+    for d in devs {
+        t.push(vec![
+            reference.to_string(),
+            d.run.clone(),
+            d.tip.clone(),
+            format!("{:.6e}", d.deviation),
+            format!("{:.6e}", d.reach),
+        ]);
+    }
+    t
+}
+
 /// Formats and stem of `--out FILE`.
 fn out_spec(out: &Path) -> (Vec<PlotFormat>, PathBuf) {
     match out.extension().and_then(|e| e.to_str()) {
@@ -136,8 +200,21 @@ fn out_spec(out: &Path) -> (Vec<PlotFormat>, PathBuf) {
     }
 }
 
-/// Reads the runs and writes the overlay to `out`; returns the written files and warnings.
-pub fn plot_paths(dirs: &[PathBuf], out: &Path) -> Result<(Vec<PathBuf>, Vec<String>)> {
+/// What [`plot_paths`] wrote and found.
+#[derive(Debug, Clone, Default)]
+pub struct Overlaid {
+    /// The files written (figures, and the deviation table with two runs or more).
+    pub files: Vec<PathBuf>,
+    /// Warnings: outlines that differ, tips without a reference path.
+    pub warnings: Vec<String>,
+    /// Deviations of the later runs' paths from the first run's ([`deviations`]).
+    pub deviations: Vec<Deviation>,
+    /// Legend label of the first run (the reference of the deviations).
+    pub reference: String,
+}
+
+/// Reads the runs and writes the overlay (and the deviation table) to `out`.
+pub fn plot_paths(dirs: &[PathBuf], out: &Path) -> Result<Overlaid> {
     if dirs.is_empty() {
         bail!("plot-paths: give at least one run folder");
     }
@@ -145,7 +222,9 @@ pub fn plot_paths(dirs: &[PathBuf], out: &Path) -> Result<(Vec<PathBuf>, Vec<Str
         .iter()
         .map(|d| read_run(d))
         .collect::<Result<Vec<_>>>()?;
-    let (plot, warnings) = overlay(&runs);
+    let (plot, mut warnings) = overlay(&runs);
+    let (devs, dev_warnings) = deviations(&runs);
+    warnings.extend(dev_warnings);
     let (formats, stem) = out_spec(out);
     let folder = match stem.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
@@ -159,8 +238,77 @@ pub fn plot_paths(dirs: &[PathBuf], out: &Path) -> Result<(Vec<PathBuf>, Vec<Str
         .with_context(|| format!("cannot create {}", folder.display()))?;
     let mut s = RunSummary::default();
     crate::runner::report::save_plot(&w, &name, &plot, &formats, &mut s)?;
+    if runs.len() > 1 {
+        let table = deviation_table(&label(&runs[0]), &devs);
+        let csv = format!("{name}_deviation.csv");
+        w.write_csv(&csv, &table)
+            .with_context(|| format!("cannot write {csv}"))?;
+    }
     let files = w
         .commit()
         .with_context(|| format!("cannot move the plot into {}", folder.display()))?;
-    Ok((files, warnings.into_iter().chain(s.notes).collect()))
+    Ok(Overlaid {
+        files,
+        warnings: warnings.into_iter().chain(s.notes).collect(),
+        deviations: devs,
+        reference: label(&runs[0]),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pdbem_coupling::growth::history::{PathPoint, TipPath};
+
+    fn run(dir: &str, mode: &str, paths: &[(&str, &[(f64, f64)])]) -> RunPaths {
+        let history = GrowthHistory {
+            mode: mode.into(),
+            paths: paths
+                .iter()
+                .map(|(name, pts)| TipPath {
+                    name: name.to_string(),
+                    points: pts
+                        .iter()
+                        .map(|&(x, y)| PathPoint {
+                            x,
+                            y,
+                            step: 0,
+                            load: 0.0,
+                        })
+                        .collect(),
+                    ended: None,
+                })
+                .collect(),
+            ..Default::default()
+        };
+        RunPaths {
+            dir: PathBuf::from(dir),
+            history,
+            geometry: Value::Null,
+        }
+    }
+
+    #[test]
+    fn a_path_shifted_sideways_deviates_by_the_shift_over_the_shorter_reach() {
+        let a = run("a", "pd-bem", &[("crack.end", &[(0.0, 0.0), (1.0, 0.0)])]);
+        // The same tip 0.02 m above, 0.6 m long; a tip the first run does not have.
+        let b = run(
+            "b",
+            "full-pd",
+            &[
+                ("crack.end", &[(0.0, 0.02), (0.3, 0.02), (0.6, 0.02)]),
+                ("other.end", &[(0.0, 0.0), (0.1, 0.0)]),
+            ],
+        );
+        let (devs, warnings) = deviations(&[a, b]);
+        assert_eq!(devs.len(), 1);
+        assert_eq!(devs[0].run, "full-pd (b)");
+        assert!((devs[0].deviation - 0.02).abs() < 1e-9, "{devs:?}");
+        assert!((devs[0].reach - 0.6).abs() < 0.03, "{devs:?}");
+        assert_eq!(warnings.len(), 1, "{warnings:?}");
+        assert!(warnings[0].contains("other.end"));
+        let t = deviation_table("pd-bem (a)", &devs);
+        assert_eq!(t.rows.len(), 1);
+        assert_eq!(t.rows[0][2], "crack.end");
+    }
 }
