@@ -181,3 +181,75 @@ fn a_window_too_large_for_a_contour_is_noted_by_check_and_run() {
     assert_eq!(s.tips.len(), 1);
     assert!(s.notes.is_empty(), "{:?}", s.notes);
 }
+
+#[test]
+fn a_window_that_leaves_a_thin_strip_of_bem_body_is_noted_by_check_and_run() {
+    // a/W = 0.8: the tip is 2 m from the bottom edge; a 3.6 m window centred on it leaves
+    // a 0.2 m strip of BEM body under it (0.056 of its side, under the quarter side the
+    // coupling needs to converge reliably).
+    let thin = case(
+        "coupled_sent_a8",
+        &[
+            ("coupling.side", "3.6"),
+            ("coupling.n", "36"),
+            ("bem.element_size", "0.1"),
+        ],
+    );
+    let expect = [
+        "window 0",
+        "strip of BEM body 0.2000 m wide",
+        "0.06 of its 3.6000 m side",
+    ];
+    let f = pdbem::setup::footprint::of(&thin).unwrap();
+    assert!(
+        f.describe()
+            .iter()
+            .any(|l| expect.iter().all(|p| l.contains(p))),
+        "{:?}",
+        f.describe()
+    );
+    // The run stalls at a residual of 1 (5 s) and its error names the strip as the cause.
+    let Err(e) = pdbem::run_coupled::solve(&thin) else {
+        panic!("the coupling converged on a 0.2 m strip");
+    };
+    let msg = format!("{e:#}");
+    assert!(
+        msg.contains("likely cause") && expect.iter().all(|p| msg.contains(p)),
+        "{msg}"
+    );
+    // Against the edge (side 4 m, the window's lower side on the bottom edge), no note.
+    let flush = case(
+        "coupled_sent_a8",
+        &[
+            ("coupling.side", "4.0"),
+            ("coupling.n", "40"),
+            ("bem.element_size", "0.1"),
+        ],
+    );
+    let f = pdbem::setup::footprint::of(&flush).unwrap();
+    assert!(
+        f.notes.iter().all(|n| !n.contains("strip")),
+        "{:?}",
+        f.notes
+    );
+}
+
+#[test]
+fn the_scene_notes_reach_the_summary() {
+    // A bond-based PD window under a BEM body of nu = 0.3: the scene notes the ratio the
+    // PD part runs with, and the run's summary keeps that note first.
+    let mut scene = case("coupled_sent_a8", &[("material.nu", "0.3")]);
+    scene.note_inert_fields();
+    assert!(
+        scene.notes.iter().any(|n| n.contains("material.nu = 0.3")),
+        "{:?}",
+        scene.notes
+    );
+    let mut s = RunSummary::default();
+    review(&scene, &mut s);
+    assert!(
+        s.notes[0].starts_with("scene: material.nu = 0.3"),
+        "{:?}",
+        s.notes
+    );
+}

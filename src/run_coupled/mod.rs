@@ -50,8 +50,17 @@ pub struct CoupledOutcome {
 
 /// Solves a prepared setup.
 pub fn solve_setup(mut setup: CoupledSetup) -> Result<CoupledOutcome> {
-    let (solution, info) =
-        pdbem_coupling::solve(&mut setup.problem, &setup.params).context("coupled solve")?;
+    let (solution, info) = match pdbem_coupling::solve(&mut setup.problem, &setup.params) {
+        Ok(r) => r,
+        // A thin strip of BEM body under a window is the likely cause of a stall: say so.
+        Err(e) if !setup.notes.is_empty() => {
+            return Err(anyhow::Error::new(e).context(format!(
+                "coupled solve (likely cause: {})",
+                setup.notes.join("; ")
+            )))
+        }
+        Err(e) => return Err(anyhow::Error::new(e).context("coupled solve")),
+    };
     Ok(CoupledOutcome {
         setup,
         solution,
@@ -164,7 +173,14 @@ pub fn summarize(scene: &Scene, out: &CoupledOutcome) -> Result<RunSummary> {
         elements: Some(pb.mesh.len()),
         tips,
         cracks,
-        notes: info.notes.iter().cloned().chain(notes).collect(),
+        notes: out
+            .setup
+            .notes
+            .iter()
+            .chain(&info.notes)
+            .cloned()
+            .chain(notes)
+            .collect(),
         ..Default::default()
     };
     summary.extra.insert("pd_nodes".into(), json!(pd_nodes));

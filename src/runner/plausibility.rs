@@ -17,7 +17,10 @@
 //! 6. sets every tip's energy release rate $G = (K_I^2 + K_{II}^2) / E'$ from its
 //!    reported K and notes a tip whose contour J-integral (computed from the solved
 //!    field alone) differs from it by more than [`J_G_DISAGREEMENT`] of G: in linear
-//!    elastic fracture mechanics $J = G$ on any contour around the tip.
+//!    elastic fracture mechanics $J = G$ on any contour around the tip;
+//! 7. puts the scene's own notes first ([`Scene::notes`]: fields no solver reads, e.g.
+//!    a Poisson ratio the bond-based PD model cannot take), so `summary.json` keeps them
+//!    and not only the terminal.
 
 use serde_json::Value;
 
@@ -73,6 +76,8 @@ pub fn review(scene: &Scene, summary: &mut RunSummary) {
     }
     notes.extend(summary.tips.iter().filter_map(j_against_g));
     summary.notes.extend(notes);
+    let scene_notes = scene.notes.iter().map(|n| format!("scene: {n}"));
+    summary.notes.splice(0..0, scene_notes);
 }
 
 /// K_eq = sqrt(K_I^2 + K_II^2).

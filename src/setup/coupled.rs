@@ -49,6 +49,8 @@ pub struct CoupledSetup {
     pub tips: Vec<WindowTip>,
     /// Load factor the conditions were scaled by.
     pub factor: f64,
+    /// Notes on the set-up ([`thin_strip_notes`]).
+    pub notes: Vec<String>,
 }
 
 /// Builds the coupled problem of `scene` (validated, with `pd` and `coupling`); a body
@@ -71,6 +73,7 @@ pub fn prepare(scene: &Scene) -> Result<CoupledSetup> {
         windows: specs,
         pd: pd_settings(scene, pd)?,
     };
+    let notes = thin_strip_notes(&layout);
     let outer_loop = layout.outline.clone();
     let built = pdbem_coupling::build(&layout, |_, w| {
         outer_conditions(scene, &outer_loop, w, factor)
@@ -94,7 +97,34 @@ pub fn prepare(scene: &Scene) -> Result<CoupledSetup> {
         params: params_of(co, pd),
         tips,
         factor,
+        notes,
     })
+}
+
+/// Notes on windows that leave a strip of BEM body thinner than a quarter of their side
+/// between a side and the outline (`pdbem_coupling::growth::relocate::MIN_STRIP`): there
+/// the Dirichlet-Neumann iteration can stall (docs/growth_modes.md, the tension plate's
+/// window stalled at a residual of 1 for strips of 0.27-0.4 m of a 2 m side).
+pub fn thin_strip_notes(layout: &Layout) -> Vec<String> {
+    let outline = &layout.outline.points;
+    layout
+        .windows
+        .iter()
+        .enumerate()
+        .flat_map(|(i, w)| {
+            pdbem_coupling::growth::relocate::thin_strips(w, outline)
+                .into_iter()
+                .map(move |(strip, side)| {
+                    format!(
+                        "window {i} (centre ({:.4}, {:.4})) leaves a strip of BEM body {strip:.4} m wide ({:.2} of its {side:.4} m side) between a side and the outline: the coupling iteration can stall on strips under a quarter side; place the window against that edge or at least {:.4} m from it",
+                        w.center.x,
+                        w.center.y,
+                        strip / side,
+                        0.25 * side
+                    )
+                })
+        })
+        .collect()
 }
 
 /// The closed polygons (outline and holes) a windowed tip's interaction-integral contour

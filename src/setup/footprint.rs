@@ -102,7 +102,9 @@ pub fn of(scene: &Scene) -> Result<Footprint> {
             for w in &p.windows {
                 add_pd(&mut f, &w.model);
             }
-            f.notes = super::coupled::tips_without_contour(scene, &setup);
+            f.notes = setup.notes.clone();
+            f.notes
+                .extend(super::coupled::tips_without_contour(scene, &setup));
         }
         Mode::Growth => match scene.growth.as_ref().map(|g| g.mode).unwrap_or_default() {
             GrowthMode::BemOnly => {
@@ -119,6 +121,7 @@ pub fn of(scene: &Scene) -> Result<Footprint> {
             }
             GrowthMode::PdBem => {
                 let input = super::growth::input(scene)?;
+                f.notes = super::coupled::thin_strip_notes(&input.setup.layout);
                 let growth = input.growth()?;
                 let p = growth.problem();
                 let bcs = input

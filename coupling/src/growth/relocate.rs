@@ -48,6 +48,31 @@ fn snap(v: V2, e1: V2, e2: V2, dx: f64) -> V2 {
 /// between 0.15 and 0.225 sides, so a quarter side keeps a margin.
 pub const MIN_STRIP: f64 = 0.25;
 
+/// The strips of BEM body thinner than [`MIN_STRIP`] sides that the window `spec` leaves
+/// between one of its sides and the outline's bounding box in the window frame: `(width
+/// (m), side (m))` per thin strip; empty when none is.
+pub fn thin_strips(spec: &WindowSpec, outline: &[V2]) -> Vec<(f64, f64)> {
+    let (s, c) = spec.angle.sin_cos();
+    let mut out = Vec::new();
+    for (e, n) in [(V2::new(c, s), spec.nx), (V2::new(-s, c), spec.ny)] {
+        let side = n as f64 * spec.dx;
+        let (lo, hi) = outline
+            .iter()
+            .map(|p| p.dot(&e))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                (lo.min(v), hi.max(v))
+            });
+        let x = spec.center.dot(&e);
+        let tol = 1e-9 * side;
+        for strip in [x - 0.5 * side - lo, hi - x - 0.5 * side] {
+            if strip > tol && strip < MIN_STRIP * side {
+                out.push((strip, side));
+            }
+        }
+    }
+    out
+}
+
 /// Where the window `spec` may go instead of leaving a strip thinner than
 /// [`MIN_STRIP`] sides between one of its sides and the outline's bounding box in the
 /// window frame: first against the outline, then away from it to at least that strip. Empty
