@@ -207,6 +207,7 @@ pub fn build_problem(
         material: s.material,
         // Windows carry no scene tractions (the BEM loads them by displacement).
         traction: pdbem_pd::TractionLoad::BodyForceLayer,
+        refine_zones: Vec::new(),
     }
 }
 
