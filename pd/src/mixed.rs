@@ -38,7 +38,17 @@
 //! `s_scale` $= \sqrt{\delta/\delta_o}$, $\delta_o$ the smallest horizon among its owners
 //! (the finer half-bond holds the larger energy density). Force passes report the
 //! normalised stretch `s / s_scale`, so every comparison with `s0` stays right. The tanh
-//! law, the state-based model and explicit dynamics take uniform grids only (validated).
+//! law, transfer-function tractions and explicit dynamics take uniform grids only
+//! (validated).
+//!
+//! **State-based model** ([`crate::state_based`], seed 004 Eqs. 3-8 and 13): every node
+//! is calibrated on its own family against the full lattice family of its own spacing
+//! (the corrections as on a uniform grid), and its energy coefficients `a_k`,
+//! `beta_kj` carry its relative volume $V_k/V_{ref}$, so that
+//! $\Pi = V_{ref}\sum_k (a_k\theta_k^2 + \ldots)$ is $\sum_k V_k W_k$; the pair
+//! force on $k$ is then each half with its own partial volume,
+//! $\mathrm{vf}_{kj}\,\tau_{kj} + \mathrm{vf}_{jk}\,\tau_{jk}$ (zero for a half whose
+//! owner's horizon misses the other node), the dual-horizon force of seed 004 Eq. 13.
 
 use serde::{Deserialize, Serialize};
 
@@ -46,7 +56,7 @@ use crate::bonds::{partial_volume, Bonds, GROUP_END};
 use crate::error::PdError;
 use crate::geometry::{dist_point_segment, rotate, segment_crosses_polyline, P2};
 use crate::grid::Grid;
-use crate::problem::{Failure, Hole, PdMaterial, PdProblem, Plane, Region};
+use crate::problem::{Failure, Hole, PdProblem, Plane, Region};
 use crate::traction::TractionLoad;
 
 /// Largest refinement level of a zone.
@@ -103,9 +113,7 @@ pub fn validate_zones(p: &PdProblem) -> Result<(), PdError> {
             ));
         }
     }
-    let unsupported = if matches!(p.material, PdMaterial::StateBased { .. }) {
-        Some("the state-based model on mixed spacing is not implemented; use material Pmb")
-    } else if matches!(p.failure, Failure::Degradation { .. }) {
+    let unsupported = if matches!(p.failure, Failure::Degradation { .. }) {
         Some("the tanh degradation law on mixed spacing is not implemented; use a critical stretch or the fracture energy")
     } else if p.traction == TractionLoad::TransferFunction {
         Some("transfer-function tractions need a uniform grid; use the body-force layer")
