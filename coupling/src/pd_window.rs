@@ -223,7 +223,7 @@ pub fn build_problem(
         traction: pdbem_pd::TractionLoad::BodyForceLayer,
         refine_zones: s
             .refine
-            .map(|r| refine_zones(p2(tip_of(w, cracks)), r))
+            .map(|r| refine_zones(p2(zone_centre(w, tip_of(w, cracks), r)), r))
             .unwrap_or_default(),
     }
 }
@@ -240,6 +240,37 @@ pub fn refine_zones(centre: [f64; 2], r: WindowRefine) -> Vec<RefineZone> {
             levels: l,
         })
         .collect()
+}
+
+/// Extent of the split cells of zone `r` from its centre along window `w`'s axes (m):
+/// the zone is axis-aligned, the window may be rotated; cells reach dx/2 past their
+/// centres.
+fn zone_reach(w: &Window, half_size: f64) -> f64 {
+    let (sa, ca) = w.spec.angle.sin_cos();
+    half_size * (ca.abs() + sa.abs()) + 0.5 * w.spec.dx
+}
+
+/// Centre of the refinement zone of window `w` for the tip `tip`: the cell corner nearest
+/// the tip, moved along the window's axes (if needed) so that the zone keeps two horizons
+/// from every side (a window pushed against the outline holds its tip off centre).
+pub fn zone_centre(w: &Window, tip: V2, r: WindowRefine) -> V2 {
+    let m = zone_reach(w, r.half_size) + 2.0 * w.delta();
+    let (lx, ly) = w.size();
+    // Snapped to the nearest cell corner: the split cells are then symmetric about the
+    // lattice lines through it, so a crack running along one (a symmetric problem) meets a
+    // symmetric grid; a zone centred off the line by the tracked tip's scatter was
+    // measured to pull the PD-BEM path of growth_tension_edge 0.26 m aside.
+    let q = w.to_local(tip) / w.spec.dx;
+    let q = V2::new(q.x.round(), q.y.round()) * w.spec.dx;
+    let clamp = |v: f64, l: f64| {
+        if 2.0 * m >= l {
+            0.5 * l
+        } else {
+            v.clamp(m, l - m)
+        }
+    };
+    let (e1, e2) = w.axes();
+    w.corners()[0] + clamp(q.x, lx) * e1 + clamp(q.y, ly) * e2
 }
 
 /// The crack tip window `w` serves: the end of its PD pre-cracks deepest inside the window
@@ -271,8 +302,7 @@ pub fn check_refine_zone(w: &Window, problem: &PdProblem) -> Result<(), String> 
         return Ok(());
     };
     let (sa, ca) = w.spec.angle.sin_cos();
-    // Extent of the split cells along the window's axes (the zone is axis-aligned).
-    let reach = z.half_size * (ca.abs() + sa.abs()) + 0.5 * w.spec.dx;
+    let reach = zone_reach(w, z.half_size);
     let need = reach + 2.0 * w.delta();
     let c = V2::new(z.centre[0], z.centre[1]);
     let room = (0..4)
@@ -341,6 +371,34 @@ pub fn traction_problem(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn refine_zone_follows_the_tip_and_keeps_two_horizons_inside() {
+        let w = crate::growth::fixtures::window(10.0, 5.0);
+        let r = WindowRefine {
+            half_size: 0.1,
+            levels: 2,
+        };
+        // dx = 0.05, delta = 0.15075: the zone's cells reach 0.125 from its centre, which
+        // must stay 0.4265 from every side of [9.5, 10.5]^2.
+        // Snapped to the cell corner (10.05, 5.05) nearest the tip.
+        let c = zone_centre(&w, V2::new(10.06, 5.04), r);
+        assert!((c - V2::new(10.05, 5.05)).norm() < 1e-12);
+        let c = zone_centre(&w, V2::new(9.6, 5.0), r);
+        assert!((c.x - (9.5 + 0.4265)).abs() < 1e-9 && (c.y - 5.0).abs() < 1e-12);
+        let zones = refine_zones([c.x, c.y], r);
+        assert_eq!(zones.len(), 2);
+        assert_eq!((zones[0].levels, zones[1].levels), (1, 2));
+        assert!((zones[1].half_size - 0.05).abs() < 1e-15);
+        let mut p = PdProblem {
+            refine_zones: zones,
+            ..Default::default()
+        };
+        assert!(check_refine_zone(&w, &p).is_ok());
+        p.refine_zones[0].centre = [9.6, 5.0];
+        let e = check_refine_zone(&w, &p).unwrap_err();
+        assert!(e.contains("half_size at most"), "{e}");
+    }
 
     #[test]
     fn bulk_factor_measures_the_discrete_horizon_sum() {

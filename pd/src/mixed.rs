@@ -8,7 +8,9 @@
 //! fictitious nodes stay coarse. Node `k` owns $V_k = \Delta_k^2 t$ and the horizon
 //! $\delta_k = m\Delta_k$; its family is $H_k = \{j : |x_j - x_k| \le \delta_k\}$.
 //!
-//! **Bonds.** Every pair with $j \in H_k$ or $k \in H_j$ is stored in both directions;
+//! **Bonds.** Every node lies on the lattice of dx/8 (offset dx/2), so bond vectors are
+//! exact lattice vectors and rows take the mirror-group order of [`crate::bonds`]: a
+//! mirror-symmetric problem stays bitwise symmetric, as on a uniform grid. Every pair with $j \in H_k$ or $k \in H_j$ is stored in both directions;
 //! direction $k \to j$ carries the partial volume of $j$'s cell in $k$'s horizon,
 //! `vol_factor` $= [j\in H_k]\, v_{kj} V_j / V_{ref}$ (seed 002 Eq. 16 with $j$'s cell
 //! side; $V_{ref} = \Delta x^2 t$ the coarse volume), so the damage of seed 002 Eq. 8
@@ -244,13 +246,18 @@ pub fn build_bonds(grid: &Grid, region: &Region) -> Bonds {
     };
     for (k, row) in rows.iter().enumerate() {
         let dk = m * grid.node_dx(k);
-        for &j in row {
+        let mut row: Vec<(u32, i64, i64)> = row
+            .iter()
+            .map(|&j| {
+                let (a, c) = lattice_offset(grid, k, j as usize);
+                (j, a, c)
+            })
+            .collect();
+        row.sort_unstable_by_key(|&(_, a, c)| (c.abs(), a.abs(), c < 0, a < 0));
+        for (n, &(j, a, c)) in row.iter().enumerate() {
             let j = j as usize;
             let dj = m * grid.node_dx(j);
-            let xi = [
-                grid.pos[j][0] - grid.pos[k][0],
-                grid.pos[j][1] - grid.pos[k][1],
-            ];
+            let xi = exact_offset(grid, a, c);
             let l = xi[0].hypot(xi[1]);
             let in_k = l <= dk * (1.0 + 1e-9);
             let in_j = l <= dj * (1.0 + 1e-9);
@@ -265,12 +272,17 @@ pub fn build_bonds(grid: &Grid, region: &Region) -> Bonds {
                 (true, false) => dk,
                 _ => dj,
             };
+            let last = match row.get(n + 1) {
+                Some(&(_, a2, c2)) => (a2.abs(), c2.abs()) != (a.abs(), c.abs()),
+                None => true,
+            };
+            let slot = (a < 0) as u8 | (((c < 0) as u8) << 1);
             b.nbr.push(j as u32);
             b.xi.push(xi);
             b.inv_len.push(1.0 / l);
             b.vol_factor.push(vf);
             b.s_scale.push((grid.delta / owner).sqrt());
-            b.meta.push(GROUP_END);
+            b.meta.push(slot | if last { GROUP_END } else { 0 });
         }
         b.offsets.push(b.nbr.len());
     }
@@ -279,7 +291,36 @@ pub fn build_bonds(grid: &Grid, region: &Region) -> Bonds {
     b
 }
 
-/// Reverse of every directed bond (rows are sorted by neighbour).
+/// Subdivisions of dx of the lattice every node of a mixed grid lies on (offset by dx/2):
+/// children of up to [`MAX_LEVELS`] splits sit at odd multiples of dx/8 from their
+/// coarse cell's centre.
+const SUBDIV: f64 = 8.0;
+
+/// Integer offset of node `j` from node `k` on the lattice of dx / [`SUBDIV`] (grid frame).
+fn lattice_offset(grid: &Grid, k: usize, j: usize) -> (i64, i64) {
+    let d = [
+        grid.pos[j][0] - grid.pos[k][0],
+        grid.pos[j][1] - grid.pos[k][1],
+    ];
+    let l = rotate(d, -grid.angle);
+    let h = grid.dx / SUBDIV;
+    ((l[0] / h).round() as i64, (l[1] / h).round() as i64)
+}
+
+/// The exact bond vector of a lattice offset: mirror images of a bond are exact negatives
+/// of each other's components, so row sums in the group order of [`crate::bonds`] keep a
+/// mirror-symmetric problem bitwise symmetric, as on a uniform grid.
+fn exact_offset(grid: &Grid, a: i64, c: i64) -> P2 {
+    let h = grid.dx / SUBDIV;
+    let l = [a as f64 * h, c as f64 * h];
+    if grid.angle == 0.0 {
+        l
+    } else {
+        rotate(l, grid.angle)
+    }
+}
+
+/// Reverse of every directed bond.
 pub fn reverse(bonds: &Bonds) -> Vec<u32> {
     let n = bonds.offsets.len() - 1;
     let mut rev = vec![0u32; bonds.len()];
@@ -288,7 +329,8 @@ pub fn reverse(bonds: &Bonds) -> Vec<u32> {
             let j = bonds.nbr[b] as usize;
             let r = bonds.row(j);
             let p = bonds.nbr[r.clone()]
-                .binary_search(&(i as u32))
+                .iter()
+                .position(|&x| x as usize == i)
                 .expect("bonds are stored in both directions");
             rev[b] = (r.start + p) as u32;
         }
