@@ -196,6 +196,8 @@ fn window_model(
     problem: PdProblem,
     mesh: &Mesh,
 ) -> Result<WindowModel, CouplingError> {
+    crate::pd_window::check_refine_zone(&window, &problem)
+        .map_err(|r| CouplingError::pd(i, pdbem_pd::PdError::invalid("coupling.refine", r)))?;
     let mut model = PdModel::new(&problem).map_err(|e| CouplingError::pd(i, e))?;
     model.set_load_factor(1.0);
     let group = window_group(i);

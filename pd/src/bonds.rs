@@ -48,6 +48,9 @@ pub struct Bonds {
     /// Mirror-group data of each bond: slot (bits 0-1) and end of group
     /// (bit 2), see the module docs.
     pub meta: Vec<u8>,
+    /// Mixed spacing ([`crate::mixed`]): the factor of the law's critical stretch for
+    /// each bond; empty on a uniform grid (factor 1).
+    pub s_scale: Vec<f64>,
 }
 
 /// Bit of [`Bonds::meta`] marking the last bond of a mirror group.
@@ -228,6 +231,7 @@ pub fn build_bonds(grid: &Grid, region: &Region) -> Bonds {
         surface: vec![1.0; nb],
         k: vec![0.0; nb],
         meta: Vec::with_capacity(nb),
+        s_scale: Vec::new(),
     };
     for r in &rows {
         for (m, &(j, a, bb)) in r.iter().enumerate() {

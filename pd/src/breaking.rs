@@ -98,6 +98,10 @@ fn stretches(model: &PdModel) -> Vec<f64> {
                 b.xi[k][1] + (u[j][1] - u[i][1]),
             ];
             out[k] = y[0].hypot(y[1]) * b.inv_len[k] - 1.0;
+            if let Some(sc) = b.s_scale.get(k) {
+                // Mixed spacing: normalised by the pair's critical-stretch factor.
+                out[k] /= sc;
+            }
         }
     }
     out

@@ -124,9 +124,28 @@ unsafe fn node_force(
     history: History,
 ) -> ForceStats {
     match (law, history) {
-        (BondLaw::Elastic, _) => row_force(bonds, intact, s_hist, u, i, out, |_, s, _, _| (1.0, s)),
+        (BondLaw::Elastic, _) => {
+            row_force(bonds, intact, s_hist, u, i, out, |_, s, _, _, _| (1.0, s))
+        }
+        (BondLaw::Brittle { s0 }, h) if !bonds.s_scale.is_empty() => {
+            // Mixed spacing: the pair's own critical stretch; the normalised stretch is
+            // reported (crate::mixed).
+            let scale = &bonds.s_scale;
+            row_force(bonds, intact, s_hist, u, i, out, |st, s, b, ip, _| {
+                let s = s / *scale.get_unchecked(b);
+                if s >= s0 && *ip != NO_FAIL {
+                    st.growing += 1;
+                    if h == History::Update {
+                        *ip = 0;
+                        st.newly_broken += 1;
+                        return (0.0, s);
+                    }
+                }
+                (1.0, s)
+            })
+        }
         (BondLaw::Brittle { s0 }, h) => {
-            row_force(bonds, intact, s_hist, u, i, out, |st, s, ip, _| {
+            row_force(bonds, intact, s_hist, u, i, out, |st, s, _, ip, _| {
                 if s >= s0 && *ip != NO_FAIL {
                     st.growing += 1;
                     if h == History::Update {
@@ -139,7 +158,7 @@ unsafe fn node_force(
             })
         }
         (BondLaw::Degrading { s_m, s_c, beta }, h) => {
-            row_force(bonds, intact, s_hist, u, i, out, |st, s, ip, hp| {
+            row_force(bonds, intact, s_hist, u, i, out, |st, s, _, ip, hp| {
                 if *ip == NO_FAIL {
                     return (1.0, s);
                 }
@@ -164,7 +183,8 @@ unsafe fn node_force(
 }
 
 /// The bond loop of [`node_force`], monomorphised per bond law. `law`
-/// returns the factor `T` for a bond of stretch `s` (0 once it breaks).
+/// returns the factor `T` for bond `b` of stretch `s` (0 once it breaks) and the stretch
+/// to report (`s`, or `s` over the bond's scale on a mixed grid).
 #[inline(always)]
 unsafe fn row_force(
     bonds: &Bonds,
@@ -173,7 +193,7 @@ unsafe fn row_force(
     u: &[P2],
     i: usize,
     out: &mut P2,
-    mut law: impl FnMut(&mut ForceStats, f64, &mut u8, &mut f64) -> (f64, f64),
+    mut law: impl FnMut(&mut ForceStats, f64, usize, &mut u8, &mut f64) -> (f64, f64),
 ) -> ForceStats {
     let r = bonds.offsets[i]..bonds.offsets[i + 1];
     let nbr = &bonds.nbr[r.clone()];
@@ -198,9 +218,9 @@ unsafe fn row_force(
             let yy = x[1] + (uj[1] - ui[1]);
             let l = (yx * yx + yy * yy).sqrt();
             let s = l * *inv.get_unchecked(m) - 1.0;
-            let (t, s) = law(&mut st, s, ip, &mut *s_hist.add(b));
+            let (t, sr) = law(&mut st, s, b, ip, &mut *s_hist.add(b));
             if t != 0.0 || *ip != 0 {
-                smax = smax.max(s);
+                smax = smax.max(sr);
             }
             let f = *k.get_unchecked(m) * t * s / l;
             let sl = (mt & 3) as usize;

@@ -5,7 +5,8 @@
 //! the volume `V = dx^2 t` (seed 002 section 2.1: one integration point per
 //! square cell). Real nodes come first (row-major), then the fictitious
 //! nodes selected by fictitious-layer displacement conditions, depth
-//! `delta` (seed 002 Fig. 1, seed 000 section 2.3).
+//! `delta` (seed 002 Fig. 1, seed 000 section 2.3). Refinement zones split real
+//! cells into children of smaller spacing ([`crate::mixed`]).
 
 use crate::error::PdError;
 use crate::geometry::{dist_point_polygon_boundary, point_in_polygon, rotate, P2};
@@ -27,6 +28,10 @@ pub struct Grid {
     /// Grid angle (radians): the lattice directions are `R(angle) e_x`,
     /// `R(angle) e_y`.
     pub angle: f64,
+    /// Spacing of every node on a mixed grid ([`crate::mixed`]); empty on a uniform
+    /// grid (every node has `dx`). `dx`, `volume` and `delta` are then the coarse
+    /// cell's.
+    pub spacing: Vec<f64>,
 }
 
 impl Grid {
@@ -38,6 +43,23 @@ impl Grid {
     /// Whether the grid has no node.
     pub fn is_empty(&self) -> bool {
         self.pos.is_empty()
+    }
+
+    /// Whether node spacings differ (refinement zones, [`crate::mixed`]).
+    pub fn is_mixed(&self) -> bool {
+        !self.spacing.is_empty()
+    }
+
+    /// Spacing of node `i` (m).
+    #[inline]
+    pub fn node_dx(&self, i: usize) -> f64 {
+        self.spacing.get(i).copied().unwrap_or(self.dx)
+    }
+
+    /// Volume of node `i` (m^3).
+    pub fn node_volume(&self, i: usize) -> f64 {
+        let r = self.node_dx(i) / self.dx;
+        self.volume * r * r
     }
 }
 
@@ -124,14 +146,17 @@ pub fn build_grid(p: &PdProblem) -> Result<Grid, PdError> {
     }
     let n_real = real.len();
     real.extend(fict);
-    Ok(Grid {
+    let mut g = Grid {
         pos: real,
         n_real,
         dx,
         volume: dx * dx * p.thickness,
         delta,
         angle,
-    })
+        spacing: Vec::new(),
+    };
+    crate::mixed::refine_grid(&mut g, p)?;
+    Ok(g)
 }
 
 #[cfg(test)]

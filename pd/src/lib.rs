@@ -10,6 +10,8 @@
 //! - [`state_based`]: ordinary state-based PD (seed 004 section 2.1), any Poisson
 //!   ratio, chosen by [`PdProblem::material`]; the solvers call the model-agnostic
 //!   methods of [`PdModel`] (`new_tangent`, `assemble_tangent`, ...).
+//! - [`mixed`]: mixed-spacing grids (refinement zones) with dual-horizon PMB forces
+//!   (seed 004 section 2.2) in [`PdModel`] and every solver.
 //! - [`refine`]: adaptive particle refinement on dual horizons (seed 004 section 3).
 //! - [`traction`]: tractions on the boundary surface through seed 001's
 //!   transfer functions (the alternative to the body-force layer).
@@ -51,6 +53,7 @@ pub mod geometry;
 pub mod grid;
 pub mod material;
 pub mod measure;
+pub mod mixed;
 pub mod model;
 pub mod problem;
 pub mod reaction;

@@ -4,7 +4,9 @@
 //!
 //! Nodes `0..n_real` are real, `n_real..n` fictitious (virtual). Forces are
 //! force densities (N/m^3) inside the solvers; public force getters return
-//! Newtons (density times the node volume).
+//! Newtons (density times the node volume). On a mixed grid ([`crate::mixed`]) every
+//! per-node force is per reference (coarse) volume `grid.volume`, so the same
+//! conversion gives newtons.
 
 use std::ops::Range;
 
@@ -59,18 +61,27 @@ impl PdModel {
     pub fn new(p: &PdProblem) -> Result<Self, PdError> {
         p.validate()?;
         let grid = build_grid(p)?;
-        let mut bonds = build_bonds(&grid, &p.region);
+        let mixed = grid.is_mixed();
+        let mut bonds = if mixed {
+            crate::mixed::build_bonds(&grid, &p.region)
+        } else {
+            build_bonds(&grid, &p.region)
+        };
         let c = micromodulus(p.plane, p.youngs_modulus, p.thickness, grid.delta);
         let pmb = p.material == PdMaterial::Pmb;
         if p.surface_correction && pmb {
-            apply_surface_correction(&mut bonds, c, grid.volume, p.youngs_modulus, p.plane);
+            if mixed {
+                crate::mixed::surface_correction(&mut bonds, &grid, c, p.youngs_modulus, p.plane);
+            } else {
+                apply_surface_correction(&mut bonds, c, grid.volume, p.youngs_modulus, p.plane);
+            }
         }
-        bonds.set_coefficients(c, grid.volume);
+        set_coefficients(&mut bonds, &grid, c);
         let mut intact = vec![1u8; bonds.len()];
         let cut = cut_cracks(&grid, &bonds, &p.cracks, &mut intact);
         if p.crack_face_correction && cut > 0 && pmb {
             apply_crack_face_correction(&mut bonds, &intact);
-            bonds.set_coefficients(c, grid.volume);
+            set_coefficients(&mut bonds, &grid, c);
         }
         let osb = state_based::for_problem(p, &grid, &mut bonds, &intact);
         if !p.cracks.is_empty() && cut == 0 {
@@ -492,6 +503,16 @@ impl PdModel {
         self.compute_forces(History::Frozen);
         self.u = saved;
         self.force.clone()
+    }
+}
+
+/// The bond coefficients `k` of a uniform grid (`c v V G`) or a mixed one
+/// ([`crate::mixed::set_coefficients`]).
+fn set_coefficients(bonds: &mut Bonds, grid: &Grid, c: f64) {
+    if grid.is_mixed() {
+        crate::mixed::set_coefficients(bonds, grid, c);
+    } else {
+        bonds.set_coefficients(c, grid.volume);
     }
 }
 

@@ -295,6 +295,9 @@ pub struct PdProblem {
     pub grid_origin: Option<P2>,
     /// Constitutive model; default [`PdMaterial::Pmb`].
     pub material: PdMaterial,
+    /// Zones whose cells are split into finer ones, with dual-horizon forces between
+    /// the sizes ([`crate::mixed`]); default none (a uniform grid).
+    pub refine_zones: Vec<crate::mixed::RefineZone>,
 }
 
 impl Default for PdProblem {
@@ -315,6 +318,7 @@ impl Default for PdProblem {
             grid_angle: 0.0,
             grid_origin: None,
             material: PdMaterial::Pmb,
+            refine_zones: Vec::new(),
         }
     }
 }
@@ -479,7 +483,7 @@ impl PdProblem {
                 ));
             }
         }
-        Ok(())
+        crate::mixed::validate_zones(self)
     }
 }
 

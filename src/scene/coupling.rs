@@ -33,6 +33,21 @@ pub struct Coupling {
     /// Which side takes which interface condition. Default `DisplacementToPd`.
     #[serde(default)]
     pub ordering: CouplingOrdering,
+    /// A zone of finer cells centred on the crack tip of every window (coarse at the
+    /// interface, fine at the tip; dual horizons between the sizes). Default none.
+    #[serde(default)]
+    pub refine: Option<WindowRefine>,
+}
+
+/// The refinement zone of the windows (`pdbem_pd::mixed`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WindowRefine {
+    /// Half the side of the square zone (m), > 0: window cells whose centres lie within it
+    /// are split. The zone must keep two horizons from every window side.
+    pub half_size: f64,
+    /// Splits per cell: 1 (4 children, dx / 2) or 2 (16 children, dx / 4).
+    pub levels: u32,
 }
 
 impl Coupling {

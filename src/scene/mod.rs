@@ -56,7 +56,7 @@ pub use body::{Body, Hole, NamedEdge, Outline, Patch, Pt};
 pub use boundary::{BoundaryCondition, Component, Load};
 pub use coupling::{
     Coupling, CouplingOrdering, DisplacementMap, Growth, GrowthMode, OverstrainAction, Placement,
-    Relaxation,
+    Relaxation, WindowRefine,
 };
 pub use crack::{Crack, CrackForm, Faces};
 pub use error::{Issue, SceneError};

@@ -309,6 +309,12 @@ pub fn pd_settings(scene: &Scene, pd: &ScenePd) -> Result<PdSettings> {
         // The surface correction already includes the bulk factor.
         bulk_correction: !pd.surface_correction,
         crack_face_correction: pd.crack_face_correction.unwrap_or(true),
+        refine: scene.coupling.as_ref().and_then(|c| c.refine).map(|r| {
+            pdbem_coupling::pd_window::WindowRefine {
+                half_size: r.half_size,
+                levels: r.levels,
+            }
+        }),
     })
 }
 

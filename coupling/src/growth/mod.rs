@@ -252,6 +252,7 @@ pub(crate) mod fixtures {
                 bulk_correction: false,
                 material: pdbem_pd::PdMaterial::Pmb,
                 crack_face_correction: false,
+                refine: None,
             },
         };
         GrowthSetup {

@@ -182,6 +182,7 @@ mod tests {
                 bulk_correction: false,
                 material: pdbem_pd::PdMaterial::Pmb,
                 crack_face_correction: false,
+                refine: None,
             },
         };
         let body = Body {

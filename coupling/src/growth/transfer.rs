@@ -3,7 +3,8 @@
 //!
 //! Every node of the new window (real and virtual) takes its displacement from
 //! 1. the node of an old window at the same position (relocations move by whole lattice
-//!    vectors, so shared nodes coincide): its displacement, and for bonds whose two ends
+//!    vectors, so shared nodes coincide; positions are matched on the dx/8 lattice, which
+//!    holds the children of refined windows too): its displacement, and for bonds whose two ends
 //!    were real nodes of that old window, its bond state (broken flag, stretch history) on
 //!    top of the pre-crack cut of the new window; an old virtual node carries the BEM
 //!    displacement it was last given;
@@ -39,9 +40,15 @@ pub struct TransferInfo {
     pub detached_nodes: usize,
 }
 
-/// Lattice index of the old windows' nodes.
+/// Subdivisions of dx in the exact-match key: the nodes of refined windows (children of
+/// up to two splits, `pdbem_pd::mixed`) sit on the lattice of dx/8 offset by dx/2.
+const KEY_SUBDIV: f64 = 8.0;
+
+/// Lattice index of the old windows' nodes: exact positions on the dx/8 lattice, and the
+/// dx lattice for near matches (one node per cell).
 struct OldIndex<'a> {
     windows: &'a [WindowModel],
+    exact: Vec<HashMap<(i64, i64), usize>>,
     maps: Vec<HashMap<(i64, i64), usize>>,
 }
 
@@ -66,26 +73,49 @@ impl<'a> OldIndex<'a> {
                     .collect()
             })
             .collect();
-        OldIndex { windows, maps }
+        let exact = windows
+            .iter()
+            .map(|w| {
+                w.model
+                    .positions()
+                    .iter()
+                    .enumerate()
+                    .map(|(k, p)| (Self::key_at(w, V2::new(p[0], p[1]), KEY_SUBDIV).0, k))
+                    .collect()
+            })
+            .collect();
+        OldIndex {
+            windows,
+            exact,
+            maps,
+        }
     }
 
     /// Rounded lattice index of `p` in window `w`'s grid and the rounding error (in dx).
     fn key(w: &WindowModel, p: V2) -> ((i64, i64), f64) {
-        let q = w.window.to_local(p) / w.window.spec.dx - V2::new(0.5, 0.5);
+        Self::key_at(w, p, 1.0)
+    }
+
+    /// [`Self::key`] on the lattice of dx / `sub`, offset by dx/2 (rounding error in dx).
+    fn key_at(w: &WindowModel, p: V2, sub: f64) -> ((i64, i64), f64) {
+        let q = (w.window.to_local(p) / w.window.spec.dx - V2::new(0.5, 0.5)) * sub;
         let (i, j) = (q.x.round(), q.y.round());
-        ((i as i64, j as i64), (q.x - i).hypot(q.y - j))
+        ((i as i64, j as i64), (q.x - i).hypot(q.y - j) / sub)
     }
 
     fn find(&self, p: V2) -> Match {
         let mut near = Match::None;
         for (wi, w) in self.windows.iter().enumerate() {
+            let (k, err) = Self::key_at(w, p, KEY_SUBDIV);
+            if err < 1e-6 {
+                if let Some(&node) = self.exact[wi].get(&k) {
+                    return Match::Exact(wi, node);
+                }
+            }
             let (k, err) = Self::key(w, p);
             let Some(&node) = self.maps[wi].get(&k) else {
                 continue;
             };
-            if err < 1e-6 {
-                return Match::Exact(wi, node);
-            }
             if err < 0.75 && matches!(near, Match::None) {
                 near = Match::Near(wi, node);
             }
@@ -193,5 +223,72 @@ fn copy_bond_states(
             }
             st.s_hist[b] = st.s_hist[b].max(s_old.s_hist[b_old]);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::growth::fixtures::plate_setup;
+    use crate::pd_window::WindowRefine;
+    use crate::setup::build;
+
+    /// The window (dx = 0.05, side 1 m) on the tip of a crack from the top edge to `tip`,
+    /// refined at the tip by `refine`.
+    fn windows(refine: Option<WindowRefine>, tip: V2) -> Vec<WindowModel> {
+        let mut s = plate_setup(
+            (20.0, 10.0),
+            vec![],
+            vec![vec![V2::new(10.0, 10.0), tip]],
+            None,
+        );
+        s.layout.pd.refine = refine;
+        build(&s.layout, |_, _| Vec::new()).unwrap().windows
+    }
+
+    #[test]
+    fn refined_windows_match_by_position() {
+        let r = Some(WindowRefine {
+            half_size: 0.15,
+            levels: 2,
+        });
+        let old = windows(r, V2::new(10.0, 8.0));
+        let index = OldIndex::new(&old);
+        let exact = |w: &WindowModel| {
+            w.model
+                .positions()
+                .iter()
+                .filter(|p| match index.find(V2::new(p[0], p[1])) {
+                    Match::Exact(0, k) => old[0].model.positions()[k] == **p,
+                    _ => false,
+                })
+                .count()
+        };
+        // The same window rebuilt: every node (children included) matches exactly.
+        let same = windows(r, V2::new(10.0, 8.0));
+        assert!(same[0].model.n_real() > 400);
+        assert_eq!(exact(&same[0]), same[0].model.n_nodes());
+        // Moved by 5 dx with the zone on the new tip: the coarse nodes they share and the
+        // children of the cells split in both match exactly, the rest of the overlap by
+        // its nearest old node.
+        let moved = windows(r, V2::new(10.0, 7.75));
+        let children_exact = moved[0]
+            .model
+            .positions()
+            .iter()
+            .enumerate()
+            .filter(|(k, p)| {
+                moved[0].model.grid().node_dx(*k) < 0.05
+                    && matches!(index.find(V2::new(p[0], p[1])), Match::Exact(..))
+            })
+            .count();
+        assert!(children_exact > 0);
+        let near = moved[0]
+            .model
+            .positions()
+            .iter()
+            .filter(|p| matches!(index.find(V2::new(p[0], p[1])), Match::Near(..)))
+            .count();
+        assert!(near > 0 && exact(&moved[0]) > 200);
     }
 }

@@ -64,6 +64,7 @@ pub fn window(angle_deg: f64) -> (pdbem_bem::Mesh, WindowModel) {
             bulk_correction: true,
             material: pdbem_pd::PdMaterial::Pmb,
             crack_face_correction: false,
+            refine: None,
         },
     };
     let built = build(&layout, |_, _| Vec::new()).unwrap();

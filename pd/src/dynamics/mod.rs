@@ -232,6 +232,12 @@ fn positive(field: &str, v: f64) -> Result<(), PdError> {
 /// work. The errors name the field (`density`, `end_time`, `dt`, ...).
 pub fn plan(model: &PdModel, p: &ExplicitParams) -> Result<Plan, PdError> {
     positive("density", p.density)?;
+    if model.grid.is_mixed() {
+        return Err(PdError::invalid(
+            "refine_zones",
+            "explicit dynamics needs a uniform grid (lumped masses of the coarse volume); use pd::refine for dynamics on mixed sizes",
+        ));
+    }
     let dt_c = critical_time_step(model, p.density);
     let bound = format!(
         "the stable step dt_c = {dt_c:.4e} s (sqrt(4 rho / max row sum of the stiffness), rho = {} kg/m^3)",

@@ -86,6 +86,7 @@ pub fn internal_forces(
     let s_hist = RowPtr(state.s_hist.as_mut_ptr());
     let tfac = RowPtr(sb.tfac.as_mut_ptr());
     let omega = &sb.omega;
+    let scale = &bonds.s_scale;
     let stats = sb
         .theta
         .par_iter_mut()
@@ -105,9 +106,11 @@ pub fn internal_forces(
                     continue;
                 }
                 let (s, _, _) = stretch(bonds, u, k, b);
-                let f = factor(law, history, s, flag, hist, &mut st);
+                // Mixed spacing: the pair's own critical stretch (crate::mixed).
+                let sn = scale.get(b).map_or(s, |c| s / c);
+                let f = factor(law, history, sn, flag, hist, &mut st);
                 if f != 0.0 || *flag != 0 {
-                    smax = smax.max(s);
+                    smax = smax.max(sn);
                 }
                 *t = f;
                 sum += omega[b] * f * s * bonds.vol_factor[b];
@@ -118,6 +121,7 @@ pub fn internal_forces(
         })
         .reduce(ForceStats::default, merge);
     let sb = &*sb;
+    let mixed = !bonds.s_scale.is_empty();
     out.par_iter_mut()
         .enumerate()
         .with_min_len(64)
@@ -128,7 +132,12 @@ pub fn internal_forces(
                     return [0.0; 2];
                 }
                 let (s, l, y) = stretch(bonds, u, k, b);
-                let c = t * volume * bonds.vol_factor[b] * pair_scalar(sb, bonds, k, b, s) / l;
+                let c = if mixed {
+                    let j = bonds.nbr[b] as usize;
+                    t * volume * pair_mixed(sb, bonds, k, b, s, sb.theta[k], sb.theta[j]) / l
+                } else {
+                    t * volume * bonds.vol_factor[b] * pair_scalar(sb, bonds, k, b, s) / l
+                };
                 [c * y[0], c * y[1]]
             });
         });
@@ -151,6 +160,34 @@ pub(super) fn pair_base(
     let r = sb.rev[b] as usize;
     2.0 * (sb.a[k] * sb.omega[b] * th_k + sb.a[j] * sb.omega[r] * th_j) * bonds.inv_len[b]
         + (sb.beta[b] + sb.beta[r]) * s
+}
+
+/// Mixed spacing ([`crate::mixed`]; `a` and `beta` hold the owner's relative volume):
+/// each half of the pair with its own partial volume, seed 004 Eq. 13,
+/// $\mathrm{vf}_{kj}(2a_k\omega_{kj}\theta_k/|\xi| + \beta_{kj}s) +
+/// \mathrm{vf}_{jk}(2a_j\omega_{jk}\theta_j/|\xi| + \beta_{jk}s)$ per unit factor `T`.
+#[inline(always)]
+pub(super) fn pair_mixed(
+    sb: &StateBased,
+    bonds: &Bonds,
+    k: usize,
+    b: usize,
+    s: f64,
+    th_k: f64,
+    th_j: f64,
+) -> f64 {
+    let j = bonds.nbr[b] as usize;
+    let r = sb.rev[b] as usize;
+    let (vb, vr) = (bonds.vol_factor[b], bonds.vol_factor[r]);
+    vb * (2.0 * sb.a[k] * sb.omega[b] * th_k * bonds.inv_len[b] + sb.beta[b] * s)
+        + vr * (2.0 * sb.a[j] * sb.omega[r] * th_j * bonds.inv_len[b] + sb.beta[r] * s)
+}
+
+/// `d/ds` of [`pair_mixed`] at fixed dilatations.
+#[inline(always)]
+pub(super) fn pair_mixed_ds(sb: &StateBased, bonds: &Bonds, b: usize) -> f64 {
+    let r = sb.rev[b] as usize;
+    bonds.vol_factor[b] * sb.beta[b] + bonds.vol_factor[r] * sb.beta[r]
 }
 
 #[inline(always)]
@@ -228,8 +265,12 @@ pub fn pair_force(
     let j = bonds.nbr[b] as usize;
     let th_i = dilatation_at(sb, bonds, law, intact, s_hist, u, i, volume);
     let th_j = dilatation_at(sb, bonds, law, intact, s_hist, u, j, volume);
-    let phi = pair_base(sb, bonds, i, b, s, th_i, th_j);
-    let c = t * phi * bonds.vol_factor[b] * volume / l;
+    let c = if bonds.s_scale.is_empty() {
+        let phi = pair_base(sb, bonds, i, b, s, th_i, th_j);
+        t * phi * bonds.vol_factor[b] * volume / l
+    } else {
+        t * pair_mixed(sb, bonds, i, b, s, th_i, th_j) * volume / l
+    };
     [c * y[0], c * y[1]]
 }
 

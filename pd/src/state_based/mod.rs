@@ -132,11 +132,13 @@ pub struct StateBased {
     pub kappa: f64,
     /// Shear modulus mu (Pa).
     pub mu: f64,
-    /// Dilatational coefficient `a_k` of every node (Pa).
+    /// Dilatational coefficient `a_k` of every node (Pa; on a mixed grid times the
+    /// node's volume over the reference volume, [`crate::mixed`]).
     pub a: Vec<f64>,
     /// Dilatation weight `omega_b` of every directed bond (1/m^3).
     pub omega: Vec<f64>,
-    /// Deviatoric coefficient `beta_b = Q G_b` of every directed bond (Pa/m^3).
+    /// Deviatoric coefficient `beta_b = Q G_b` of every directed bond (Pa/m^3; on a
+    /// mixed grid times the owner's relative volume, as `a`).
     pub beta: Vec<f64>,
     /// The reverse of every directed bond (`j -> i` for `i -> j`).
     pub rev: Vec<u32>,
@@ -277,13 +279,39 @@ impl StateBased {
     ) -> Self {
         let n = grid.len();
         let vol = grid.volume;
-        let (_, s1b, _) = lattice_sums(grid.dx, grid.delta, vol);
         let a_bulk = 0.5 * (kappa - 2.0 * mu);
-        let q_bulk = 8.0 * mu / s1b;
+        // The full lattice family of a spacing (every spacing of a mixed grid keeps
+        // m = delta / dx): its deviatoric coefficient and moments.
+        let level = |dx: f64| {
+            let (d, v) = if dx == grid.dx {
+                (grid.delta, vol)
+            } else {
+                (grid.delta * dx / grid.dx, vol * (dx / grid.dx).powi(2))
+            };
+            let (_, s1b, _) = lattice_sums(dx, d, v);
+            (8.0 * mu / s1b, bulk_moments(dx, d, v))
+        };
+        let (q_coarse, bulk_coarse) = level(grid.dx);
+        let mut levels = vec![(grid.dx, q_coarse, bulk_coarse)];
+        if grid.is_mixed() {
+            for &d in &grid.spacing {
+                if !levels.iter().any(|l| l.0 == d) {
+                    let (q, m) = level(d);
+                    levels.push((d, q, m));
+                }
+            }
+        }
         let nb = bonds.len();
-        let (mut a, mut omega, mut beta) = (vec![0.0; n], vec![0.0; nb], vec![q_bulk; nb]);
-        let bulk = bulk_moments(grid.dx, grid.delta, vol);
+        let (mut a, mut omega, mut beta) = (vec![0.0; n], vec![0.0; nb], vec![q_coarse; nb]);
         for k in 0..n {
+            let lv = levels
+                .iter()
+                .find(|l| l.0 == grid.node_dx(k))
+                .unwrap_or(&levels[0]);
+            let (q_bulk, bulk) = (lv.1, &lv.2);
+            if grid.is_mixed() {
+                beta[bonds.row(k)].fill(q_bulk);
+            }
             let all = moments(bonds, k, vol, |_| true);
             let kept = moments(bonds, k, vol, |b| intact[b] != 0);
             if kept.s0 <= 0.0 {
@@ -330,6 +358,15 @@ impl StateBased {
             for (b, w) in bonds.row(k).zip(w_om) {
                 omega[b] = if positive { w } else { scalar };
             }
+            if grid.is_mixed() {
+                // Mixed spacing: the energy coefficients carry the node's volume relative
+                // to the reference one (crate::mixed: forces per reference volume).
+                let r = grid.node_volume(k) / vol;
+                a[k] *= r;
+                for w in &mut beta[bonds.row(k)] {
+                    *w *= r;
+                }
+            }
         }
         let mut rev = vec![0u32; nb];
         for i in 0..n {
@@ -360,7 +397,13 @@ impl StateBased {
     pub fn pair_stiffness(&self, bonds: &Bonds, volume: f64) -> Vec<f64> {
         (0..bonds.len())
             .map(|b| {
-                (self.beta[b] + self.beta[self.rev[b] as usize]) * bonds.vol_factor[b] * volume
+                let r = self.rev[b] as usize;
+                if bonds.s_scale.is_empty() {
+                    (self.beta[b] + self.beta[r]) * bonds.vol_factor[b] * volume
+                } else {
+                    (self.beta[b] * bonds.vol_factor[b] + self.beta[r] * bonds.vol_factor[r])
+                        * volume
+                }
             })
             .collect()
     }

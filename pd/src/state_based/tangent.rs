@@ -136,15 +136,21 @@ pub fn row_blocks(
         };
         let j = b.nbr[k] as usize;
         let inv = b.inv_len[k];
-        let base = super::forces::pair_base(sb, b, i, k, s, th_i, sc.theta[m]);
-        let phi = t * base;
-        let dphi = dt * base + t * (sb.beta[k] + sb.beta[sb.rev[k] as usize]);
+        let (phi, dphi, v) = if b.s_scale.is_empty() {
+            let base = super::forces::pair_base(sb, b, i, k, s, th_i, sc.theta[m]);
+            let dphi = dt * base + t * (sb.beta[k] + sb.beta[sb.rev[k] as usize]);
+            (t * base, dphi, b.vol_factor[k] * r.volume)
+        } else {
+            // Mixed spacing: the partial volumes are inside the pair scalar.
+            let base = super::forces::pair_mixed(sb, b, i, k, s, th_i, sc.theta[m]);
+            let dphi = dt * base + t * super::forces::pair_mixed_ds(sb, b, k);
+            (t * base, dphi, r.volume)
+        };
         let phi_g = if r.kind == TangentKind::SecantPositive {
             phi.max(0.0)
         } else {
             phi
         };
-        let v = b.vol_factor[k] * r.volume;
         let e = [y[0] / l, y[1] / l];
         let (ca, cb) = (v * dphi * inv, v * phi_g / l);
         let blk = |p: usize, q: usize| {

@@ -15,6 +15,7 @@ pub mod limits;
 mod material;
 mod pd;
 mod sections;
+mod window_refine;
 
 use super::error::Issue;
 use super::Scene;

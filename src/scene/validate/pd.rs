@@ -394,6 +394,9 @@ fn check_coupling(c: &mut Checker, scene: &Scene, co: &crate::scene::Coupling) {
     if windows {
         check_window_nodes(c, scene, co);
     }
+    if let Some(r) = &co.refine {
+        super::window_refine::check(c, scene, co, r);
+    }
     check_psi(c, co.psi);
     c.at_least("coupling.max_iter", co.max_iter, 1, "iteration cap");
     let pd_bem_growth = scene

@@ -1,0 +1,402 @@
+//! Mixed spacing: a regular grid whose cells inside refinement zones are split, with
+//! dual-horizon bond-based forces (seed 004 section 2.2, Eq. 13; Ren, Zhang & Rabczuk's
+//! DH-PD) so that particles of different sizes interact without ghost forces.
+//!
+//! **Grid.** A real node whose coarse cell centre lies in a [`RefineZone`] of `levels`
+//! `L` is replaced by its `4^L` children at the centres of the sub-cells of side
+//! $\Delta_k = \Delta x/2^L$ (as [`crate::refine`] splits a parent into quadrants);
+//! fictitious nodes stay coarse. Node `k` owns $V_k = \Delta_k^2 t$ and the horizon
+//! $\delta_k = m\Delta_k$; its family is $H_k = \{j : |x_j - x_k| \le \delta_k\}$.
+//!
+//! **Bonds.** Every node lies on the lattice of dx/8 (offset dx/2), so bond vectors are
+//! exact lattice vectors and rows take the mirror-group order of [`crate::bonds`]: a
+//! mirror-symmetric problem stays bitwise symmetric, as on a uniform grid. Every pair with $j \in H_k$ or $k \in H_j$ is stored in both directions;
+//! direction $k \to j$ carries the partial volume of $j$'s cell in $k$'s horizon,
+//! `vol_factor` $= [j\in H_k]\, v_{kj} V_j / V_{ref}$ (seed 002 Eq. 16 with $j$'s cell
+//! side; $V_{ref} = \Delta x^2 t$ the coarse volume), so the damage of seed 002 Eq. 8
+//! counts the node's own family with its volumes.
+//!
+//! **Forces.** With the half-bond energy $\tfrac14 c_k s^2 |\xi| V'_{kj}$ per member of
+//! $H_k$ ($c_k$ the PMB micromodulus of $\delta_k$), the force on $k$ is seed 004
+//! Eq. 13 for PMB:
+//! $$V_k F_k = \sum_{j\in H_k} \tfrac12 c_k V_k V'_{kj}\, s\, e_{kj} +
+//!   \sum_{j:\,k\in H_j} \tfrac12 c_j V_j V'_{jk}\, s\, e_{kj},$$
+//! a pair model with the symmetric pair stiffness (per reference volume)
+//! $$k_{kj} = \tfrac12\big(c_k V_k\, \mathrm{vf}_{kj} G_{kj} + c_j V_j\, \mathrm{vf}_{jk} G_{jk}\big),$$
+//! `vf` the `vol_factor` above and $G$ the surface factors. Every per-node force array of
+//! a mixed [`crate::PdModel`] (internal and body forces, residuals) is therefore in
+//! newtons per reference volume $V_{ref}$: times `grid.volume` it is the node's force in
+//! newtons, as on a uniform grid, where $k = c\,v V G$ unchanged. The stiffness being
+//! symmetric, the forces balance exactly, are minus the gradient of
+//! $\Pi = \sum_{k\to j} \tfrac14 V_{ref} k_{kj} |\xi| s^2$ and the tangent stays
+//! symmetric (Cholesky, ADR's bound, unchanged).
+//!
+//! **Surface correction** (energy method, [`crate::surface`]): each node corrects its own
+//! half-bonds, $G_{kj}$ the ellipse of $g_{d,k} = W^{CM}/W^{PD}_{d,k}$ with
+//! $W^{PD}_{d,k} = \tfrac14 c_k \sum_{j\in H_k} |\xi| V'_{kj} n_d^4$.
+//!
+//! **Failure.** The critical stretch scales as $\delta^{-1/2}$ (seed 002 Eq. 7): the
+//! law's `s0` is the coarse horizon's, and a pair breaks at `s0 * s_scale` with
+//! `s_scale` $= \sqrt{\delta/\delta_o}$, $\delta_o$ the smallest horizon among its owners
+//! (the finer half-bond holds the larger energy density). Force passes report the
+//! normalised stretch `s / s_scale`, so every comparison with `s0` stays right. The tanh
+//! law, transfer-function tractions and explicit dynamics take uniform grids only
+//! (validated).
+//!
+//! **State-based model** ([`crate::state_based`], seed 004 Eqs. 3-8 and 13): every node
+//! is calibrated on its own family against the full lattice family of its own spacing
+//! (the corrections as on a uniform grid), and its energy coefficients `a_k`,
+//! `beta_kj` carry its relative volume $V_k/V_{ref}$, so that
+//! $\Pi = V_{ref}\sum_k (a_k\theta_k^2 + \ldots)$ is $\sum_k V_k W_k$; the pair
+//! force on $k$ is then each half with its own partial volume,
+//! $\mathrm{vf}_{kj}\,\tau_{kj} + \mathrm{vf}_{jk}\,\tau_{jk}$ (zero for a half whose
+//! owner's horizon misses the other node), the dual-horizon force of seed 004 Eq. 13.
+
+use serde::{Deserialize, Serialize};
+
+use crate::bonds::{partial_volume, Bonds, GROUP_END};
+use crate::error::PdError;
+use crate::geometry::{dist_point_segment, rotate, segment_crosses_polyline, P2};
+use crate::grid::Grid;
+use crate::problem::{Failure, Hole, PdProblem, Plane, Region};
+use crate::traction::TractionLoad;
+
+/// Largest refinement level of a zone.
+pub const MAX_LEVELS: u32 = 2;
+
+/// A square zone (axis-aligned) whose coarse cells are split `levels` times.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RefineZone {
+    /// Centre (m).
+    pub centre: P2,
+    /// Half the side (m): coarse cells whose centres are within this Chebyshev distance
+    /// of the centre are split.
+    pub half_size: f64,
+    /// Splits per coarse cell (1: 4 children, 2: 16), at most [`MAX_LEVELS`].
+    pub levels: u32,
+}
+
+impl RefineZone {
+    /// Whether the coarse cell centred at `x` is split by this zone.
+    pub fn contains(&self, x: P2) -> bool {
+        let tol = 1e-9 * self.half_size;
+        (x[0] - self.centre[0]).abs() <= self.half_size + tol
+            && (x[1] - self.centre[1]).abs() <= self.half_size + tol
+    }
+}
+
+/// Check the refinement zones of `p` and the settings they need.
+pub fn validate_zones(p: &PdProblem) -> Result<(), PdError> {
+    if p.refine_zones.is_empty() {
+        return Ok(());
+    }
+    for (k, z) in p.refine_zones.iter().enumerate() {
+        let f = format!("refine_zones[{k}]");
+        if !(z.centre[0].is_finite() && z.centre[1].is_finite()) {
+            return Err(PdError::invalid(
+                format!("{f}.centre"),
+                format!("non-finite point {:?}", z.centre),
+            ));
+        }
+        if !(z.half_size.is_finite() && z.half_size > 0.0) {
+            return Err(PdError::invalid(
+                format!("{f}.half_size"),
+                format!("must be positive and finite, got {}", z.half_size),
+            ));
+        }
+        if !(1..=MAX_LEVELS).contains(&z.levels) {
+            return Err(PdError::invalid(
+                format!("{f}.levels"),
+                format!(
+                    "must be 1 or 2 (4 or 16 children per cell), got {}",
+                    z.levels
+                ),
+            ));
+        }
+    }
+    let unsupported = if matches!(p.failure, Failure::Degradation { .. }) {
+        Some("the tanh degradation law on mixed spacing is not implemented; use a critical stretch or the fracture energy")
+    } else if p.traction == TractionLoad::TransferFunction {
+        Some("transfer-function tractions need a uniform grid; use the body-force layer")
+    } else {
+        None
+    };
+    match unsupported {
+        Some(reason) => Err(PdError::invalid("refine_zones", reason)),
+        None => Ok(()),
+    }
+}
+
+/// Split the real nodes of `grid` inside the zones of `p` (see the module docs): the
+/// children replace their parent in place; `grid.spacing` gets every node's spacing.
+/// Children outside the region (a hole, a slanted side) are dropped.
+pub fn refine_grid(grid: &mut Grid, p: &PdProblem) -> Result<(), PdError> {
+    if p.refine_zones.is_empty() {
+        return Ok(());
+    }
+    let dx = grid.dx;
+    let mut pos = Vec::with_capacity(grid.pos.len());
+    let mut spacing = Vec::with_capacity(grid.pos.len());
+    let mut used = vec![false; p.refine_zones.len()];
+    for (i, &x) in grid.pos.iter().enumerate() {
+        let mut level = 0;
+        if i < grid.n_real {
+            for (z, zone) in p.refine_zones.iter().enumerate() {
+                if zone.contains(x) {
+                    used[z] = true;
+                    level = level.max(zone.levels);
+                }
+            }
+        }
+        if level == 0 {
+            pos.push(x);
+            spacing.push(dx);
+            continue;
+        }
+        let n = 1usize << level;
+        let h = dx / n as f64;
+        for b in 0..n {
+            for a in 0..n {
+                let o = [
+                    (a as f64 + 0.5) * h - 0.5 * dx,
+                    (b as f64 + 0.5) * h - 0.5 * dx,
+                ];
+                let r = rotate(o, grid.angle);
+                let c = [x[0] + r[0], x[1] + r[1]];
+                if p.region.contains(c) {
+                    pos.push(c);
+                    spacing.push(h);
+                }
+            }
+        }
+    }
+    if let Some(z) = used.iter().position(|u| !u) {
+        return Err(PdError::invalid(
+            format!("refine_zones[{z}]"),
+            "the zone holds no real node centre of the coarse grid",
+        ));
+    }
+    grid.n_real += pos.len() - grid.pos.len();
+    grid.pos = pos;
+    grid.spacing = spacing;
+    Ok(())
+}
+
+fn crosses_hole(a: P2, b: P2, h: &Hole) -> bool {
+    match h {
+        Hole::Circle { centre, radius } => dist_point_segment(*centre, a, b) < *radius,
+        Hole::Polygon { points } => {
+            let mut closed = points.clone();
+            closed.push(points[0]);
+            segment_crosses_polyline(a, b, &closed)
+                || h.contains([0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])])
+        }
+    }
+}
+
+/// Neighbour rows: `j` with `|x_j - x_k| <= max(delta_k, delta_j)`, not through a hole,
+/// sorted by index (cell list of the coarse horizon).
+fn pair_rows(grid: &Grid, region: &Region) -> Vec<Vec<u32>> {
+    use rayon::prelude::*;
+    use std::collections::HashMap;
+    let m = grid.delta / grid.dx;
+    let cell = grid.delta;
+    let key = |p: P2| ((p[0] / cell).floor() as i64, (p[1] / cell).floor() as i64);
+    let mut cells: HashMap<(i64, i64), Vec<u32>> = HashMap::new();
+    for (i, &p) in grid.pos.iter().enumerate() {
+        cells.entry(key(p)).or_default().push(i as u32);
+    }
+    (0..grid.len())
+        .into_par_iter()
+        .map(|k| {
+            let xk = grid.pos[k];
+            let (cx, cy) = key(xk);
+            let dk = m * grid.node_dx(k);
+            let mut row = Vec::new();
+            for gx in cx - 1..=cx + 1 {
+                for gy in cy - 1..=cy + 1 {
+                    for &j in cells.get(&(gx, gy)).map_or(&[][..], |v| v.as_slice()) {
+                        let xj = grid.pos[j as usize];
+                        let r = dk.max(m * grid.node_dx(j as usize)) * (1.0 + 1e-9);
+                        let d2 = (xj[0] - xk[0]).powi(2) + (xj[1] - xk[1]).powi(2);
+                        if j as usize != k
+                            && d2 <= r * r
+                            && !region.holes.iter().any(|h| crosses_hole(xk, xj, h))
+                        {
+                            row.push(j);
+                        }
+                    }
+                }
+            }
+            row.sort_unstable();
+            row
+        })
+        .collect()
+}
+
+/// The dual-horizon bonds of a mixed grid (module docs): `vol_factor` per direction,
+/// `s_scale` per pair, `k` left at zero (see [`set_coefficients`]).
+pub fn build_bonds(grid: &Grid, region: &Region) -> Bonds {
+    let rows = pair_rows(grid, region);
+    let m = grid.delta / grid.dx;
+    let mut b = Bonds {
+        offsets: vec![0],
+        ..Default::default()
+    };
+    for (k, row) in rows.iter().enumerate() {
+        let dk = m * grid.node_dx(k);
+        let mut row: Vec<(u32, i64, i64)> = row
+            .iter()
+            .map(|&j| {
+                let (a, c) = lattice_offset(grid, k, j as usize);
+                (j, a, c)
+            })
+            .collect();
+        row.sort_unstable_by_key(|&(_, a, c)| (c.abs(), a.abs(), c < 0, a < 0));
+        for (n, &(j, a, c)) in row.iter().enumerate() {
+            let j = j as usize;
+            let dj = m * grid.node_dx(j);
+            let xi = exact_offset(grid, a, c);
+            let l = xi[0].hypot(xi[1]);
+            let in_k = l <= dk * (1.0 + 1e-9);
+            let in_j = l <= dj * (1.0 + 1e-9);
+            let rel = (grid.node_dx(j) / grid.dx).powi(2);
+            let vf = if in_k {
+                partial_volume(l, dk, grid.node_dx(j)) * rel
+            } else {
+                0.0
+            };
+            let owner = match (in_k, in_j) {
+                (true, true) => dk.min(dj),
+                (true, false) => dk,
+                _ => dj,
+            };
+            let last = match row.get(n + 1) {
+                Some(&(_, a2, c2)) => (a2.abs(), c2.abs()) != (a.abs(), c.abs()),
+                None => true,
+            };
+            let slot = (a < 0) as u8 | (((c < 0) as u8) << 1);
+            b.nbr.push(j as u32);
+            b.xi.push(xi);
+            b.inv_len.push(1.0 / l);
+            b.vol_factor.push(vf);
+            b.s_scale.push((grid.delta / owner).sqrt());
+            b.meta.push(slot | if last { GROUP_END } else { 0 });
+        }
+        b.offsets.push(b.nbr.len());
+    }
+    b.surface = vec![1.0; b.nbr.len()];
+    b.k = vec![0.0; b.nbr.len()];
+    b
+}
+
+/// Subdivisions of dx of the lattice every node of a mixed grid lies on (offset by dx/2):
+/// children of up to [`MAX_LEVELS`] splits sit at odd multiples of dx/8 from their
+/// coarse cell's centre.
+const SUBDIV: f64 = 8.0;
+
+/// Integer offset of node `j` from node `k` on the lattice of dx / [`SUBDIV`] (grid frame).
+fn lattice_offset(grid: &Grid, k: usize, j: usize) -> (i64, i64) {
+    let d = [
+        grid.pos[j][0] - grid.pos[k][0],
+        grid.pos[j][1] - grid.pos[k][1],
+    ];
+    let l = rotate(d, -grid.angle);
+    let h = grid.dx / SUBDIV;
+    ((l[0] / h).round() as i64, (l[1] / h).round() as i64)
+}
+
+/// The exact bond vector of a lattice offset: mirror images of a bond are exact negatives
+/// of each other's components, so row sums in the group order of [`crate::bonds`] keep a
+/// mirror-symmetric problem bitwise symmetric, as on a uniform grid.
+fn exact_offset(grid: &Grid, a: i64, c: i64) -> P2 {
+    let h = grid.dx / SUBDIV;
+    let l = [a as f64 * h, c as f64 * h];
+    if grid.angle == 0.0 {
+        l
+    } else {
+        rotate(l, grid.angle)
+    }
+}
+
+/// Reverse of every directed bond.
+pub fn reverse(bonds: &Bonds) -> Vec<u32> {
+    let n = bonds.offsets.len() - 1;
+    let mut rev = vec![0u32; bonds.len()];
+    for i in 0..n {
+        for b in bonds.row(i) {
+            let j = bonds.nbr[b] as usize;
+            let r = bonds.row(j);
+            let p = bonds.nbr[r.clone()]
+                .iter()
+                .position(|&x| x as usize == i)
+                .expect("bonds are stored in both directions");
+            rev[b] = (r.start + p) as u32;
+        }
+    }
+    rev
+}
+
+/// `c_k V_k / V_ref` of every node: the PMB micromodulus of the node's horizon (`c` the
+/// coarse one) times its relative volume, `c dx / dx_k`.
+fn node_weight(grid: &Grid, c: f64) -> Vec<f64> {
+    (0..grid.len())
+        .map(|k| c * grid.dx / grid.node_dx(k))
+        .collect()
+}
+
+/// The pair stiffness `k` of every bond (module docs), per reference volume.
+pub fn set_coefficients(bonds: &mut Bonds, grid: &Grid, c: f64) {
+    let rev = reverse(bonds);
+    let w = node_weight(grid, c);
+    let vol = grid.volume;
+    let n = grid.len();
+    for k in 0..n {
+        for b in bonds.row(k) {
+            let j = bonds.nbr[b] as usize;
+            let r = rev[b] as usize;
+            let own = w[k] * bonds.vol_factor[b] * bonds.surface[b];
+            let dual = w[j] * bonds.vol_factor[r] * bonds.surface[r];
+            bonds.k[b] = 0.5 * vol * (own + dual);
+        }
+    }
+}
+
+/// Surface correction of a mixed grid (module docs): `bonds.surface` from each owner's
+/// energy-method factors.
+pub fn surface_correction(bonds: &mut Bonds, grid: &Grid, c: f64, youngs: f64, plane: Plane) {
+    let e_eff = match plane {
+        Plane::Stress => 9.0 / 8.0 * youngs,
+        Plane::Strain => 6.0 / 5.0 * youngs,
+    };
+    let w_cm = 0.5 * e_eff;
+    let m = grid.delta / grid.dx;
+    for k in 0..grid.len() {
+        let ck = micromodulus_scaled(c, grid.delta, m * grid.node_dx(k));
+        let mut w = [0.0; 2];
+        for b in bonds.row(k) {
+            let (nx, ny) = (
+                bonds.xi[b][0] * bonds.inv_len[b],
+                bonds.xi[b][1] * bonds.inv_len[b],
+            );
+            let f = 0.25 * ck * bonds.vol_factor[b] * grid.volume / bonds.inv_len[b];
+            w[0] += f * nx.powi(4);
+            w[1] += f * ny.powi(4);
+        }
+        let g = |d: usize| if w[d] > 0.0 { w_cm / w[d] } else { 1.0 };
+        let (gx, gy) = (g(0), g(1));
+        for b in bonds.row(k) {
+            let (nx, ny) = (
+                bonds.xi[b][0] * bonds.inv_len[b],
+                bonds.xi[b][1] * bonds.inv_len[b],
+            );
+            bonds.surface[b] = 1.0 / ((nx / gx).powi(2) + (ny / gy).powi(2)).sqrt();
+        }
+    }
+}
+
+/// The PMB micromodulus of horizon `d` given `c` at horizon `delta` (`c ~ delta^-3`).
+fn micromodulus_scaled(c: f64, delta: f64, d: f64) -> f64 {
+    c * (delta / d).powi(3)
+}

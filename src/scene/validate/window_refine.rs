@@ -1,0 +1,54 @@
+//! Validation of `coupling.refine` (refined PD windows, `pdbem_pd::mixed`).
+
+use super::Checker;
+use crate::scene::{Failure, Placement, Scene};
+
+/// `coupling.refine`: a zone of positive size with 1 or 2 levels, two horizons inside an
+/// `AtTips` window (whose tip is its centre; other placements are checked when the
+/// windows are built), with a bond law the mixed grid supports.
+pub(super) fn check(
+    c: &mut Checker,
+    scene: &Scene,
+    co: &crate::scene::Coupling,
+    r: &crate::scene::WindowRefine,
+) {
+    if !(1..=2).contains(&r.levels) {
+        c.fail(
+            "coupling.refine.levels",
+            r.levels,
+            "splits per cell must be 1 (4 children) or 2 (16 children)",
+        );
+    }
+    if !c.positive("coupling.refine.half_size", r.half_size, "zone half side") {
+        return;
+    }
+    if matches!(
+        scene.pd.as_ref().map(|p| &p.failure),
+        Some(Failure::Degradation { .. })
+    ) {
+        c.fail_at(
+            "coupling.refine",
+            "refined windows take brittle bonds (critical stretch or fracture energy) or none: the tanh degradation law is not implemented on mixed spacing",
+        );
+    }
+    let m = scene
+        .pd
+        .as_ref()
+        .map_or(crate::scene::pd::default_horizon_factor(), |p| {
+            p.horizon_factor
+        });
+    let dx = co.dx();
+    let max = 0.5 * co.side - 2.0 * m * dx - 0.5 * dx;
+    if co.placement == Placement::AtTips && r.half_size > max + 1e-9 * dx {
+        c.fail(
+            "coupling.refine.half_size",
+            r.half_size,
+            format!(
+                "the zone must stay two horizons (2 m dx = {:.4} m) inside the window of side {}: half_size at most {:.4} m",
+                2.0 * m * dx,
+                co.side,
+                max.max(0.0)
+            ),
+        );
+    }
+}
