@@ -318,7 +318,7 @@ pub fn cut_cracks(grid: &Grid, bonds: &Bonds, cracks: &[Vec<P2>], intact: &mut [
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::grid::build_grid;
+    use crate::grid::build_uniform;
     use crate::problem::PdProblem;
 
     fn square(n: usize) -> (Grid, Bonds) {
@@ -328,7 +328,7 @@ mod tests {
             youngs_modulus: 1.0,
             ..Default::default()
         };
-        let g = build_grid(&p).unwrap();
+        let g = build_uniform(&p).unwrap();
         let b = build_bonds(&g, &p.region);
         (g, b)
     }

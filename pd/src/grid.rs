@@ -63,8 +63,9 @@ impl Grid {
     }
 }
 
-/// Build the grid of a validated problem.
-pub fn build_grid(p: &PdProblem) -> Result<Grid, PdError> {
+/// Build the uniform grid of a validated problem (refinement zones are applied by
+/// [`crate::mixed::build_grid`]).
+pub fn build_uniform(p: &PdProblem) -> Result<Grid, PdError> {
     let dx = p.dx;
     let delta = p.horizon();
     let angle = p.grid_angle;
@@ -146,7 +147,7 @@ pub fn build_grid(p: &PdProblem) -> Result<Grid, PdError> {
     }
     let n_real = real.len();
     real.extend(fict);
-    let mut g = Grid {
+    let g = Grid {
         pos: real,
         n_real,
         dx,
@@ -155,7 +156,6 @@ pub fn build_grid(p: &PdProblem) -> Result<Grid, PdError> {
         angle,
         spacing: Vec::new(),
     };
-    crate::mixed::refine_grid(&mut g, p)?;
     Ok(g)
 }
 
@@ -183,7 +183,7 @@ mod tests {
             }],
             ..Default::default()
         };
-        let g = build_grid(&p).unwrap();
+        let g = build_uniform(&p).unwrap();
         assert_eq!(g.n_real, 40);
         assert_eq!(g.len() - g.n_real, 12);
         assert!(g.pos[g.n_real..].iter().all(|q| q[0] < 0.0 && q[0] > -3.1));
@@ -199,6 +199,6 @@ mod tests {
             grid_angle: a,
             ..Default::default()
         };
-        assert_eq!(build_grid(&p).unwrap().n_real, 40);
+        assert_eq!(build_uniform(&p).unwrap().n_real, 40);
     }
 }

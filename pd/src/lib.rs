@@ -58,6 +58,7 @@ pub mod model;
 pub mod problem;
 pub mod reaction;
 pub mod refine;
+pub mod refine_zone;
 pub mod solvers;
 pub mod state_based;
 pub mod surface;

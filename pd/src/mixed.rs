@@ -52,80 +52,20 @@
 //! $\mathrm{vf}_{kj}\,\tau_{kj} + \mathrm{vf}_{jk}\,\tau_{jk}$ (zero for a half whose
 //! owner's horizon misses the other node), the dual-horizon force of seed 004 Eq. 13.
 
-use serde::{Deserialize, Serialize};
-
 use crate::bonds::{partial_volume, Bonds, GROUP_END};
 use crate::error::PdError;
 use crate::geometry::{dist_point_segment, rotate, segment_crosses_polyline, P2};
-use crate::grid::Grid;
-use crate::problem::{Failure, Hole, PdProblem, Plane, Region};
-use crate::traction::TractionLoad;
+use crate::grid::{build_uniform, Grid};
+use crate::problem::{Hole, PdProblem, Plane, Region};
 
-/// Largest refinement level of a zone.
-pub const MAX_LEVELS: u32 = 2;
+pub use crate::refine_zone::{RefineZone, MAX_LEVELS};
 
-/// A square zone (axis-aligned) whose coarse cells are split `levels` times.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RefineZone {
-    /// Centre (m).
-    pub centre: P2,
-    /// Half the side (m): coarse cells whose centres are within this Chebyshev distance
-    /// of the centre are split.
-    pub half_size: f64,
-    /// Splits per coarse cell (1: 4 children, 2: 16), at most [`MAX_LEVELS`].
-    pub levels: u32,
-}
-
-impl RefineZone {
-    /// Whether the coarse cell centred at `x` is split by this zone.
-    pub fn contains(&self, x: P2) -> bool {
-        let tol = 1e-9 * self.half_size;
-        (x[0] - self.centre[0]).abs() <= self.half_size + tol
-            && (x[1] - self.centre[1]).abs() <= self.half_size + tol
-    }
-}
-
-/// Check the refinement zones of `p` and the settings they need.
-pub fn validate_zones(p: &PdProblem) -> Result<(), PdError> {
-    if p.refine_zones.is_empty() {
-        return Ok(());
-    }
-    for (k, z) in p.refine_zones.iter().enumerate() {
-        let f = format!("refine_zones[{k}]");
-        if !(z.centre[0].is_finite() && z.centre[1].is_finite()) {
-            return Err(PdError::invalid(
-                format!("{f}.centre"),
-                format!("non-finite point {:?}", z.centre),
-            ));
-        }
-        if !(z.half_size.is_finite() && z.half_size > 0.0) {
-            return Err(PdError::invalid(
-                format!("{f}.half_size"),
-                format!("must be positive and finite, got {}", z.half_size),
-            ));
-        }
-        if !(1..=MAX_LEVELS).contains(&z.levels) {
-            return Err(PdError::invalid(
-                format!("{f}.levels"),
-                format!(
-                    "must be 1 or 2 (4 or 16 children per cell), got {}",
-                    z.levels
-                ),
-            ));
-        }
-    }
-    let unsupported = if matches!(p.failure, Failure::Degradation { .. }) {
-        Some("the tanh degradation law on mixed spacing is not implemented; use a critical stretch or the fracture energy")
-    } else if p.traction == TractionLoad::TransferFunction {
-        Some("transfer-function tractions need a uniform grid; use the body-force layer")
-    } else {
-        None
-    };
-    match unsupported {
-        Some(reason) => Err(PdError::invalid("refine_zones", reason)),
-        None => Ok(()),
-    }
+/// The grid of a validated problem: the uniform grid ([`crate::grid`]) with the cells
+/// inside the problem's refinement zones split ([`refine_grid`]).
+pub fn build_grid(p: &PdProblem) -> Result<Grid, PdError> {
+    let mut g = build_uniform(p)?;
+    refine_grid(&mut g, p)?;
+    Ok(g)
 }
 
 /// Split the real nodes of `grid` inside the zones of `p` (see the module docs): the

@@ -18,8 +18,9 @@ use crate::forces::{
     bond_tangent, elastic_energy, internal_forces, BondState, ForceStats, History,
 };
 use crate::geometry::P2;
-use crate::grid::{build_grid, Grid};
+use crate::grid::Grid;
 use crate::material::{micromodulus, BondLaw};
+use crate::mixed::build_grid;
 use crate::problem::{Failure, PdMaterial, PdProblem};
 use crate::state_based::{self, StateBased};
 use crate::surface::{apply_crack_face_correction, apply_surface_correction};

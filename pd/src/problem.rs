@@ -297,7 +297,7 @@ pub struct PdProblem {
     pub material: PdMaterial,
     /// Zones whose cells are split into finer ones, with dual-horizon forces between
     /// the sizes ([`crate::mixed`]); default none (a uniform grid).
-    pub refine_zones: Vec<crate::mixed::RefineZone>,
+    pub refine_zones: Vec<crate::refine_zone::RefineZone>,
 }
 
 impl Default for PdProblem {
@@ -483,7 +483,28 @@ impl PdProblem {
                 ));
             }
         }
-        crate::mixed::validate_zones(self)
+        self.validate_zones()
+    }
+
+    /// The refinement zones ([`crate::mixed`]) and the settings they need.
+    fn validate_zones(&self) -> Result<(), PdError> {
+        for (k, z) in self.refine_zones.iter().enumerate() {
+            crate::refine_zone::check_zone(k, z)?;
+        }
+        if self.refine_zones.is_empty() {
+            return Ok(());
+        }
+        let unsupported = if matches!(self.failure, Failure::Degradation { .. }) {
+            Some("the tanh degradation law on mixed spacing is not implemented; use a critical stretch or the fracture energy")
+        } else if self.traction == TractionLoad::TransferFunction {
+            Some("transfer-function tractions need a uniform grid; use the body-force layer")
+        } else {
+            None
+        };
+        match unsupported {
+            Some(reason) => Err(PdError::invalid("refine_zones", reason)),
+            None => Ok(()),
+        }
     }
 }
 

@@ -66,7 +66,7 @@ pub fn run(p: &PdProblem, r: &Refinement, load: f64) -> Result<RefinedRun, PdErr
         ));
     }
     r.validate()?;
-    let grid = crate::grid::build_grid(p)?;
+    let grid = crate::mixed::build_grid(p)?;
     if grid.len() > grid.n_real {
         return Err(PdError::invalid(
             "boundary",
