@@ -1,36 +1,16 @@
 //! Validation of growth scenes (issue 5): one test per rule; every message names the file,
 //! the dotted field path and the reason. Same style as tests/scene_validation.rs.
 
-use pdbem::scene::{GrowthMode, Scene, SceneError};
+mod scene_validation_common;
 
-const FILE: &str = "cases/g.ron";
-const BODY: &str = "(outline: Rectangle(x0: 0, y0: 0, width: 10, height: 20))";
-const CRACKS: &str = r#"[(name: "c", start: (0, 10), angle_deg: 0, length: 3)]"#;
-const BOUNDARY: &str = r#"[(on: "top", y: Traction(1)), (on: "bottom", y: Traction(-1))]"#;
+use pdbem::scene::{GrowthMode, Scene};
+use scene_validation_common::{assert_invalid, load, BODY, BOUNDARY, CRACKS};
 const MAT_GC: &str = "(E: 1e4, nu: 0.3, plane: Stress, fracture: (g_c: 1))";
 
 fn scene(mat: &str, cracks: &str, extra: &str) -> String {
     format!(
         "(name: \"g\", material: {mat}, body: {BODY}, cracks: {cracks}, boundary: {BOUNDARY}, {extra})"
     )
-}
-
-fn load(src: &str) -> Result<Scene, SceneError> {
-    Scene::from_ron_str(src, FILE)
-}
-
-/// The error text, which must name the file and contain `path` and `reason`.
-fn assert_invalid(src: &str, path: &str, reason: &str) -> String {
-    let text = match load(src) {
-        Ok(_) => panic!("scene should be invalid ({path}):\n{src}"),
-        Err(e) => e.to_string(),
-    };
-    assert!(
-        text.contains(&format!("{FILE}: {path}")),
-        "no '{FILE}: {path}' in:\n{text}"
-    );
-    assert!(text.contains(reason), "no '{reason}' in:\n{text}");
-    text
 }
 
 const PD_BEM: &str = "pd: (failure: FromGc), coupling: (side: 2, n: 20)";
@@ -125,7 +105,7 @@ fn window_larger_than_the_remaining_ligament() {
         "coupling.side = 3",
         "window larger than the remaining ligament: tip c.end is 2.000000 m from the boundary ahead",
     );
-    assert!(text.contains("cases/g.ron"));
+    assert!(text.contains(scene_validation_common::FILE));
     // A hole ahead counts as boundary: hole edge 1.5 m ahead of the tip at x = 3.
     let src = format!(
         "(name: \"g\", material: {MAT_GC}, body: (outline: Rectangle(x0: 0, y0: 0, width: 10, height: 20), holes: [Circle(center: (5.5, 10), radius: 1)]), cracks: {CRACKS}, boundary: {BOUNDARY}, {PD_BEM}, growth: ())"

@@ -3,9 +3,9 @@
 //! One test per rule; every message names the file, the dotted field path and the reason.
 //! (A file of its own: `scene_validation.rs` is at its size limit.)
 
-use pdbem::scene::{Scene, SceneError};
+mod scene_validation_common;
 
-const FILE: &str = "cases/x.ron";
+use scene_validation_common::{assert_invalid, load};
 
 /// A 10 x 20 plate with an edge crack from (0, 10), tip at (3, 10), pulled at top and
 /// bottom; `extra` adds sections, `crack` replaces the crack name.
@@ -20,24 +20,6 @@ fn scene_named(crack: &str, extra: &str) -> String {
 
 fn scene(extra: &str) -> String {
     scene_named("c", extra)
-}
-
-fn load(src: &str) -> Result<Scene, SceneError> {
-    Scene::from_ron_str(src, FILE)
-}
-
-/// The error text, which must name the file and contain `path` and `reason`.
-fn assert_invalid(src: &str, path: &str, reason: &str) -> String {
-    let text = match load(src) {
-        Ok(_) => panic!("scene should be invalid ({path}):\n{src}"),
-        Err(e) => e.to_string(),
-    };
-    assert!(
-        text.contains(&format!("{FILE}: {path}")),
-        "no '{FILE}: {path}' in:\n{text}"
-    );
-    assert!(text.contains(reason), "no '{reason}' in:\n{text}");
-    text
 }
 
 #[test]

@@ -257,19 +257,7 @@ fn a_crack_joined_to_a_hole_follows_a_rigid_motion() {
     let mesh = joined_mesh();
     let (a, w) = (V2::new(1e-3, -2e-3), 5e-4);
     let rigid = |p: V2| a + w * V2::new(-p.y, p.x);
-    let bcs: Vec<[Bc; 2]> = mesh
-        .elements
-        .iter()
-        .map(|e| {
-            if mesh.groups[e.group].starts_with("crack") {
-                [Bc::Traction(0.0), Bc::Traction(0.0)]
-            } else {
-                let u = rigid(e.mid);
-                [Bc::Displacement(u.x), Bc::Displacement(u.y)]
-            }
-        })
-        .collect();
-    let sol = solve(&mesh, &bcs);
+    let sol = solve(&mesh, &rigid_bcs(&mesh, a, w));
     let scale = a.norm();
     let rim = V2::new(1.0, bottom_y());
     let e_a = steel().e * scale;
@@ -301,25 +289,29 @@ fn a_crack_joined_to_a_hole_follows_a_rigid_motion() {
     }
 }
 
-/// Largest traction (in E times the motion's scale) on the hole elements, split into
-/// (elements with an end on a polygon vertex, the other hole elements, the elements
-/// within `junction` of the junction), under the rigid motion `a + w e_z x p` prescribed on
-/// the loops (crack faces traction-free).
-fn rigid_errors(mesh: &Mesh, n: usize, a: V2, w: f64, junction: f64) -> (f64, f64, f64) {
-    let rigid = |p: V2| a + w * V2::new(-p.y, p.x);
-    let bcs: Vec<[Bc; 2]> = mesh
-        .elements
+/// The rigid motion `a + w e_z x p` prescribed on the loops, the crack faces
+/// traction-free.
+fn rigid_bcs(mesh: &Mesh, a: V2, w: f64) -> Vec<[Bc; 2]> {
+    mesh.elements
         .iter()
         .map(|e| {
             if mesh.groups[e.group].starts_with("crack") {
                 [Bc::Traction(0.0), Bc::Traction(0.0)]
             } else {
-                let u = rigid(e.mid);
+                let u = a + w * V2::new(-e.mid.y, e.mid.x);
                 [Bc::Displacement(u.x), Bc::Displacement(u.y)]
             }
         })
-        .collect();
-    let sol = solve(mesh, &bcs);
+        .collect()
+}
+
+/// Largest traction (in E times the motion's scale) on the hole elements, split into
+/// (elements with an end on a polygon vertex, the other hole elements, the elements
+/// within `junction` of the junction), under the rigid motion `a + w e_z x p` prescribed on
+/// the loops (crack faces traction-free).
+fn rigid_errors(mesh: &Mesh, n: usize, a: V2, w: f64, junction: f64) -> (f64, f64, f64) {
+    let sol = solve(mesh, &rigid_bcs(mesh, a, w));
+    // The motion's scale: the translation, or the rotation times the 1 m plate height.
     let e_scale = steel().e * a.norm().max(w * 1.0);
     let verts = polygon_points(n);
     let rim = V2::new(1.0, bottom_y());

@@ -105,7 +105,9 @@ impl Bonds {
     }
 }
 
-fn segment_crosses_hole(a: P2, b: P2, h: &Hole) -> bool {
+/// Whether the segment from `a` to `b` passes through the hole `h` (a bond across it is
+/// not made).
+pub(crate) fn segment_crosses_hole(a: P2, b: P2, h: &Hole) -> bool {
     match h {
         Hole::Circle { centre, radius } => dist_point_segment(*centre, a, b) < *radius,
         Hole::Polygon { points } => {

@@ -52,11 +52,11 @@
 //! $\mathrm{vf}_{kj}\,\tau_{kj} + \mathrm{vf}_{jk}\,\tau_{jk}$ (zero for a half whose
 //! owner's horizon misses the other node), the dual-horizon force of seed 004 Eq. 13.
 
-use crate::bonds::{partial_volume, Bonds, GROUP_END};
+use crate::bonds::{partial_volume, segment_crosses_hole, Bonds, GROUP_END};
 use crate::error::PdError;
-use crate::geometry::{dist_point_segment, rotate, segment_crosses_polyline, P2};
+use crate::geometry::{rotate, P2};
 use crate::grid::{build_uniform, Grid};
-use crate::problem::{Hole, PdProblem, Plane, Region};
+use crate::problem::{PdProblem, Plane, Region};
 
 pub use crate::refine_zone::{RefineZone, MAX_LEVELS};
 
@@ -123,18 +123,6 @@ pub fn refine_grid(grid: &mut Grid, p: &PdProblem) -> Result<(), PdError> {
     Ok(())
 }
 
-fn crosses_hole(a: P2, b: P2, h: &Hole) -> bool {
-    match h {
-        Hole::Circle { centre, radius } => dist_point_segment(*centre, a, b) < *radius,
-        Hole::Polygon { points } => {
-            let mut closed = points.clone();
-            closed.push(points[0]);
-            segment_crosses_polyline(a, b, &closed)
-                || h.contains([0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])])
-        }
-    }
-}
-
 /// Neighbour rows: `j` with `|x_j - x_k| <= max(delta_k, delta_j)`, not through a hole,
 /// sorted by index (cell list of the coarse horizon).
 fn pair_rows(grid: &Grid, region: &Region) -> Vec<Vec<u32>> {
@@ -162,7 +150,7 @@ fn pair_rows(grid: &Grid, region: &Region) -> Vec<Vec<u32>> {
                         let d2 = (xj[0] - xk[0]).powi(2) + (xj[1] - xk[1]).powi(2);
                         if j as usize != k
                             && d2 <= r * r
-                            && !region.holes.iter().any(|h| crosses_hole(xk, xj, h))
+                            && !region.holes.iter().any(|h| segment_crosses_hole(xk, xj, h))
                         {
                             row.push(j);
                         }
