@@ -262,11 +262,19 @@ pub fn zone_centre(w: &Window, tip: V2, r: WindowRefine) -> V2 {
     // measured to pull the PD-BEM path of growth_tension_edge 0.26 m aside.
     let q = w.to_local(tip) / w.spec.dx;
     let q = V2::new(q.x.round(), q.y.round()) * w.spec.dx;
+    // Held two horizons inside on the cell-corner lattice (a clamped centre off the
+    // lattice splits the cells asymmetrically about it and shifts the zone's end by a
+    // cell; measured on the tension plate).
+    let dx = w.spec.dx;
     let clamp = |v: f64, l: f64| {
-        if 2.0 * m >= l {
+        let (lo, hi) = (
+            (m / dx - 1e-9).ceil() * dx,
+            ((l - m) / dx + 1e-9).floor() * dx,
+        );
+        if lo > hi {
             0.5 * l
         } else {
-            v.clamp(m, l - m)
+            v.clamp(lo, hi)
         }
     };
     let (e1, e2) = w.axes();
@@ -384,8 +392,9 @@ mod tests {
         // Snapped to the cell corner (10.05, 5.05) nearest the tip.
         let c = zone_centre(&w, V2::new(10.06, 5.04), r);
         assert!((c - V2::new(10.05, 5.05)).norm() < 1e-12);
+        // Held 0.4265 inside, on the lattice: the corner 0.45 from the side.
         let c = zone_centre(&w, V2::new(9.6, 5.0), r);
-        assert!((c.x - (9.5 + 0.4265)).abs() < 1e-9 && (c.y - 5.0).abs() < 1e-12);
+        assert!((c.x - (9.5 + 0.45)).abs() < 1e-9 && (c.y - 5.0).abs() < 1e-12);
         let zones = refine_zones([c.x, c.y], r);
         assert_eq!(zones.len(), 2);
         assert_eq!((zones[0].levels, zones[1].levels), (1, 2));

@@ -199,13 +199,25 @@ impl PdModel {
     /// longer break (flag [`crate::forces::NO_FAIL`]; degrading bonds stay elastic).
     /// Returns the number of directed bonds marked.
     pub fn protect_bonds(&mut self, protect: impl Fn(P2) -> bool) -> usize {
-        let pos = &self.grid.pos;
-        let flags: Vec<bool> = pos.iter().map(|&x| protect(x)).collect();
+        let flags: Vec<bool> = self.grid.pos.iter().map(|&x| protect(x)).collect();
+        self.protect_nodes(|i| flags[i])
+    }
+
+    /// [`Self::protect_bonds`] by node index: every intact bond with an end node `i` for
+    /// which `protect(i)` holds can no longer break. Returns the directed bonds marked.
+    pub fn protect_nodes(&mut self, protect: impl Fn(usize) -> bool) -> usize {
+        let flags: Vec<bool> = (0..self.grid.pos.len()).map(&protect).collect();
+        self.protect_pairs(|i, j| flags[i] || flags[j])
+    }
+
+    /// Every intact bond between nodes `i` and `j` for which `protect(i, j)` holds can no
+    /// longer break. Returns the directed bonds marked.
+    pub fn protect_pairs(&mut self, protect: impl Fn(usize, usize) -> bool) -> usize {
         let mut marked = 0;
-        for i in 0..pos.len() {
+        for i in 0..self.grid.pos.len() {
             for b in self.bonds.row(i) {
                 let j = self.bonds.nbr[b] as usize;
-                if self.intact[b] == 1 && (flags[i] || flags[j]) {
+                if self.intact[b] == 1 && protect(i, j) {
                     self.intact[b] = crate::forces::NO_FAIL;
                     marked += 1;
                 }

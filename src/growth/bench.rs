@@ -4,7 +4,9 @@
 //! full-PD / PD-BEM. Each mode's run folder is kept (`DIR/pd-bem`, `DIR/bem-only`,
 //! `DIR/full-pd`, overlaid in `DIR/paths.{png,svg}`); the table goes to stdout and
 //! `DIR/bench.txt`, the numbers to `DIR/bench.json` (docs/outputs.md). A mode that fails
-//! is a row with its error; the others still run.
+//! is a row with its error; the others still run. A case with refined windows
+//! (`coupling.refine`) gets a fourth run, `pd-bem-fine`: PD-BEM on uniform windows at the
+//! finest spacing, with the ratio of its wall time to the refined run's.
 //!
 //! Scene: `cases/growth_tension_edge.ron` (seed 002 section 3.2.2). BEM-only needs K_c:
 //! when the scene gives no fracture data, G_c is taken from the PD critical stretch at the
@@ -128,6 +130,10 @@ pub struct GrowthBenchReport {
     pub runs: Vec<GrowthBenchRun>,
     /// Wall time of full PD over PD-BEM (`None` when either failed).
     pub ratio_full_pd_to_pd_bem: Option<f64>,
+    /// Refined windows: wall time of PD-BEM on uniform windows at the finest spacing over
+    /// the refined PD-BEM run ([`uniform_fine_scene`]; `None` without refinement or when
+    /// either failed).
+    pub ratio_uniform_fine_to_refined: Option<f64>,
     /// Path deviations between every two modes that ran, per tip.
     pub path_deviations: Vec<PathDeviation>,
 }
@@ -223,11 +229,36 @@ fn mode_name(m: GrowthMode) -> &'static str {
     }
 }
 
+/// Name of the run of [`uniform_fine_scene`].
+pub const UNIFORM_FINE: &str = "pd-bem-fine";
+
+/// For a case with refined windows (`coupling.refine`): its PD-BEM run on uniform windows
+/// of the same side at the finest spacing (`n` times 2^levels), the reference the refined
+/// windows' path and time are measured against (docs/coupled_refined.md); `None`
+/// without refinement.
+pub fn uniform_fine_scene(base: &Scene, quick: bool) -> Option<Result<Scene>> {
+    let levels = base.coupling.as_ref()?.refine?.levels;
+    Some(scene_for(base, GrowthMode::PdBem, quick).and_then(|mut s| {
+        let co = s
+            .coupling
+            .as_mut()
+            .context("bench growth: the case needs `coupling`")?;
+        co.refine = None;
+        co.n <<= levels;
+        s.validate()?;
+        Ok(s)
+    }))
+}
+
 /// Runs one mode into `DIR/<mode>` and summarises it.
 fn run_mode(base: &Scene, mode: GrowthMode, out: &Path, quick: bool) -> GrowthBenchRun {
-    let name = mode_name(mode);
+    run_named(mode_name(mode), scene_for(base, mode, quick), out)
+}
+
+/// Runs `scene` into `DIR/<name>` and summarises it.
+fn run_named(name: &str, scene: Result<Scene>, out: &Path) -> GrowthBenchRun {
     let t0 = Instant::now();
-    let result = scene_for(base, mode, quick).and_then(|s| {
+    let result = scene.and_then(|s| {
         crate::runner::run_scene(&s, &out.join(name), true)?;
         let text = std::fs::read_to_string(out.join(name).join(super::output::HISTORY_FILE))?;
         Ok(serde_json::from_str::<GrowthHistory>(&text)?)
@@ -327,6 +358,12 @@ pub fn table(r: &GrowthBenchReport) -> String {
             .map(|x| format!("{x:.2}"))
             .unwrap_or_else(|| "- (a run failed)".into())
     );
+    if let Some(x) = r.ratio_uniform_fine_to_refined {
+        let _ = writeln!(
+            t,
+            "{UNIFORM_FINE} (uniform windows at the finest spacing) / refined PD-BEM wall time: {x:.2}"
+        );
+    }
     for (mode, o) in r.runs.iter().filter_map(|e| Some((&e.mode, e.overstrain?))) {
         let _ = writeln!(
             t,
@@ -375,15 +412,23 @@ pub fn run(out: &Path, quick: bool, case: Option<&str>) -> Result<()> {
         );
         runs.push(r);
     }
+    if let Some(scene) = uniform_fine_scene(&base, quick) {
+        eprintln!("bench growth: {UNIFORM_FINE} (uniform windows at the refined spacing) ...");
+        let r = run_named(UNIFORM_FINE, scene, out);
+        eprintln!("bench growth: {UNIFORM_FINE} {:.2} s", r.wall_time_s);
+        runs.push(r);
+    }
     let ok = |m: &str| {
         runs.iter()
             .find(|r| r.mode == m && r.error.is_none())
             .map(|r| r.wall_time_s)
     };
-    let ratio = match (ok("full-pd"), ok("pd-bem")) {
+    let over = |a: Option<f64>, b: Option<f64>| match (a, b) {
         (Some(a), Some(b)) if b > 0.0 => Some(a / b),
         _ => None,
     };
+    let ratio = over(ok("full-pd"), ok("pd-bem"));
+    let fine_ratio = over(ok(UNIFORM_FINE), ok("pd-bem"));
     let spacing = |m: GrowthMode| {
         scene_for(&base, m, quick)
             .ok()
@@ -401,6 +446,7 @@ pub fn run(out: &Path, quick: bool, case: Option<&str>) -> Result<()> {
         path_deviations: deviations(&runs, dx),
         runs,
         ratio_full_pd_to_pd_bem: ratio,
+        ratio_uniform_fine_to_refined: fine_ratio,
     };
     let text = table(&report);
     print!("{text}");
@@ -507,9 +553,14 @@ mod tests {
             full_pd_dx: 0.1,
             runs: vec![pdbem],
             ratio_full_pd_to_pd_bem: None,
+            ratio_uniform_fine_to_refined: Some(4.35),
             path_deviations: d,
         };
         let t = table(&report);
+        assert!(
+            t.contains("pd-bem-fine (uniform windows at the finest spacing) / refined PD-BEM wall time: 4.35"),
+            "{t}"
+        );
         assert!(
             t.contains("pd-bem: the BEM body reaches the PD onset stretch 0.02 at load 0.2"),
             "{t}"
@@ -518,5 +569,17 @@ mod tests {
             t.contains("below PD-BEM's overstrain load 0.0000 m over 2.000 m"),
             "{t}"
         );
+    }
+
+    #[test]
+    fn a_refined_case_is_measured_against_uniform_windows_at_its_finest_spacing() {
+        let base =
+            Scene::load(crate::cases::case_path("growth_tension_edge_refined").unwrap()).unwrap();
+        let fine = uniform_fine_scene(&base, false).unwrap().unwrap();
+        let co = fine.coupling.unwrap();
+        assert_eq!((co.n, co.side, co.refine.is_none()), (60, 3.0, true));
+        assert_eq!(fine.growth.unwrap().sif_spacing, Some(0.0));
+        let plain = Scene::load(crate::cases::case_path("growth_tension_edge").unwrap()).unwrap();
+        assert!(uniform_fine_scene(&plain, false).is_none());
     }
 }

@@ -13,6 +13,7 @@ use pdbem_bem::V2;
 
 use crate::error::CouplingError;
 use crate::growth::driver::{build_geometry, Growth};
+use crate::growth::fine_zone;
 use crate::growth::merge::{cover_box, merge_specs, resolve_overlaps};
 use crate::growth::observer::Observer;
 use crate::growth::polyline;
@@ -150,6 +151,9 @@ impl<S: Scenario> Growth<'_, S> {
             self.tips[t].macro_tip = macro_tip;
         }
         self.retrace()?;
+        for (t, _) in &moves {
+            self.check_fine_behind(*t)?;
+        }
         let shared_by = moves.len();
         let rebuild_s = t0.elapsed().as_secs_f64() / shared_by as f64;
         let mut records = Vec::new();
@@ -178,6 +182,39 @@ impl<S: Scenario> Growth<'_, S> {
             records.push(rec);
         }
         Ok(records)
+    }
+
+    /// A moved refined window's pre-crack must end in its fine cells
+    /// ([`fine_zone::precrack_in_fine_cells`]); else the move distance was too long for
+    /// the zone.
+    fn check_fine_behind(&self, t: usize) -> Result<(), CouplingError> {
+        let tip = &self.tips[t];
+        let wm = &self.problem.windows[tip.window];
+        let (Some(r), false) = (
+            self.setup.layout.pd.refine,
+            fine_zone::precrack_in_fine_cells(wm, tip.macro_tip),
+        ) else {
+            return Ok(());
+        };
+        let w = &wm.window;
+        let max = fine_zone::max_move_distance(
+            w.spec.nx.min(w.spec.ny),
+            w.spec.dx,
+            w.delta(),
+            r.half_size,
+            r.levels,
+        );
+        Err(CouplingError::Relocation {
+            tip: tip.spec.name.clone(),
+            reason: format!(
+                "the moved window's pre-crack ends at ({:.4}, {:.4}), outside its refinement zone's fine cells, so unbreakable coarse bonds would seal the crack behind the tip: move_distance {} m is too long for coupling.refine (half_size {} m, levels {}); at most {max:.4} m for this window",
+                tip.macro_tip.x,
+                tip.macro_tip.y,
+                self.params.move_distance,
+                r.half_size,
+                r.levels
+            ),
+        })
     }
 
     /// [`Growth::plan`] then [`Growth::apply`] for tips `which`.

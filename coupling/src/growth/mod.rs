@@ -79,6 +79,8 @@
 //! - [`observer`]: the progress [`Observer`] of PD-BEM growth.
 //! - [`params`]: [`GrowthParams`], [`LoadSteps`].
 //! - [`tips`]: tip specs and state, tracking, the margin and end tests.
+//! - [`fine_zone`]: refined windows: only fine bonds break, the window moves before its tip
+//!   leaves the fine cells.
 //! - [`relocate`]: the moved window and the extended crack (the geometry iteration).
 //! - [`transfer`]: the new window's initial state.
 //! - [`merge`]: merging overlapping windows.
@@ -91,6 +93,7 @@ pub mod compare;
 pub mod criterion;
 pub mod driver;
 pub mod events;
+pub mod fine_zone;
 pub mod front;
 pub mod full_pd;
 pub mod geometry;

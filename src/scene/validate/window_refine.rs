@@ -1,11 +1,13 @@
 //! Validation of `coupling.refine` (refined PD windows, `pdbem_pd::mixed`).
 
 use super::Checker;
-use crate::scene::{Failure, Placement, Scene};
+use crate::scene::{Failure, GrowthMode, Placement, Scene};
 
 /// `coupling.refine`: a zone of positive size with 1 or 2 levels, two horizons inside an
 /// `AtTips` window (whose tip is its centre; other placements are checked when the
-/// windows are built), with a bond law the mixed grid supports.
+/// windows are built), with a bond law the mixed grid supports; in PD-BEM growth, a move
+/// distance that keeps the tip in the fine cells from one window to the next
+/// (`pdbem_coupling::growth::fine_zone`).
 pub(super) fn check(
     c: &mut Checker,
     scene: &Scene,
@@ -50,5 +52,29 @@ pub(super) fn check(
                 max.max(0.0)
             ),
         );
+    }
+    let growth = scene
+        .growth
+        .as_ref()
+        .filter(|g| g.mode == GrowthMode::PdBem);
+    if let (Some(g), Placement::AtTips) = (growth, &co.placement) {
+        let fit = pdbem_coupling::growth::fine_zone::max_move_distance(
+            co.n,
+            dx,
+            m * dx,
+            r.half_size,
+            r.levels,
+        );
+        let d = g.move_distance.unwrap_or(0.25 * co.side);
+        if d > fit {
+            c.fail(
+                "growth.move_distance",
+                d,
+                format!(
+                    "a refined window's crack grows only through its fine cells and the window moves before the tip leaves them; after a move of {d} m the tip would lie outside the next window's zone (coupling.refine: half_size {}, levels {}): at most {fit:.4} m, or a larger half_size or window",
+                    r.half_size, r.levels
+                ),
+            );
+        }
     }
 }

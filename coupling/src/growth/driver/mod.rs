@@ -68,6 +68,7 @@ use pdbem_bem::{PairCache, V2};
 use pdbem_pd::crack_path::CrackPath;
 
 use crate::error::CouplingError;
+use crate::growth::fine_zone::protect_coarse;
 use crate::growth::merge::resolve_overlaps;
 use crate::growth::params::GrowthParams;
 use crate::growth::polyline;
@@ -143,6 +144,7 @@ pub(super) fn build_geometry<S: Scenario>(
     };
     for wm in problem.windows.iter_mut() {
         protect_band(wm, ratio);
+        protect_coarse(wm);
     }
     let bem = PreparedBem::with_cache(&mut problem, Some(pairs))?;
     Ok((problem, bem))

@@ -11,6 +11,7 @@ use super::join::Joined;
 use super::step::StepRun;
 use super::Growth;
 use crate::error::CouplingError;
+use crate::growth::fine_zone::path_leaves_fine_zone;
 use crate::growth::observer::Observer;
 use crate::growth::overstrain::{self, Hotspot};
 use crate::growth::params::GrowthParams;
@@ -21,7 +22,9 @@ use crate::growth::summary::overstrain_end;
 use crate::growth::tips::{passed_margin, reached_boundary, track, TipEnd, TipState};
 use crate::iteration::{solve_prepared, StepOptions};
 use crate::relaxation::SecantColumns;
+use crate::setup::WindowModel;
 use crate::window::{Body, Window};
+use pdbem_pd::crack_path::CrackPath;
 
 /// Spread-out candidates of the strain watch per step ([`overstrain::search`]: at least
 /// four horizons apart, then every sample within that distance of the four most strained
@@ -86,13 +89,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
                 match track(wm, tip.window, tip.entry, &params.path) {
                     Ok(p) if !p.is_empty() => {
                         positions[t] = V2::new(p.tip()[0], p.tip()[1]);
-                        stop |= needs_attention(
-                            &wm.window,
-                            tip.entry,
-                            positions[t],
-                            (body, &holes),
-                            params,
-                        );
+                        stop |= needs_attention(wm, tip.entry, &p, (body, &holes), params);
                     }
                     Ok(_) => {}
                     Err(e) => {
@@ -144,15 +141,20 @@ impl<'s, S: Scenario> Growth<'s, S> {
         })
     }
 
-    /// Tips past their window margin.
+    /// Tips past their window margin, or at the end of a refined window's fine cells.
     fn triggered(&self) -> Vec<usize> {
         (0..self.tips.len())
             .filter(|&t| {
                 let tip = &self.tips[t];
-                let w = &self.problem.windows[tip.window].window;
+                let wm = &self.problem.windows[tip.window];
                 tip.active()
                     && !tip.path.is_empty()
-                    && passed_margin(w, tip.position(), tip.entry, self.params.trigger_ratio)
+                    && (passed_margin(
+                        &wm.window,
+                        tip.position(),
+                        tip.entry,
+                        self.params.trigger_ratio,
+                    ) || path_leaves_fine_zone(wm, &tip.path, self.params.direction_length))
             })
             .collect()
     }
@@ -429,15 +431,19 @@ fn failure_note(k: usize, load: f64, name: &str, gave_way: bool, end: &Option<Ti
     }
 }
 
-/// Whether a traced tip at `p` (entry `entry`) in `w` is past the margin or at the outline
-/// or a hole (`body` with its hole names).
+/// Whether the traced `path` (entry `entry`) in window `wm` is past the margin, at the
+/// end of a refined window's fine cells, or at the outline or a hole (`body` with its hole
+/// names).
 fn needs_attention(
-    w: &Window,
+    wm: &WindowModel,
     entry: V2,
-    p: V2,
+    path: &CrackPath,
     (body, holes): (&Body, &[String]),
     params: &GrowthParams,
 ) -> bool {
+    let w = &wm.window;
+    let p = V2::new(path.tip()[0], path.tip()[1]);
     passed_margin(w, p, entry, params.trigger_ratio)
+        || path_leaves_fine_zone(wm, path, params.direction_length)
         || reached_boundary(body, holes, p, params.boundary_reach * w.spec.dx).is_some()
 }

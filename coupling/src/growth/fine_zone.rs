@@ -1,0 +1,260 @@
+//! Refined windows in growth (`coupling.refine`, seed 004 section 3 applied to the tip
+//! window): the crack grows only through the window's finest cells, and the window moves
+//! on before its tip leaves them.
+//!
+//! - [`protect_coarse`]: in a window with a refinement zone, every bond between two nodes
+//!   coarser than the finest level is unbreakable (the no-fail flag of the interface
+//!   band, [`super::tips::protect_band`]), so no crack grows through coarse cells. Bonds
+//!   between a fine and a coarse node still break: on dual horizons a coarse node's
+//!   family reaches a coarse horizon into the zone, and its bonds across the crack line
+//!   must open for the tip to reach the end of the fine cells (protecting them was
+//!   measured to arrest the tension plate's crack 0.175 m short of the zone's end). The
+//!   crack behind the tip is the window's pre-crack cut.
+//! - [`leaves_fine_zone`]: the tip is within [`ZONE_MARGIN`] finest spacings (measured to
+//!   the cell edge, `|x_j - tip| - dx_j / 2`) of a coarser node ahead of it (on the side
+//!   its path points to). That triggers the window move like the interface margin does;
+//!   the moved window centres its zone on the tip again ([`crate::pd_window::zone_centre`]).
+//! - [`precrack_in_fine_cells`]: after a move the window's pre-crack (the path up to one
+//!   coarse dx short of the tip, [`super::relocate::extend_crack`]) must end inside the
+//!   new zone's fine cells: the ligament between its end and the tip then has no bond
+//!   between two coarse nodes (those would seal the crack, unbreakable and not copied as
+//!   broken). Otherwise the move is refused with the largest move distance that works
+//!   ([`max_move_distance`], which `pdbem check` also applies).
+//! - Windows against the outline (an outer side) have neither: the crack must be able to
+//!   run through their coarse cells to the boundary.
+//!
+//! Why: measured on `growth_tension_edge` (straight mode-I path along x = 10 m), a 2 m
+//! window with a 0.3 m level-1 zone whose tip ran on past the zone into the coarse cells
+//! before the window moved drifted 0.16-0.28 m (3-6 fine dx) off the line, while a 3 m
+//! window whose zone held the tip's whole run stayed within 0.021 m
+//! (docs/coupled_refined.md). A crack crossing the size jump meets the jump's spurious
+//! forces and the coarse cells' lower resolution; a crack kept inside the fine cells does
+//! not.
+
+use pdbem_bem::V2;
+use pdbem_pd::crack_path::CrackPath;
+
+use crate::setup::WindowModel;
+use crate::window::SideKind;
+
+/// Distance (in finest spacings, to the nearest coarser cell's edge) at which a tip has
+/// reached the end of its fine zone: the tip node is the farthest node with phi above the
+/// threshold, one or two fine rows behind the true tip, and the breaking rounds of one
+/// coupling iteration advance it a few fine rows; 2.5 keeps the tip's own cell and its
+/// neighbours fine.
+pub const ZONE_MARGIN: f64 = 2.5;
+
+/// The finest node spacing of a mixed window grid whose sides are all interface sides,
+/// `None` for a uniform grid or a window against the outline (module docs) (m).
+pub fn finest_spacing(wm: &WindowModel) -> Option<f64> {
+    let g = wm.model.grid();
+    let interior = wm.window.sides.iter().all(|k| *k == SideKind::Interface);
+    (g.is_mixed() && interior).then(|| g.spacing.iter().copied().fold(f64::INFINITY, f64::min))
+}
+
+/// Whether node `i` of window `wm` (finest spacing `fine`) is coarser than the finest level.
+fn coarse(wm: &WindowModel, i: usize, fine: f64) -> bool {
+    wm.model.grid().node_dx(i) > 1.5 * fine
+}
+
+/// Marks every intact bond between two nodes coarser than the finest level unbreakable
+/// (module docs). Returns the directed bonds marked (0 on a uniform grid).
+pub fn protect_coarse(wm: &mut WindowModel) -> usize {
+    let Some(fine) = finest_spacing(wm) else {
+        return 0;
+    };
+    let flags: Vec<bool> = (0..wm.model.grid().len())
+        .map(|i| coarse(wm, i, fine))
+        .collect();
+    wm.model.protect_pairs(|i, j| flags[i] && flags[j])
+}
+
+/// Whether a coarser node of `wm` lies within `reach` (m, to its cell edge) of `tip` on the
+/// side of `dir` (`ahead`) or the other side.
+fn coarse_within(wm: &WindowModel, fine: f64, tip: V2, dir: V2, reach: f64, ahead: bool) -> bool {
+    let g = wm.model.grid();
+    (0..g.n_real).any(|j| {
+        let d = V2::new(g.pos[j][0], g.pos[j][1]) - tip;
+        coarse(wm, j, fine) && (d.dot(&dir) > 0.0) == ahead && d.norm() - 0.5 * g.node_dx(j) < reach
+    })
+}
+
+/// Whether the tip at `tip`, growing along the unit vector `dir`, has reached the end of
+/// the finest cells of window `wm` (module docs); always false on a uniform grid.
+pub fn leaves_fine_zone(wm: &WindowModel, tip: V2, dir: V2) -> bool {
+    let Some(fine) = finest_spacing(wm) else {
+        return false;
+    };
+    coarse_within(wm, fine, tip, dir, ZONE_MARGIN * fine, true)
+}
+
+/// Whether the pre-crack end `macro_tip` of a freshly moved window `wm` lies in its fine
+/// cells, more than half a fine spacing from every coarser cell (window axes); true where
+/// the rule does not apply (module docs).
+pub fn precrack_in_fine_cells(wm: &WindowModel, macro_tip: V2) -> bool {
+    let Some(fine) = finest_spacing(wm) else {
+        return true;
+    };
+    let (g, w) = (wm.model.grid(), &wm.window);
+    let p = w.to_local(macro_tip);
+    !(0..g.n_real).any(|j| {
+        let d = w.to_local(V2::new(g.pos[j][0], g.pos[j][1])) - p;
+        coarse(wm, j, fine) && d.x.abs().max(d.y.abs()) - 0.5 * g.node_dx(j) < 0.5 * fine
+    })
+}
+
+/// The largest move distance (m) for which a refined window of `n` x `n` cells of spacing
+/// `dx`, horizon `delta` and zone `(half_size, levels)` keeps its tip in the fine cells
+/// from one move to the next (module docs), for a straight crack through the window
+/// centre along a window axis: the zone centre sits on the cell corner nearest the tip
+/// within the room the window leaves it ([`crate::pd_window::zone_centre`]), its finest
+/// cells are those whose centres lie within `half_size / levels`, the tip triggers the
+/// move [`ZONE_MARGIN`] fine spacings short of their end (or later), and the pre-crack,
+/// one coarse dx shorter, must end half a fine spacing inside the next zone. Zero when no
+/// move works.
+pub fn max_move_distance(n: usize, dx: f64, delta: f64, half_size: f64, levels: u32) -> f64 {
+    let fine = dx / f64::from(1u32 << levels);
+    let extent = dx * (half_size / f64::from(levels) / dx + 0.5 + 1e-9).floor();
+    // Corner lattice relative to the window centre: k dx (n even) or (k + 1/2) dx.
+    let offset = if n % 2 == 0 { 0.0 } else { 0.5 * dx };
+    let room = 0.5 * n as f64 * dx - (half_size + 0.5 * dx + 2.0 * delta);
+    let lattice = |v: f64| ((v - offset) / dx).round() * dx + offset;
+    let centre = |t: f64| {
+        let lo = ((-room - offset) / dx - 1e-9).ceil() * dx + offset;
+        let hi = ((room - offset) / dx + 1e-9).floor() * dx + offset;
+        if lo > hi {
+            0.0
+        } else {
+            lattice(t).clamp(lo, hi)
+        }
+    };
+    // The earliest trigger (a tip that overshoots it lands deeper in the next zone).
+    let stop = extent - ZONE_MARGIN * fine;
+    let back = dx + 0.5 * fine;
+    let fits = |d: f64| {
+        let mut c = centre(0.0);
+        (0..16).all(|_| {
+            let t = c - stop + d;
+            c = centre(t);
+            t <= c + extent - back && t >= c - stop - 1e-12 * dx
+        })
+    };
+    if extent <= back || !fits(0.0) {
+        return 0.0;
+    }
+    let (mut lo, mut hi) = (0.0, 2.0 * extent);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if fits(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
+/// [`leaves_fine_zone`] for a traced `path` in `wm`, growing along the chord of its last
+/// `direction_length` window spacings; false for an empty path or one of zero length.
+pub fn path_leaves_fine_zone(wm: &WindowModel, path: &CrackPath, direction_length: f64) -> bool {
+    if path.is_empty() || finest_spacing(wm).is_none() {
+        return false;
+    }
+    let t = path.tip();
+    path.tip_direction(direction_length * wm.window.spec.dx)
+        .is_some_and(|d| leaves_fine_zone(wm, V2::new(t[0], t[1]), V2::new(d[0], d[1])))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::growth::fixtures::plate_setup;
+    use crate::pd_window::WindowRefine;
+    use crate::setup::build;
+
+    /// The 1 m window (dx = 0.05) on the tip (10, 8) of a crack from the top edge, with a
+    /// level-1 zone of half side 0.15 m: fine cells (dx 0.025) over [9.85, 10.15] x
+    /// [7.85, 8.15].
+    fn window() -> WindowModel {
+        let mut s = plate_setup(
+            (20.0, 10.0),
+            vec![],
+            vec![vec![V2::new(10.0, 10.0), V2::new(10.0, 8.0)]],
+            None,
+        );
+        s.layout.pd.refine = Some(WindowRefine {
+            half_size: 0.15,
+            levels: 1,
+        });
+        build(&s.layout, |_, _| Vec::new())
+            .unwrap()
+            .windows
+            .remove(0)
+    }
+
+    #[test]
+    fn bonds_between_coarse_nodes_do_not_break() {
+        let mut wm = window();
+        assert!(protect_coarse(&mut wm) > 0);
+        let m = &wm.model;
+        let (g, intact) = (m.grid(), m.bond_intact());
+        let mut fine_pairs = 0;
+        for i in 0..g.len() {
+            for b in m.bonds().row(i) {
+                let j = m.bonds().nbr[b] as usize;
+                let both_coarse = g.node_dx(i) > 0.03 && g.node_dx(j) > 0.03;
+                if intact[b] == 0 {
+                    continue; // the pre-crack cut
+                }
+                let protected = intact[b] == pdbem_pd::forces::NO_FAIL;
+                assert_eq!(protected, both_coarse, "bond {i}-{j}");
+                fine_pairs += usize::from(!both_coarse);
+            }
+        }
+        assert!(fine_pairs > 0);
+    }
+
+    #[test]
+    fn the_tip_triggers_before_it_reaches_the_coarse_cells_ahead() {
+        let wm = window();
+        let down = V2::new(0.0, -1.0);
+        // Nearest coarse cell ahead: centre (10.025, 7.825), edge 0.1 m below the tip.
+        assert!(!leaves_fine_zone(&wm, V2::new(10.0, 7.95), down));
+        // 0.054 m (2.2 fine dx) from that cell's edge: within the margin of 2.5.
+        assert!(leaves_fine_zone(&wm, V2::new(10.0, 7.9), down));
+        // The same point growing away from the edge does not trigger.
+        assert!(!leaves_fine_zone(&wm, V2::new(10.0, 7.9), -down));
+        // A uniform window never does.
+        let mut s = plate_setup(
+            (20.0, 10.0),
+            vec![],
+            vec![vec![V2::new(10.0, 10.0), V2::new(10.0, 8.0)]],
+            None,
+        );
+        s.layout.pd.refine = None;
+        let uniform = build(&s.layout, |_, _| Vec::new())
+            .unwrap()
+            .windows
+            .remove(0);
+        assert!(!leaves_fine_zone(&uniform, V2::new(10.0, 7.6), down));
+        // A pre-crack ending in the fine cells, at their edge, in a coarse cell.
+        assert!(precrack_in_fine_cells(&wm, V2::new(10.0, 8.13)));
+        assert!(!precrack_in_fine_cells(&wm, V2::new(10.0, 8.145)));
+        assert!(!precrack_in_fine_cells(&wm, V2::new(10.0, 8.2)));
+    }
+
+    #[test]
+    fn the_largest_move_keeps_the_tip_in_the_fine_cells() {
+        // 2 m window (20 cells of 0.1 m), delta 0.3015, zone 0.3 m level 1: fine cells
+        // reach 0.3 m from the centre, which has 0.047 m of room, less than a cell: the
+        // zone stays at the window centre. The tip triggers 0.175 m past it and its
+        // pre-crack, 0.1 m shorter, must end 0.025 m inside the 0.3 m: at most 0.35 m.
+        let d = max_move_distance(20, 0.1, 0.3015, 0.3, 1);
+        assert!((d - 0.35).abs() < 1e-6, "{d}");
+        // A zone of one cell: no move keeps the pre-crack's end in it.
+        assert_eq!(max_move_distance(20, 0.1, 0.3015, 0.05, 1), 0.0);
+        // 3 m window, zone 0.55 m (fine cells to 0.6 m, 0.3 m of room): the 0.5 m move of
+        // the tension plate fits.
+        assert!(max_move_distance(30, 0.1, 0.3015, 0.55, 1) > 0.5);
+    }
+}
