@@ -5,8 +5,9 @@
 //! `DIR/full-pd`, overlaid in `DIR/paths.{png,svg}`); the table goes to stdout and
 //! `DIR/bench.txt`, the numbers to `DIR/bench.json` (docs/outputs.md). A mode that fails
 //! is a row with its error; the others still run. A case with refined windows
-//! (`coupling.refine`) gets a fourth run, `pd-bem-fine`: PD-BEM on uniform windows at the
-//! finest spacing, with the ratio of its wall time to the refined run's.
+//! (`coupling.refine`) runs full PD at the windows' finest spacing (equal tip resolution)
+//! and gets a fourth run, `pd-bem-fine`: PD-BEM on uniform windows at the finest spacing,
+//! with the ratio of its wall time to the refined run's.
 //!
 //! Scene: `cases/growth_tension_edge.ron` (seed 002 section 3.2.2). BEM-only needs K_c:
 //! when the scene gives no fracture data, G_c is taken from the PD critical stretch at the
@@ -185,6 +186,14 @@ pub fn scene_for(base: &Scene, mode: GrowthMode, quick: bool) -> Result<Scene> {
     if quick && mode == GrowthMode::FullPd {
         if let Some(co) = s.coupling.as_mut() {
             co.n = (co.n / 2).max(4);
+        }
+    }
+    if mode == GrowthMode::FullPd {
+        // Equal tip resolution: with refined windows, full PD at their finest spacing.
+        if let Some(co) = s.coupling.as_mut() {
+            if let Some(r) = co.refine.take() {
+                co.n <<= r.levels;
+            }
         }
     }
     let co = s
@@ -579,6 +588,10 @@ mod tests {
         let co = fine.coupling.unwrap();
         assert_eq!((co.n, co.side, co.refine.is_none()), (60, 3.0, true));
         assert_eq!(fine.growth.unwrap().sif_spacing, Some(0.0));
+        // Full PD at the same tip resolution: dx = 0.05 m.
+        let full = scene_for(&base, GrowthMode::FullPd, false).unwrap();
+        let co = full.coupling.unwrap();
+        assert_eq!((co.n, co.refine.is_none()), (60, true));
         let plain = Scene::load(crate::cases::case_path("growth_tension_edge").unwrap()).unwrap();
         assert!(uniform_fine_scene(&plain, false).is_none());
     }

@@ -21,7 +21,9 @@
 //!   broken). Otherwise the move is refused with the largest move distance that works
 //!   ([`max_move_distance`], which `pdbem check` also applies).
 //! - Windows against the outline (an outer side) have neither: the crack must be able to
-//!   run through their coarse cells to the boundary.
+//!   run through their coarse cells to the boundary. Nor do windows holding several tips
+//!   (merged windows, a central crack): their zone sits on one tip
+//!   ([`crate::pd_window::tip_of`]) and the others must grow through coarse cells.
 //!
 //! Why: measured on `growth_tension_edge` (straight mode-I path along x = 10 m), a 2 m
 //! window with a 0.3 m level-1 zone whose tip ran on past the zone into the coarse cells
@@ -44,12 +46,31 @@ use crate::window::SideKind;
 /// neighbours fine.
 pub const ZONE_MARGIN: f64 = 2.5;
 
-/// The finest node spacing of a mixed window grid whose sides are all interface sides,
-/// `None` for a uniform grid or a window against the outline (module docs) (m).
+/// The finest node spacing of a mixed window grid whose sides are all interface sides and
+/// that holds one crack tip, `None` for a uniform grid, a window against the outline or
+/// one holding several tips (module docs) (m).
 pub fn finest_spacing(wm: &WindowModel) -> Option<f64> {
     let g = wm.model.grid();
-    let interior = wm.window.sides.iter().all(|k| *k == SideKind::Interface);
+    let interior =
+        wm.window.sides.iter().all(|k| *k == SideKind::Interface) && tips_inside(wm) == 1;
     (g.is_mixed() && interior).then(|| g.spacing.iter().copied().fold(f64::INFINITY, f64::min))
+}
+
+/// Pre-crack ends of `wm` more than half a spacing inside the window: its crack tips.
+fn tips_inside(wm: &WindowModel) -> usize {
+    let w = &wm.window;
+    let (lx, ly) = w.size();
+    let m = 0.5 * w.spec.dx;
+    wm.problem
+        .cracks
+        .iter()
+        .flat_map(|c| [c.first(), c.last()])
+        .flatten()
+        .filter(|p| {
+            let q = w.to_local(V2::new(p[0], p[1]));
+            q.x > m && q.x < lx - m && q.y > m && q.y < ly - m
+        })
+        .count()
 }
 
 /// Whether node `i` of window `wm` (finest spacing `fine`) is coarser than the finest level.
@@ -116,7 +137,7 @@ pub fn max_move_distance(n: usize, dx: f64, delta: f64, half_size: f64, levels: 
     let fine = dx / f64::from(1u32 << levels);
     let extent = dx * (half_size / f64::from(levels) / dx + 0.5 + 1e-9).floor();
     // Corner lattice relative to the window centre: k dx (n even) or (k + 1/2) dx.
-    let offset = if n % 2 == 0 { 0.0 } else { 0.5 * dx };
+    let offset = if n.is_multiple_of(2) { 0.0 } else { 0.5 * dx };
     let room = 0.5 * n as f64 * dx - (half_size + 0.5 * dx + 2.0 * delta);
     let lattice = |v: f64| ((v - offset) / dx).round() * dx + offset;
     let centre = |t: f64| {
@@ -237,6 +258,28 @@ mod tests {
             .windows
             .remove(0);
         assert!(!leaves_fine_zone(&uniform, V2::new(10.0, 7.6), down));
+        // Nor a window holding two tips (a central crack from (9.8, 8) to (10.2, 8)):
+        // the zone sits on one of them, the other grows through coarse cells.
+        let mut s = plate_setup(
+            (20.0, 10.0),
+            vec![],
+            vec![vec![V2::new(9.8, 8.0), V2::new(10.2, 8.0)]],
+            None,
+        );
+        s.layout.pd.refine = Some(WindowRefine {
+            half_size: 0.15,
+            levels: 1,
+        });
+        let mut two = build(&s.layout, |_, _| Vec::new()).unwrap().windows;
+        assert_eq!(two.len(), 1, "one window for both tips");
+        let two = &mut two[0];
+        assert!(two.model.grid().is_mixed());
+        assert_eq!(protect_coarse(two), 0);
+        assert!(!leaves_fine_zone(
+            two,
+            V2::new(10.3, 8.0),
+            V2::new(1.0, 0.0)
+        ));
         // A pre-crack ending in the fine cells, at their edge, in a coarse cell.
         assert!(precrack_in_fine_cells(&wm, V2::new(10.0, 8.13)));
         assert!(!precrack_in_fine_cells(&wm, V2::new(10.0, 8.145)));
