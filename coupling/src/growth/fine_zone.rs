@@ -193,24 +193,21 @@ mod tests {
     use crate::pd_window::WindowRefine;
     use crate::setup::build;
 
-    /// The 1 m window (dx = 0.05) on the tip (10, 8) of a crack from the top edge, with a
-    /// level-1 zone of half side 0.15 m: fine cells (dx 0.025) over [9.85, 10.15] x
-    /// [7.85, 8.15].
-    fn window() -> WindowModel {
-        let mut s = plate_setup(
-            (20.0, 10.0),
-            vec![],
-            vec![vec![V2::new(10.0, 10.0), V2::new(10.0, 8.0)]],
-            None,
-        );
-        s.layout.pd.refine = Some(WindowRefine {
+    /// The windows (dx = 0.05, side 1 m, on the tips) of the crack `points` in the seed's
+    /// plate, refined by a level-1 zone of half side 0.15 m when `refined`.
+    fn windows(points: Vec<V2>, refined: bool) -> Vec<WindowModel> {
+        let mut s = plate_setup((20.0, 10.0), vec![], vec![points], None);
+        s.layout.pd.refine = refined.then_some(WindowRefine {
             half_size: 0.15,
             levels: 1,
         });
-        build(&s.layout, |_, _| Vec::new())
-            .unwrap()
-            .windows
-            .remove(0)
+        build(&s.layout, |_, _| Vec::new()).unwrap().windows
+    }
+
+    /// The 1 m window on the tip (10, 8) of a crack from the top edge, refined: fine cells
+    /// (dx 0.025) over [9.85, 10.15] x [7.85, 8.15].
+    fn window() -> WindowModel {
+        windows(vec![V2::new(10.0, 10.0), V2::new(10.0, 8.0)], true).remove(0)
     }
 
     #[test]
@@ -246,31 +243,11 @@ mod tests {
         // The same point growing away from the edge does not trigger.
         assert!(!leaves_fine_zone(&wm, V2::new(10.0, 7.9), -down));
         // A uniform window never does.
-        let mut s = plate_setup(
-            (20.0, 10.0),
-            vec![],
-            vec![vec![V2::new(10.0, 10.0), V2::new(10.0, 8.0)]],
-            None,
-        );
-        s.layout.pd.refine = None;
-        let uniform = build(&s.layout, |_, _| Vec::new())
-            .unwrap()
-            .windows
-            .remove(0);
+        let uniform = windows(vec![V2::new(10.0, 10.0), V2::new(10.0, 8.0)], false).remove(0);
         assert!(!leaves_fine_zone(&uniform, V2::new(10.0, 7.6), down));
         // Nor a window holding two tips (a central crack from (9.8, 8) to (10.2, 8)):
         // the zone sits on one of them, the other grows through coarse cells.
-        let mut s = plate_setup(
-            (20.0, 10.0),
-            vec![],
-            vec![vec![V2::new(9.8, 8.0), V2::new(10.2, 8.0)]],
-            None,
-        );
-        s.layout.pd.refine = Some(WindowRefine {
-            half_size: 0.15,
-            levels: 1,
-        });
-        let mut two = build(&s.layout, |_, _| Vec::new()).unwrap().windows;
+        let mut two = windows(vec![V2::new(9.8, 8.0), V2::new(10.2, 8.0)], true);
         assert_eq!(two.len(), 1, "one window for both tips");
         let two = &mut two[0];
         assert!(two.model.grid().is_mixed());
