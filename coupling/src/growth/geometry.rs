@@ -152,7 +152,7 @@ impl<S: Scenario> Growth<'_, S> {
         }
         self.retrace()?;
         for (t, _) in &moves {
-            self.check_fine_behind(*t)?;
+            self.check_precrack_in_fine_cells(*t)?;
         }
         let shared_by = moves.len();
         let rebuild_s = t0.elapsed().as_secs_f64() / shared_by as f64;
@@ -187,7 +187,7 @@ impl<S: Scenario> Growth<'_, S> {
     /// A moved refined window's pre-crack must end in its fine cells
     /// ([`fine_zone::precrack_in_fine_cells`]); else the move distance was too long for
     /// the zone.
-    fn check_fine_behind(&self, t: usize) -> Result<(), CouplingError> {
+    fn check_precrack_in_fine_cells(&self, t: usize) -> Result<(), CouplingError> {
         let tip = &self.tips[t];
         let wm = &self.problem.windows[tip.window];
         let (Some(r), false) = (

@@ -41,7 +41,8 @@ pub(super) fn check(
         });
     let dx = co.dx();
     let max = 0.5 * co.side - 2.0 * m * dx - 0.5 * dx;
-    if co.placement == Placement::AtTips && r.half_size > max + 1e-9 * dx {
+    let fits_window = r.half_size <= max + 1e-9 * dx;
+    if co.placement == Placement::AtTips && !fits_window {
         c.fail(
             "coupling.refine.half_size",
             r.half_size,
@@ -57,7 +58,7 @@ pub(super) fn check(
         .growth
         .as_ref()
         .filter(|g| g.mode == GrowthMode::PdBem);
-    if let (Some(g), Placement::AtTips) = (growth, &co.placement) {
+    if let (Some(g), Placement::AtTips, true) = (growth, &co.placement, fits_window) {
         let fit = pdbem_coupling::growth::fine_zone::max_move_distance(
             co.n,
             dx,
@@ -71,7 +72,7 @@ pub(super) fn check(
                 "growth.move_distance",
                 d,
                 format!(
-                    "a refined window's crack grows only through its fine cells and the window moves before the tip leaves them; after a move of {d} m the tip would lie outside the next window's zone (coupling.refine: half_size {}, levels {}): at most {fit:.4} m, or a larger half_size or window",
+                    "a refined window's crack grows only through its fine cells and the window moves before the tip leaves them; a move of {d} m would leave the new window's pre-crack (one dx short of the tip) outside its fine cells (coupling.refine: half_size {}, levels {}): at most {fit:.4} m, or a larger half_size or window",
                     r.half_size, r.levels
                 ),
             );
