@@ -121,3 +121,17 @@ fn refined_window_growth_keeps_the_path_on_the_line() {
         .fold(0.0, f64::max);
     assert!(off < 0.025, "path {off:.4} m off the crack line");
 }
+
+/// A growth scene with refinement levels the mixed grid does not build is refused for the
+/// levels alone (no move-distance rule computed from them, no overflowing shift).
+#[test]
+fn refined_growth_with_bad_levels_names_the_levels_only() {
+    let mut sc = Scene::load("cases/growth_tension_edge_refined.ron").unwrap();
+    sc.coupling.as_mut().unwrap().refine = Some(WindowRefine {
+        half_size: 0.55,
+        levels: 40,
+    });
+    let text = sc.validate().unwrap_err().to_string();
+    assert!(text.contains("coupling.refine.levels"), "{text}");
+    assert!(!text.contains("growth.move_distance"), "{text}");
+}

@@ -132,8 +132,11 @@ pub fn precrack_in_fine_cells(wm: &WindowModel, macro_tip: V2) -> bool {
 /// cells are those whose centres lie within `half_size / levels`, the tip triggers the
 /// move [`ZONE_MARGIN`] fine spacings short of their end (or later), and the pre-crack,
 /// one coarse dx shorter, must end half a fine spacing inside the next zone. Zero when no
-/// move works.
+/// move works or `levels` is out of range.
 pub fn max_move_distance(n: usize, dx: f64, delta: f64, half_size: f64, levels: u32) -> f64 {
+    if !(1..=pdbem_pd::mixed::MAX_LEVELS).contains(&levels) {
+        return 0.0;
+    }
     let fine = dx / f64::from(1u32 << levels);
     let extent = dx * (half_size / f64::from(levels) / dx + 0.5 + 1e-9).floor();
     // Corner lattice relative to the window centre: k dx (n even) or (k + 1/2) dx.
@@ -276,5 +279,8 @@ mod tests {
         // 3 m window, zone 0.55 m (fine cells to 0.6 m, 0.3 m of room): the 0.5 m move of
         // the tension plate fits.
         assert!(max_move_distance(30, 0.1, 0.3015, 0.55, 1) > 0.5);
+        // Levels the mixed grid does not build: none (and no overflowing shift).
+        assert_eq!(max_move_distance(30, 0.1, 0.3015, 0.55, 0), 0.0);
+        assert_eq!(max_move_distance(30, 0.1, 0.3015, 0.55, 40), 0.0);
     }
 }

@@ -58,7 +58,8 @@ pub(super) fn check(
         .growth
         .as_ref()
         .filter(|g| g.mode == GrowthMode::PdBem);
-    if let (Some(g), Placement::AtTips, true) = (growth, &co.placement, fits_window) {
+    let levels_ok = (1..=2).contains(&r.levels);
+    if let (Some(g), Placement::AtTips, true) = (growth, &co.placement, fits_window && levels_ok) {
         let fit = pdbem_coupling::growth::fine_zone::max_move_distance(
             co.n,
             dx,
