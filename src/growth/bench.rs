@@ -191,9 +191,7 @@ pub fn scene_for(base: &Scene, mode: GrowthMode, quick: bool) -> Result<Scene> {
     if mode == GrowthMode::FullPd {
         // Equal tip resolution: with refined windows, full PD at their finest spacing.
         if let Some(co) = s.coupling.as_mut() {
-            if let Some(r) = co.refine.take() {
-                co.n <<= r.levels;
-            }
+            to_finest_uniform(co);
         }
     }
     let co = s
@@ -238,6 +236,14 @@ fn mode_name(m: GrowthMode) -> &'static str {
     }
 }
 
+/// Uniform windows at the finest spacing of `co`'s refinement zone (`n` times
+/// 2^levels, no zone); unchanged without one.
+fn to_finest_uniform(co: &mut crate::scene::Coupling) {
+    if let Some(r) = co.refine.take() {
+        co.n <<= r.levels;
+    }
+}
+
 /// Name of the run of [`uniform_fine_scene`].
 pub const UNIFORM_FINE: &str = "pd-bem-fine";
 
@@ -246,14 +252,13 @@ pub const UNIFORM_FINE: &str = "pd-bem-fine";
 /// windows' path and time are measured against (docs/coupled_refined.md); `None`
 /// without refinement.
 pub fn uniform_fine_scene(base: &Scene, quick: bool) -> Option<Result<Scene>> {
-    let levels = base.coupling.as_ref()?.refine?.levels;
+    base.coupling.as_ref()?.refine?;
     Some(scene_for(base, GrowthMode::PdBem, quick).and_then(|mut s| {
         let co = s
             .coupling
             .as_mut()
             .context("bench growth: the case needs `coupling`")?;
-        co.refine = None;
-        co.n <<= levels;
+        to_finest_uniform(co);
         s.validate()?;
         Ok(s)
     }))
@@ -315,6 +320,11 @@ pub fn table(r: &GrowthBenchReport) -> String {
         if r.quick {
             format!(
                 " (quick: full PD at dx = {:e} m, its ratio is not at the same resolution)",
+                r.full_pd_dx
+            )
+        } else if r.full_pd_dx < r.dx {
+            format!(
+                " (refined windows: full PD at their finest spacing, dx = {:e} m)",
                 r.full_pd_dx
             )
         } else {
@@ -566,6 +576,17 @@ mod tests {
             path_deviations: d,
         };
         let t = table(&report);
+        assert!(!t.contains("refined windows: full PD"), "{t}");
+        // Refined windows: full PD at their finest spacing, said in the header.
+        let fine = GrowthBenchReport {
+            full_pd_dx: 0.05,
+            ..report
+        };
+        assert!(
+            table(&fine).contains("refined windows: full PD at their finest spacing, dx = 5e-2 m"),
+            "{}",
+            table(&fine)
+        );
         assert!(
             t.contains("pd-bem-fine (uniform windows at the finest spacing) / refined PD-BEM wall time: 4.35"),
             "{t}"
