@@ -224,7 +224,7 @@ fn bench_coupling(out: &Path, quick: bool) -> Result<()> {
             e.wall_time_s
         );
     }
-    print!("{text}");
+    crate::console::out(&text);
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
     write_atomic(&out.join("bench.txt"), text.as_bytes())?;
     let json = serde_json::json!({"bench": "coupling", "threads": rayon::current_num_threads(), "runs": entries});
@@ -247,7 +247,7 @@ fn bench_pd(out: &Path, quick: bool) -> Result<()> {
     );
     let report = pdbem_pd::bench::run_bench(pdbem_pd::bench::BenchOptions { quick });
     let text = pdbem_pd::bench::table(&report);
-    print!("{text}");
+    crate::console::out(&text);
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
     write_atomic(&out.join("bench.txt"), text.as_bytes())?;
     write_atomic(
@@ -338,7 +338,7 @@ fn bench_bem(out: &Path, quick: bool) -> Result<()> {
         meshes,
     };
     let table = bem_table(&report);
-    print!("{table}");
+    crate::console::out(&table);
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
     write_atomic(&out.join("bench.txt"), table.as_bytes())?;
     write_atomic(

@@ -118,7 +118,7 @@ pub fn run(out: &Path, quick: bool, case: Option<&str>) -> Result<Seed001Report>
         rows,
     };
     let text = table(&report);
-    print!("{text}");
+    crate::console::out(&text);
     write_atomic(&out.join("bench.md"), text.as_bytes())?;
     write_atomic(
         &out.join("bench.json"),

@@ -275,9 +275,9 @@ fn check(path: &Path, plot_dir: Option<&Path>) -> anyhow::Result<()> {
     let scene = load(path)?;
     crate::setup::estimate::check(&scene)?;
     let footprint = crate::setup::footprint::of(&scene)?;
-    println!("{}", describe(&scene));
+    crate::outln!("{}", describe(&scene));
     for line in footprint.describe() {
-        println!("{line}");
+        crate::outln!("{line}");
     }
     if let Some(dir) = plot_dir {
         let w = crate::output::OutputWriter::create(dir)?;
@@ -285,7 +285,7 @@ fn check(path: &Path, plot_dir: Option<&Path>) -> anyhow::Result<()> {
         let mut s = RunSummary::default();
         crate::runner::report::save_plot(&w, "geometry", &fig, &scene.outputs.formats, &mut s)?;
         w.commit()?;
-        println!("geometry plot written to {}", dir.display());
+        crate::outln!("geometry plot written to {}", dir.display());
     }
     Ok(())
 }
@@ -433,13 +433,17 @@ fn plot_paths(runs: &[PathBuf], out: Option<PathBuf>) -> anyhow::Result<()> {
         eprintln!("warning: {w}");
     }
     for d in &done.deviations {
-        println!(
+        crate::outln!(
             "{} {}: {:.4e} m from {} over a common reach of {:.4e} m",
-            d.run, d.tip, d.deviation, done.reference, d.reach
+            d.run,
+            d.tip,
+            d.deviation,
+            done.reference,
+            d.reach
         );
     }
     for f in &done.files {
-        println!("{}", f.display());
+        crate::outln!("{}", f.display());
     }
     Ok(())
 }
@@ -482,7 +486,7 @@ fn sweep(
         SweepPart::Shard(s) => {
             let rows = crate::sweep::shard::run_shard(&scene, &varies, &out, s, quiet)?;
             let failed = rows.iter().filter(|r| r.error.is_some()).count();
-            println!(
+            crate::outln!(
                 "shard {}/{}: {} runs ({failed} failed) in {}; join the shards with --collect",
                 s.index,
                 s.count,
@@ -494,14 +498,14 @@ fn sweep(
         SweepPart::Collect => crate::sweep::shard::collect(&scene, &varies, &out)?,
     };
     let failed = rows.iter().filter(|r| r.error.is_some()).count();
-    println!(
+    crate::outln!(
         "{} runs ({} failed); table in {}",
         rows.len(),
         failed,
         out.join("sweep.csv").display()
     );
     if let Some(e) = rows.iter().find_map(|r| r.error.as_ref()) {
-        println!("first failure: {e}");
+        crate::outln!("first failure: {e}");
     }
     Ok(())
 }

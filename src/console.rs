@@ -5,6 +5,8 @@
 //! digits of their size, so a round-off 5e-16 prints as 0. Printed with and without
 //! `--quiet` (which silences progress only).
 
+use std::io::Write;
+
 use serde_json::Value;
 
 use crate::plot::ticks::human;
@@ -195,6 +197,25 @@ fn growth_lines(s: &RunSummary) -> Vec<String> {
         ));
     }
     out
+}
+
+/// Writes `text` to standard output. A reader that closed the pipe (`pdbem ... | head`)
+/// ends the output quietly: `print!` would panic there. Other write errors go to stderr.
+pub fn out(text: &str) {
+    let mut o = std::io::stdout().lock();
+    if let Err(e) = o.write_all(text.as_bytes()).and_then(|()| o.flush()) {
+        if e.kind() != std::io::ErrorKind::BrokenPipe {
+            eprintln!("error: cannot write to standard output: {e}");
+        }
+    }
+}
+
+/// [`out`] with a line end, for `println!`-style output.
+#[macro_export]
+macro_rules! outln {
+    ($($arg:tt)*) => {
+        $crate::console::out(&format!("{}\n", format_args!($($arg)*)))
+    };
 }
 
 #[cfg(test)]

@@ -79,3 +79,21 @@ fn bench_case_is_looked_up_under_the_current_folder() {
     );
     let _ = std::fs::remove_dir_all(&here);
 }
+
+/// `pdbem check CASE | head -0`: a reader that closed the pipe ends the output quietly
+/// (exit 0, nothing on stderr), where `println!` panicked with "failed printing to
+/// stdout: Broken pipe".
+#[test]
+fn a_closed_stdout_pipe_is_not_a_panic() {
+    let (reader, writer) = std::io::pipe().expect("pipe");
+    drop(reader);
+    let o = pdbem()
+        .args(["check", CASE])
+        .stdout(writer)
+        .stderr(std::process::Stdio::piped())
+        .output()
+        .expect("runs");
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{o:?}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}

@@ -399,7 +399,7 @@ pub fn run(out: &Path, quick: bool) -> Result<TradeReport> {
 /// to stdout).
 fn write_report(report: &TradeReport, out: &Path) -> Result<()> {
     let text = report::markdown(report);
-    print!("{text}");
+    crate::console::out(&text);
     write_atomic(&out.join("report.md"), text.as_bytes())?;
     write_atomic(
         &out.join("bench.json"),

@@ -468,7 +468,7 @@ pub fn run(out: &Path, quick: bool, case: Option<&str>) -> Result<()> {
         ratio_uniform_fine_to_refined: fine_ratio,
     };
     let text = table(&report);
-    print!("{text}");
+    crate::console::out(&text);
     write_atomic(&out.join("bench.txt"), text.as_bytes())?;
     write_atomic(
         &out.join("bench.json"),

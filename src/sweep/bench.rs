@@ -145,7 +145,7 @@ pub fn run(out: &Path, quick: bool) -> anyhow::Result<()> {
     let md = markdown(&report);
     w.write_bytes("report.md", md.as_bytes())?;
     w.commit()?;
-    print!("{md}");
+    crate::console::out(&md);
     Ok(())
 }
 
