@@ -111,15 +111,28 @@ fn refined_window_growth_keeps_the_path_on_the_line() {
     assert!(h.relocations.len() >= 15, "{} moves", h.relocations.len());
     let path = &h.paths[0].points;
     assert!(path.last().unwrap().y < 0.05, "ends at {:?}", path.last());
-    // Down to y = 2 m, before the last window (against the bottom edge, where the crack
-    // runs through coarse cells to the outline): measured 0.003 m off the line, a
+    // Down to y = 2 m, before the last windows: measured 0.003 m off the line, a
     // sixteenth of a fine dx; before the fine-cell rule, 0.1 m by y = 6.8 m.
-    let off = path
-        .iter()
-        .filter(|p| p.y > 2.0)
-        .map(|p| (p.x - 10.0).abs())
-        .fold(0.0, f64::max);
-    assert!(off < 0.025, "path {off:.4} m off the crack line");
+    let off = |lo: f64| {
+        path.iter()
+            .filter(|p| p.y > lo)
+            .map(|p| (p.x - 10.0).abs())
+            .fold(0.0, f64::max)
+    };
+    assert!(
+        off(2.0) < 0.025,
+        "path {:.4} m off the crack line",
+        off(2.0)
+    );
+    // The window against the bottom edge holds the tip 0.3 m above the zone its top
+    // interface side allows: the crack grows 0.1 m through coarse cells into the zone,
+    // which then follows it to the edge in place. Measured 0.100 m off the line at most
+    // (the uniform 40 x 40 window: 0.06 m); through coarse cells all the way, 0.17 m.
+    assert!(
+        off(-1.0) < 0.12,
+        "path {:.4} m off the crack line",
+        off(-1.0)
+    );
 }
 
 /// A growth scene with refinement levels the mixed grid does not build is refused for the
@@ -134,4 +147,32 @@ fn refined_growth_with_bad_levels_names_the_levels_only() {
     let text = sc.validate().unwrap_err().to_string();
     assert!(text.contains("coupling.refine.levels"), "{text}");
     assert!(!text.contains("growth.move_distance"), "{text}");
+}
+
+/// `cases/growth_tension_edge_refined.ron` (3 m windows, level-1 zone of 0.55 m, 0.5 m
+/// moves) to the bottom edge. The last window sits against that edge; its zone is
+/// re-centred on the tip in place (relocation records from a window to itself) and
+/// reaches the free edge, so the crack runs through fine cells all the way. Measured:
+/// 0.001 m off the line everywhere (0.003 m from the uniform 60 x 60 window at the fine
+/// spacing); with the last stretch through coarse cells, as before the re-zoning, 0.021 m.
+#[test]
+fn refined_windows_keep_the_crack_in_fine_cells_up_to_the_edge() {
+    let mut sc = Scene::load("cases/growth_tension_edge_refined.ron").unwrap();
+    sc.growth.as_mut().unwrap().sif_spacing = Some(0.0);
+    sc.validate().unwrap();
+    let dir = std::env::temp_dir().join(format!("pdbem-refined-edge-{}", std::process::id()));
+    let ctx = pdbem::runner::RunContext::new(&dir, true).unwrap();
+    let h = pdbem::growth::pd_bem::run(&sc, &ctx).unwrap();
+    ctx.writer.abort();
+    assert!(h.failure, "no structural failure");
+    let in_place = h.relocations.iter().filter(|r| r.from == r.to).count();
+    assert!(
+        in_place >= 1,
+        "no re-zoning in {} relocations",
+        h.relocations.len()
+    );
+    let path = &h.paths[0].points;
+    assert!(path.last().unwrap().y < 1e-9, "ends at {:?}", path.last());
+    let off = path.iter().map(|p| (p.x - 10.0).abs()).fold(0.0, f64::max);
+    assert!(off < 0.01, "path {off:.4} m off the crack line");
 }

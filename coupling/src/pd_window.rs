@@ -201,6 +201,13 @@ pub fn build_problem(
             });
         }
     }
+    let refine_zones = s
+        .refine
+        .map(|r| {
+            let open = open_sides(w, &boundary);
+            refine_zones(p2(zone_centre(w, tip_of(w, cracks), r, open)), r)
+        })
+        .unwrap_or_default();
     PdProblem {
         region: Region::rotated_rectangle(p2(w.spec.center), lx, ly, w.spec.angle),
         dx: w.spec.dx,
@@ -221,10 +228,7 @@ pub fn build_problem(
         material: s.material,
         // Windows carry no scene tractions (the BEM loads them by displacement).
         traction: pdbem_pd::TractionLoad::BodyForceLayer,
-        refine_zones: s
-            .refine
-            .map(|r| refine_zones(p2(zone_centre(w, tip_of(w, cracks), r)), r))
-            .unwrap_or_default(),
+        refine_zones,
     }
 }
 
@@ -252,8 +256,9 @@ fn zone_reach(w: &Window, half_size: f64) -> f64 {
 
 /// Centre of the refinement zone of window `w` for the tip `tip`: the cell corner nearest
 /// the tip, moved along the window's axes (if needed) so that the zone keeps two horizons
-/// from every side (a window pushed against the outline holds its tip off centre).
-pub fn zone_centre(w: &Window, tip: V2, r: WindowRefine) -> V2 {
+/// from every side but the `open` ones ([`open_sides`]; a window pushed against the
+/// outline holds its tip off centre).
+pub fn zone_centre(w: &Window, tip: V2, r: WindowRefine, open: [bool; 4]) -> V2 {
     let m = zone_reach(w, r.half_size) + 2.0 * w.delta();
     let (lx, ly) = w.size();
     // Snapped to the nearest cell corner: the split cells are then symmetric about the
@@ -264,13 +269,19 @@ pub fn zone_centre(w: &Window, tip: V2, r: WindowRefine) -> V2 {
     let q = V2::new(q.x.round(), q.y.round()) * w.spec.dx;
     // Held two horizons inside on the cell-corner lattice (a clamped centre off the
     // lattice splits the cells asymmetrically about it and shifts the zone's end by a
-    // cell; measured on the tension plate).
+    // cell; measured on the tension plate); up to an open side itself.
     let dx = w.spec.dx;
-    let clamp = |v: f64, l: f64| {
-        let (lo, hi) = (
-            (m / dx - 1e-9).ceil() * dx,
-            ((l - m) / dx + 1e-9).floor() * dx,
-        );
+    let clamp = |v: f64, l: f64, (open_lo, open_hi): (bool, bool)| {
+        let lo = if open_lo {
+            0.0
+        } else {
+            (m / dx - 1e-9).ceil() * dx
+        };
+        let hi = if open_hi {
+            l
+        } else {
+            ((l - m) / dx + 1e-9).floor() * dx
+        };
         if lo > hi {
             0.5 * l
         } else {
@@ -278,19 +289,67 @@ pub fn zone_centre(w: &Window, tip: V2, r: WindowRefine) -> V2 {
         }
     };
     let (e1, e2) = w.axes();
-    w.corners()[0] + clamp(q.x, lx) * e1 + clamp(q.y, ly) * e2
+    // Sides: 0 bottom (local y = 0), 1 right, 2 top, 3 left ([`Window::corners`]).
+    w.corners()[0]
+        + clamp(q.x, lx, (open[3], open[1])) * e1
+        + clamp(q.y, ly, (open[0], open[2])) * e2
+}
+
+/// The outer sides of window `w` that carry none of the scene's conditions in `boundary`
+/// (the window problem's conditions, [`build_problem`]): free surfaces. A refinement zone
+/// may reach them ([`zone_centre`]): a free side has no fictitious layer and no loaded
+/// boundary layer built on the coarse grid, and the dual-horizon surface terms hold on
+/// mixed spacing. Interface sides, and outer sides with a traction or a displacement
+/// condition, are not open; a condition of a kind `build_problem` does not make for an
+/// outer side closes them all.
+pub fn open_sides(w: &Window, boundary: &[BoundaryCondition]) -> [bool; 4] {
+    let mut open = w.sides.map(|k| k == SideKind::Outer);
+    let on_side = |pts: &[[f64; 2]], k: usize| {
+        let (a, b) = w.side(k);
+        let tol = 1e-6 * w.spec.dx;
+        pts.windows(2).any(|s| {
+            let mid = V2::new(0.5 * (s[0][0] + s[1][0]), 0.5 * (s[0][1] + s[1][1]));
+            pdbem_geometry::point_segment_projection(&mid, &a, &b).0 < tol
+        })
+    };
+    for c in boundary {
+        let pts: &[[f64; 2]] = match c {
+            BoundaryCondition::Traction { edge, .. } => edge,
+            BoundaryCondition::Displacement {
+                on: Selection::NearPolyline { points, .. },
+                ..
+            } => points,
+            // The interface layers: their sides are not open anyway.
+            BoundaryCondition::Displacement {
+                on: Selection::All | Selection::Box { .. },
+                ..
+            } => continue,
+            _ => return [false; 4],
+        };
+        for (k, o) in open.iter_mut().enumerate() {
+            *o &= !on_side(pts, k);
+        }
+    }
+    open
 }
 
 /// The crack tip window `w` serves: the end of its PD pre-cracks deepest inside the window
 /// (the other ends reach beyond its boundary); the window centre without a pre-crack.
 pub fn tip_of(w: &Window, cracks: &[Vec<V2>]) -> V2 {
+    // Signed: the far ends of pre-cracks reach past the window's sides, and a tip near an
+    // outer side is closer to it than they are.
     let depth = |p: V2| {
-        (0..4)
+        let d = (0..4)
             .map(|k| {
                 let (a, b) = w.side(k);
                 pdbem_geometry::point_segment_projection(&p, &a, &b).0
             })
-            .fold(f64::INFINITY, f64::min)
+            .fold(f64::INFINITY, f64::min);
+        if w.contains(p, 0.0) {
+            d
+        } else {
+            -d
+        }
     };
     cracks
         .iter()
@@ -302,9 +361,10 @@ pub fn tip_of(w: &Window, cracks: &[Vec<V2>]) -> V2 {
 }
 
 /// Check that the refinement zone of `problem` (window `w`) keeps two coarse horizons
-/// from every window side, so the interface layers and the nodes their bonds and
-/// dilatations reach stay on the uniform coarse grid and the interface maps are those of
-/// the uniform window. The message names the setting and the room there is.
+/// from every window side but the open ones ([`open_sides`]), so the interface layers,
+/// the layers of outer conditions and the nodes their bonds and dilatations reach stay
+/// on the uniform coarse grid and the interface maps are those of the uniform window.
+/// The message names the setting and the room there is.
 pub fn check_refine_zone(w: &Window, problem: &PdProblem) -> Result<(), String> {
     let Some(z) = problem.refine_zones.first() else {
         return Ok(());
@@ -313,7 +373,9 @@ pub fn check_refine_zone(w: &Window, problem: &PdProblem) -> Result<(), String> 
     let reach = zone_reach(w, z.half_size);
     let need = reach + 2.0 * w.delta();
     let c = V2::new(z.centre[0], z.centre[1]);
+    let open = open_sides(w, &problem.boundary);
     let room = (0..4)
+        .filter(|&k| !open[k])
         .map(|k| {
             let (a, b) = w.side(k);
             pdbem_geometry::point_segment_projection(&c, &a, &b).0
@@ -321,7 +383,7 @@ pub fn check_refine_zone(w: &Window, problem: &PdProblem) -> Result<(), String> 
         .fold(f64::INFINITY, f64::min);
     if room + 1e-9 * w.spec.dx < need {
         return Err(format!(
-            "the zone at ({:.4}, {:.4}) reaches {reach:.4} m from its centre, which is {room:.4} m from the nearest window side; it must stay two horizons (2 delta = {:.4} m) inside: half_size at most {:.4} m for this window",
+            "the zone at ({:.4}, {:.4}) reaches {reach:.4} m from its centre, which is {room:.4} m from the nearest window side with an interface or a condition; it must stay two horizons (2 delta = {:.4} m) inside: half_size at most {:.4} m for this window",
             c.x,
             c.y,
             2.0 * w.delta(),
@@ -390,10 +452,10 @@ mod tests {
         // dx = 0.05, delta = 0.15075: the zone's cells reach 0.125 from its centre, which
         // must stay 0.4265 from every side of [9.5, 10.5]^2.
         // Snapped to the cell corner (10.05, 5.05) nearest the tip.
-        let c = zone_centre(&w, V2::new(10.06, 5.04), r);
+        let c = zone_centre(&w, V2::new(10.06, 5.04), r, [false; 4]);
         assert!((c - V2::new(10.05, 5.05)).norm() < 1e-12);
         // Held 0.4265 inside, on the lattice: the corner 0.45 from the side.
-        let c = zone_centre(&w, V2::new(9.6, 5.0), r);
+        let c = zone_centre(&w, V2::new(9.6, 5.0), r, [false; 4]);
         assert!((c.x - (9.5 + 0.45)).abs() < 1e-9 && (c.y - 5.0).abs() < 1e-12);
         let zones = refine_zones([c.x, c.y], r);
         assert_eq!(zones.len(), 2);

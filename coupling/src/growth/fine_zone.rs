@@ -20,10 +20,21 @@
 //!   between two coarse nodes (those would seal the crack, unbreakable and not copied as
 //!   broken). Otherwise the move is refused with the largest move distance that works
 //!   ([`max_move_distance`], which `pdbem check` also applies).
-//! - Windows against the outline (an outer side) have neither: the crack must be able to
-//!   run through their coarse cells to the boundary. Nor do windows holding several tips
-//!   (merged windows, a central crack): their zone sits on one tip
-//!   ([`crate::pd_window::tip_of`]) and the others must grow through coarse cells.
+//! - Windows against the outline whose outer sides are free
+//!   ([`crate::pd_window::open_sides`]) keep the rules, with three differences: their
+//!   zone may reach those sides (the crack must run through fine cells to the edge); the
+//!   fine-zone trigger rebuilds the window where it is with its pre-crack extended and its
+//!   zone re-centred on the tip ([`zone_moves_on`], `Growth::rezone_in_place`), since the
+//!   window cannot move on; and a window placed with its tip short of its zone (its
+//!   interface sides keep the zone two horizons away) lets the crack grow through coarse
+//!   cells into the zone first (no protection, no trigger while coarser cells lie within
+//!   the margin behind the tip). Measured on `cases/growth_tension_edge_refined.ron`: the
+//!   last 0.4 m to the bottom edge stayed within 0.001 m of the line (0.021 m through
+//!   coarse cells before).
+//! - Windows with a loaded or held outer side, and windows holding several tips (merged
+//!   windows, a central crack), keep neither rule: their zone cannot reach that side, or
+//!   sits on one tip ([`crate::pd_window::tip_of`]) while the others must grow through
+//!   coarse cells.
 //!
 //! Why: measured on `growth_tension_edge` (straight mode-I path along x = 10 m), a 2 m
 //! window with a 0.3 m level-1 zone whose tip ran on past the zone into the coarse cells
@@ -36,6 +47,7 @@
 use pdbem_bem::V2;
 use pdbem_pd::crack_path::CrackPath;
 
+use crate::pd_window::{open_sides, tip_of, zone_centre, WindowRefine};
 use crate::setup::WindowModel;
 use crate::window::SideKind;
 
@@ -46,14 +58,40 @@ use crate::window::SideKind;
 /// neighbours fine.
 pub const ZONE_MARGIN: f64 = 2.5;
 
-/// The finest node spacing of a mixed window grid whose sides are all interface sides and
-/// that holds one crack tip, `None` for a uniform grid, a window against the outline or
-/// one holding several tips (module docs) (m).
+/// The finest node spacing of a mixed window grid that holds one crack tip and whose
+/// outer sides, if any, are free ([`crate::pd_window::open_sides`]: the zone can follow
+/// the tip up to them); `None` for a uniform grid, a window with a loaded or held outer
+/// side, or one holding several tips (module docs) (m).
 pub fn finest_spacing(wm: &WindowModel) -> Option<f64> {
     let g = wm.model.grid();
-    let interior =
-        wm.window.sides.iter().all(|k| *k == SideKind::Interface) && tips_inside(wm) == 1;
-    (g.is_mixed() && interior).then(|| g.spacing.iter().copied().fold(f64::INFINITY, f64::min))
+    if !g.is_mixed() || tips_inside(wm) != 1 {
+        return None;
+    }
+    let open = open_sides(&wm.window, &wm.problem.boundary);
+    (0..4)
+        .all(|k| wm.window.sides[k] == SideKind::Interface || open[k])
+        .then(|| g.spacing.iter().copied().fold(f64::INFINITY, f64::min))
+}
+
+/// Whether window `wm` has an outer side: its fine-zone trigger re-zones it in place
+/// ([`zone_moves_on`]) instead of moving it.
+pub fn against_outline(wm: &WindowModel) -> bool {
+    wm.window.sides.contains(&SideKind::Outer)
+}
+
+/// Where the refinement zone of `wm` (setting `r`) goes when the window is rebuilt in
+/// place for a tip whose traced path is `path` and whose pre-crack then ends one window
+/// spacing short of the tip ([`super::relocate::extend_crack`]), if that is at least one
+/// finest spacing from where it is now; `None` when it would stay (or the window has no
+/// zone).
+pub fn zone_moves_on(wm: &WindowModel, r: WindowRefine, path: &[V2]) -> Option<V2> {
+    let fine = finest_spacing(wm)?;
+    let now = wm.problem.refine_zones.first()?.centre;
+    let total = pdbem_geometry::polyline_length(path);
+    let end = pdbem_geometry::point_at(path, (total - wm.window.spec.dx).max(0.0));
+    let open = open_sides(&wm.window, &wm.problem.boundary);
+    let c = zone_centre(&wm.window, end, r, open);
+    ((c - V2::new(now[0], now[1])).norm() >= fine).then_some(c)
 }
 
 /// Pre-crack ends of `wm` more than half a spacing inside the window: its crack tips.
@@ -79,11 +117,23 @@ fn coarse(wm: &WindowModel, i: usize, fine: f64) -> bool {
 }
 
 /// Marks every intact bond between two nodes coarser than the finest level unbreakable
-/// (module docs). Returns the directed bonds marked (0 on a uniform grid).
+/// (module docs), once the window's pre-crack ends in its fine cells (a window against
+/// the outline may hold its tip short of a zone that its interface sides keep away from
+/// it: its crack grows into the zone first, [`leaves_fine_zone`]). Returns the directed
+/// bonds marked (0 on a uniform grid).
 pub fn protect_coarse(wm: &mut WindowModel) -> usize {
     let Some(fine) = finest_spacing(wm) else {
         return 0;
     };
+    let cracks: Vec<Vec<V2>> = wm
+        .problem
+        .cracks
+        .iter()
+        .map(|c| c.iter().map(|p| V2::new(p[0], p[1])).collect())
+        .collect();
+    if !in_fine_cells(wm, fine, tip_of(&wm.window, &cracks)) {
+        return 0;
+    }
     let flags: Vec<bool> = (0..wm.model.grid().len())
         .map(|i| coarse(wm, i, fine))
         .collect();
@@ -101,27 +151,37 @@ fn coarse_within(wm: &WindowModel, fine: f64, tip: V2, dir: V2, reach: f64, ahea
 }
 
 /// Whether the tip at `tip`, growing along the unit vector `dir`, has reached the end of
-/// the finest cells of window `wm` (module docs); always false on a uniform grid.
+/// the finest cells of window `wm` (module docs); always false on a uniform grid, and in
+/// a window against the outline while the tip is still growing into its fine cells
+/// (coarser cells within the margin behind it too).
 pub fn leaves_fine_zone(wm: &WindowModel, tip: V2, dir: V2) -> bool {
     let Some(fine) = finest_spacing(wm) else {
         return false;
     };
-    coarse_within(wm, fine, tip, dir, ZONE_MARGIN * fine, true)
+    let reach = ZONE_MARGIN * fine;
+    coarse_within(wm, fine, tip, dir, reach, true)
+        && !(against_outline(wm) && coarse_within(wm, fine, tip, dir, reach, false))
 }
 
-/// Whether the pre-crack end `macro_tip` of a freshly moved window `wm` lies in its fine
-/// cells, more than half a fine spacing from every coarser cell (window axes); true where
-/// the rule does not apply (module docs).
-pub fn precrack_in_fine_cells(wm: &WindowModel, macro_tip: V2) -> bool {
-    let Some(fine) = finest_spacing(wm) else {
-        return true;
-    };
+/// Whether `p` lies in the fine cells of `wm` (finest spacing `fine`), more than half a
+/// fine spacing from every coarser cell (window axes).
+fn in_fine_cells(wm: &WindowModel, fine: f64, p: V2) -> bool {
     let (g, w) = (wm.model.grid(), &wm.window);
-    let p = w.to_local(macro_tip);
+    let p = w.to_local(p);
     !(0..g.n_real).any(|j| {
         let d = w.to_local(V2::new(g.pos[j][0], g.pos[j][1])) - p;
         coarse(wm, j, fine) && d.x.abs().max(d.y.abs()) - 0.5 * g.node_dx(j) < 0.5 * fine
     })
+}
+
+/// Whether the pre-crack end `macro_tip` of a freshly moved window `wm` lies in its fine
+/// cells ([`in_fine_cells`]); true where the rule does not apply (module docs), and for a
+/// window against the outline, whose crack may first grow into its zone.
+pub fn precrack_in_fine_cells(wm: &WindowModel, macro_tip: V2) -> bool {
+    match finest_spacing(wm) {
+        Some(fine) => against_outline(wm) || in_fine_cells(wm, fine, macro_tip),
+        None => true,
+    }
 }
 
 /// The largest move distance (m) for which a refined window of `n` x `n` cells of spacing
@@ -282,5 +342,81 @@ mod tests {
         // Levels the mixed grid does not build: none (and no overflowing shift).
         assert_eq!(max_move_distance(30, 0.1, 0.3015, 0.55, 0), 0.0);
         assert_eq!(max_move_distance(30, 0.1, 0.3015, 0.55, 40), 0.0);
+    }
+
+    /// The 1 m window [9.5, 10.5] x [0, 1] against the bottom edge of the seed's plate on a
+    /// crack from the top edge to (10, 0.8), refined by a level-1 zone of half side 0.15 m,
+    /// with `outer` on its outer side.
+    fn outline_window(outer: Vec<crate::pd_window::EdgeCondition>) -> WindowModel {
+        let pts = vec![V2::new(10.0, 10.0), V2::new(10.0, 0.8)];
+        let mut s = plate_setup((20.0, 10.0), vec![], vec![pts], None);
+        s.layout.windows[0].center = V2::new(10.0, 0.5);
+        s.layout.pd.refine = Some(WindowRefine {
+            half_size: 0.15,
+            levels: 1,
+        });
+        build(&s.layout, |_, _| outer.clone())
+            .unwrap()
+            .windows
+            .remove(0)
+    }
+
+    #[test]
+    fn a_zone_against_a_free_edge_follows_the_tip_to_it() {
+        let mut wm = outline_window(Vec::new());
+        let r = WindowRefine {
+            half_size: 0.15,
+            levels: 1,
+        };
+        assert!(against_outline(&wm));
+        assert_eq!(
+            open_sides(&wm.window, &wm.problem.boundary),
+            [true, false, false, false]
+        );
+        assert_eq!(finest_spacing(&wm), Some(0.025));
+        // The top interface side holds the zone's centre at y <= 0.525 (cells reach 0.175
+        // from it, two horizons 0.3015 more): it sits at (10, 0.5), short of the
+        // pre-crack's end at 0.8, so no coarse bond is protected until the crack has grown
+        // into it, and a tip still growing towards it does not trigger.
+        assert_eq!(wm.problem.refine_zones[0].centre, [10.0, 0.5]);
+        assert_eq!(protect_coarse(&mut wm), 0);
+        let down = V2::new(0.0, -1.0);
+        assert!(!leaves_fine_zone(&wm, V2::new(10.0, 0.7), down));
+        // In the zone (fine cells over [0.35, 0.65]), 0.05 m from its lower end: trigger.
+        assert!(!leaves_fine_zone(&wm, V2::new(10.0, 0.45), down));
+        assert!(leaves_fine_zone(&wm, V2::new(10.0, 0.4), down));
+        // Re-zoned in place on the pre-crack end one window spacing behind the tip.
+        let path = [V2::new(10.0, 1.0), V2::new(10.0, 0.4)];
+        let c = zone_moves_on(&wm, r, &path).expect("the zone moves on");
+        assert!((c - V2::new(10.0, 0.45)).norm() < 1e-9, "{c:?}");
+        // Towards the free edge the zone reaches the side itself; towards an interface
+        // side it keeps its two horizons.
+        let open = [true, false, false, false];
+        let low = zone_centre(&wm.window, V2::new(10.0, 0.1), r, open);
+        assert!((low.y - 0.1).abs() < 1e-9, "{low:?}");
+        let closed = zone_centre(&wm.window, V2::new(10.0, 0.1), r, [false; 4]);
+        assert!((closed.y - 0.5).abs() < 1e-9, "{closed:?}");
+        // A zone that would not move by a fine spacing stays.
+        let short = [V2::new(10.0, 1.0), V2::new(10.0, 0.56)];
+        assert!(zone_moves_on(&wm, r, &short).is_none());
+    }
+
+    #[test]
+    fn a_held_outer_side_keeps_the_rule_off() {
+        let held = crate::pd_window::EdgeCondition {
+            from: V2::new(9.5, 0.0),
+            to: V2::new(10.5, 0.0),
+            traction: [None, None],
+            displacement: [None, Some(0.0)],
+        };
+        let mut wm = outline_window(vec![held]);
+        assert_eq!(open_sides(&wm.window, &wm.problem.boundary), [false; 4]);
+        assert_eq!(finest_spacing(&wm), None);
+        assert_eq!(protect_coarse(&mut wm), 0);
+        assert!(!leaves_fine_zone(
+            &wm,
+            V2::new(10.0, 0.4),
+            V2::new(0.0, -1.0)
+        ));
     }
 }

@@ -19,7 +19,9 @@ use crate::growth::observer::Observer;
 use crate::growth::polyline;
 use crate::growth::records::{RelocationPlan, RelocationRecord, Scenario};
 use crate::growth::relocate::{extend_crack, moved_spec};
-use crate::growth::tips::{entry_point, hole_name, margins, towards_tip, TipEnd, TipState};
+use crate::growth::tips::{
+    entry_point, hole_name, margins, passed_margin, towards_tip, TipEnd, TipState,
+};
 use crate::growth::topology::cuts_body;
 use crate::setup::Layout;
 use crate::window::{Window, WindowSpec};
@@ -244,6 +246,29 @@ impl<S: Scenario> Growth<'_, S> {
             })
     }
 
+    /// The unchanged spec of window `w` when its tip `t` triggered at the end of its fine
+    /// cells (not at its margin) in a window against the outline whose refinement zone
+    /// then moves on ([`fine_zone::zone_moves_on`]): the window is rebuilt where it is,
+    /// its pre-crack extended along the traced path and its zone re-centred on the tip
+    /// (a re-zoning, recorded as a relocation from the window's centre to itself). Such a
+    /// window cannot move on towards the outline, and its zone must follow the tip to the
+    /// free edge the crack runs to (module docs of [`fine_zone`]).
+    fn rezone_in_place(&self, w: usize, t: usize) -> Option<WindowSpec> {
+        let wm = &self.problem.windows[w];
+        let r = self.setup.layout.pd.refine?;
+        let tip = &self.tips[t];
+        let at_margin = passed_margin(
+            &wm.window,
+            tip.position(),
+            tip.entry,
+            self.params.trigger_ratio,
+        );
+        (fine_zone::against_outline(wm)
+            && !at_margin
+            && fine_zone::zone_moves_on(wm, r, &tip.path_points()).is_some())
+        .then(|| wm.window.spec.clone())
+    }
+
     /// Moves window `w` for its triggered tips `group` (see [`Growth::plan`]): the new
     /// window and the extended cracks are written into `layout`. Returns per moved tip
     /// (tip, (old window centre, tip position, BEM elements added per face)), the tips
@@ -263,6 +288,11 @@ impl<S: Scenario> Growth<'_, S> {
         let mut specs: Vec<WindowSpec> = Vec::new();
         let mut movers = Vec::new();
         for &t in group {
+            if let Some(spec) = self.rezone_in_place(w, t) {
+                specs.push(spec);
+                movers.push(t);
+                continue;
+            }
             let tip = &self.tips[t];
             let line = towards_tip(
                 &self.setup.layout.cracks[tip.spec.crack].points,

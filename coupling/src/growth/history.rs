@@ -94,7 +94,8 @@ pub struct Relocation {
     pub tip: String,
     /// Window centre before (m).
     pub from: [f64; 2],
-    /// Window centre after (m).
+    /// Window centre after (m); equal to `from` for a refined window against the outline
+    /// rebuilt in place with its zone on the tip (`fine_zone` module docs).
     pub to: [f64; 2],
     /// BEM elements added to each crack face.
     pub elements_added: usize,
