@@ -298,8 +298,7 @@ pub fn zone_centre(w: &Window, tip: V2, r: WindowRefine, open: [bool; 4]) -> V2 
 /// The outer sides of window `w` that carry none of the scene's conditions in `boundary`
 /// (the window problem's conditions, [`build_problem`]): free surfaces. A refinement zone
 /// may reach them ([`zone_centre`]): a free side has no fictitious layer and no loaded
-/// boundary layer built on the coarse grid, and the dual-horizon surface terms hold on
-/// mixed spacing. Interface sides, and outer sides with a traction or a displacement
+/// boundary layer, nothing that needs the coarse spacing there. Interface sides, and outer sides with a traction or a displacement
 /// condition, are not open; a condition of a kind `build_problem` does not make for an
 /// outer side closes them all.
 pub fn open_sides(w: &Window, boundary: &[BoundaryCondition]) -> [bool; 4] {
