@@ -75,6 +75,17 @@ fn refine_zone_must_keep_two_horizons_from_the_window_sides() {
     assert!(scene_validation_common::load(&base_with(&co("(half_size: 0.3, levels: 2)"))).is_ok());
 }
 
+/// The PD-BEM growth history of the valid scene `sc` (outputs discarded; `tag` names the
+/// scratch folder).
+fn grow(sc: &Scene, tag: &str) -> pdbem::growth::GrowthHistory {
+    sc.validate().unwrap();
+    let dir = std::env::temp_dir().join(format!("pdbem-refined-{tag}-{}", std::process::id()));
+    let ctx = pdbem::runner::RunContext::new(&dir, true).unwrap();
+    let h = pdbem::growth::pd_bem::run(sc, &ctx).unwrap();
+    ctx.writer.abort();
+    h
+}
+
 /// Growth with a refined window (`coupling/src/growth/fine_zone.rs`): the tension plate's
 /// mode-I crack (along x = 10 m) with the seed's 2 m window of 20 x 20 cells and a level-1
 /// zone of 0.3 m (fine dx 0.05 m), moved by 0.35 m, the longest move its zone holds
@@ -101,11 +112,7 @@ fn refined_window_growth_keeps_the_path_on_the_line() {
     let gr = sc.growth.as_mut().unwrap();
     gr.move_distance = Some(0.35);
     gr.elements_per_extension = 4;
-    sc.validate().unwrap();
-    let dir = std::env::temp_dir().join(format!("pdbem-refined-growth-{}", std::process::id()));
-    let ctx = pdbem::runner::RunContext::new(&dir, true).unwrap();
-    let h = pdbem::growth::pd_bem::run(&sc, &ctx).unwrap();
-    ctx.writer.abort();
+    let h = grow(&sc, "growth");
     // Measured: failure at load 3.3, 23 moves, the tip on the bottom edge.
     assert!(h.failure, "no structural failure");
     assert!(h.relocations.len() >= 15, "{} moves", h.relocations.len());
@@ -159,11 +166,7 @@ fn refined_growth_with_bad_levels_names_the_levels_only() {
 fn refined_windows_keep_the_crack_in_fine_cells_up_to_the_edge() {
     let mut sc = Scene::load("cases/growth_tension_edge_refined.ron").unwrap();
     sc.growth.as_mut().unwrap().sif_spacing = Some(0.0);
-    sc.validate().unwrap();
-    let dir = std::env::temp_dir().join(format!("pdbem-refined-edge-{}", std::process::id()));
-    let ctx = pdbem::runner::RunContext::new(&dir, true).unwrap();
-    let h = pdbem::growth::pd_bem::run(&sc, &ctx).unwrap();
-    ctx.writer.abort();
+    let h = grow(&sc, "edge");
     assert!(h.failure, "no structural failure");
     let in_place = h.relocations.iter().filter(|r| r.from == r.to).count();
     assert!(
