@@ -74,7 +74,7 @@ pub fn finest_spacing(wm: &WindowModel) -> Option<f64> {
 }
 
 /// Whether window `wm` has an outer side: its fine-zone trigger re-zones it in place
-/// ([`zone_moves_on`]) instead of moving it.
+/// when the zone can move on ([`zone_moves_on`]), and moves it otherwise.
 pub fn against_outline(wm: &WindowModel) -> bool {
     wm.window.sides.contains(&SideKind::Outer)
 }
