@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
 
+use pdbem::growth::checkpoint::RunCheckpoint;
 use pdbem::runner::{run_scene, run_scene_with, RunOptions};
 use pdbem::scene::Scene;
 use serde_json::Value;
@@ -180,15 +181,17 @@ fn stop_and_resume(scene: &Scene, k: usize, tag: &str) -> (f64, f64) {
         quiet: true,
         ..Default::default()
     };
-    stop_and_resume_with(scene, (&whole, &stop), &format!("after load step {k}"), tag)
+    let stopped = format!("after load step {k}");
+    stop_and_resume_with(scene, (&whole, &stop), (&stopped, k + 1), tag)
 }
 
 /// [`stop_and_resume`] with the options of the uninterrupted run and of the stopped run,
-/// whose error names `stopped`.
+/// whose error names `stopped` and whose checkpoint holds `done` complete load steps (the
+/// progress a resumed run starts from).
 fn stop_and_resume_with(
     scene: &Scene,
     (whole, stop): (&RunOptions, &RunOptions),
-    stopped: &str,
+    (stopped, done): (&str, usize),
     tag: &str,
 ) -> (f64, f64) {
     let (a, b) = (scratch(&format!("{tag}-a")), scratch(&format!("{tag}-b")));
@@ -199,7 +202,9 @@ fn stop_and_resume_with(
     let t1 = Instant::now();
     let e = run_scene_with(scene, &b, stop).expect_err("stopped");
     assert!(format!("{e:#}").contains(stopped), "{e:#}");
-    assert!(b.join(".pdbem-checkpoint.ron").exists(), "no checkpoint");
+    let text = std::fs::read_to_string(b.join(".pdbem-checkpoint.ron")).expect("checkpoint");
+    let cp: RunCheckpoint = ron::from_str(&text).expect("checkpoint parses");
+    assert_eq!(cp.steps_done(), done, "{tag}: steps done at the checkpoint");
     assert!(!b.join("summary.json").exists(), "outputs of a stopped run");
     let resume = RunOptions {
         quiet: true,
@@ -256,10 +261,11 @@ fn full_pd_resumed_inside_a_load_step_equals_an_uninterrupted_run() {
         round_checkpoint_every: Some(Duration::ZERO),
         ..whole
     };
+    // Inside step 9 (0-based): steps 0-8 are complete.
     stop_and_resume_with(
         &scene,
         (&whole, &stop),
-        "in load step 9 after break round 24",
+        ("in load step 9 after break round 24", 9),
         "full-pd-round",
     );
 }

@@ -71,8 +71,13 @@ pub struct RunCheckpoint {
     pub scene_hash: String,
     /// Growth mode (`pd-bem`, `bem-only`, `full-pd`).
     pub mode: String,
-    /// The last completed load step (0-based).
+    /// The last completed load step (0-based); with `within`, the step in progress.
     pub step: usize,
+    /// Written inside `step`, after a break round (full PD): the step is not complete.
+    /// Absent in checkpoints written before it was kept (they were all at step ends or
+    /// read as such).
+    #[serde(default)]
+    pub within: bool,
     /// The engine's state.
     pub engine: EngineState,
     /// The observer's.
@@ -114,9 +119,19 @@ impl RunCheckpoint {
             scene_hash: scene_hash(scene),
             mode: mode.to_string(),
             step,
+            within: false,
             engine,
             observer,
             log,
+        }
+    }
+
+    /// The load steps complete at this checkpoint.
+    pub fn steps_done(&self) -> usize {
+        if self.within {
+            self.step
+        } else {
+            self.step + 1
         }
     }
 
@@ -208,7 +223,11 @@ pub fn save_within(
     (step, round): (usize, usize),
     engine: EngineState,
 ) -> Result<bool> {
-    save(ctx, scene, mode, step, engine, Default::default())?;
+    let log_path = ctx.writer.staging_path(super::LOG_FILE);
+    let log = std::fs::read_to_string(&log_path).unwrap_or_default();
+    let mut cp = RunCheckpoint::new(scene, mode, step, engine, Default::default(), log);
+    cp.within = true;
+    cp.write(&ctx.out_dir)?;
     Ok(ctx.stop_within == Some((step, round)))
 }
 

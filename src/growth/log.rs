@@ -164,7 +164,7 @@ impl<'a> RunObserver<'a> {
         };
         let bar = step_bar(ctx, steps);
         if let Some(cp) = resume {
-            bar.set_position(cp.step as u64 + 1);
+            bar.set_position(cp.steps_done() as u64);
         }
         Ok(RunObserver {
             ctx,
