@@ -208,9 +208,10 @@ pub fn save(
     engine: EngineState,
     observer: ObserverState,
 ) -> Result<bool> {
-    let log_path = ctx.writer.staging_path(super::LOG_FILE);
-    let log = std::fs::read_to_string(&log_path).unwrap_or_default();
-    RunCheckpoint::new(scene, mode, step, engine, observer, log).write(&ctx.out_dir)?;
+    write_now(
+        ctx,
+        RunCheckpoint::new(scene, mode, step, engine, observer, String::new()),
+    )?;
     Ok(ctx.stop_after == Some(step))
 }
 
@@ -223,12 +224,17 @@ pub fn save_within(
     (step, round): (usize, usize),
     engine: EngineState,
 ) -> Result<bool> {
-    let log_path = ctx.writer.staging_path(super::LOG_FILE);
-    let log = std::fs::read_to_string(&log_path).unwrap_or_default();
-    let mut cp = RunCheckpoint::new(scene, mode, step, engine, Default::default(), log);
+    let mut cp = RunCheckpoint::new(scene, mode, step, engine, Default::default(), String::new());
     cp.within = true;
-    cp.write(&ctx.out_dir)?;
+    write_now(ctx, cp)?;
     Ok(ctx.stop_within == Some((step, round)))
+}
+
+/// Writes `cp` into the run folder of `ctx` with the log as written so far.
+fn write_now(ctx: &RunContext, mut cp: RunCheckpoint) -> Result<()> {
+    let log_path = ctx.writer.staging_path(super::LOG_FILE);
+    cp.log = std::fs::read_to_string(&log_path).unwrap_or_default();
+    cp.write(&ctx.out_dir)
 }
 
 #[cfg(test)]
