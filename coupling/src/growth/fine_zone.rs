@@ -83,8 +83,11 @@ pub fn against_outline(wm: &WindowModel) -> bool {
 /// place for a tip whose traced path is `path` and whose pre-crack then ends one window
 /// spacing short of the tip ([`super::relocate::extend_crack`]), if that is at least one
 /// finest spacing from where it is now; `None` when it would stay (or the window has no
-/// zone).
+/// zone, or the path no point).
 pub fn zone_moves_on(wm: &WindowModel, r: WindowRefine, path: &[V2]) -> Option<V2> {
+    if path.is_empty() {
+        return None;
+    }
     let fine = finest_spacing(wm)?;
     let now = wm.problem.refine_zones.first()?.centre;
     let total = pdbem_geometry::polyline_length(path);
@@ -399,6 +402,7 @@ mod tests {
         // A zone that would not move by a fine spacing stays.
         let short = [V2::new(10.0, 1.0), V2::new(10.0, 0.56)];
         assert!(zone_moves_on(&wm, r, &short).is_none());
+        assert!(zone_moves_on(&wm, r, &[]).is_none());
     }
 
     #[test]
