@@ -326,6 +326,20 @@ impl Front {
             .map_or(f64::INFINITY, |o| pdbem_geometry::polygon_distance(p, o))
     }
 
+    /// Distances (m) from `p` to the boundary of every hole, in the front's order (see
+    /// [`Front::hole_names`]).
+    pub fn hole_distances(&self, p: &P2) -> Vec<f64> {
+        self.holes
+            .iter()
+            .map(|(_, h)| h.boundary_distance(p))
+            .collect()
+    }
+
+    /// The holes' group names, in the front's order.
+    pub fn hole_names(&self) -> Vec<&str> {
+        self.holes.iter().map(|(n, _)| n.as_str()).collect()
+    }
+
     /// The boundary polygon of the hole named `name`.
     pub fn hole_polygon(&self, name: &str) -> Option<Vec<P2>> {
         self.holes

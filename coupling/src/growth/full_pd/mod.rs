@@ -26,9 +26,12 @@
 //!    `polyline::join_boundary`), within 3 dx of another crack has joined it ([`Front`] decides
 //!    failure).
 //! 4. Failure ends the run: a crack cut the body through, either a tracked tip reached
-//!    the outline ([`Front::separated`]) or any macro crack reaches the outline at two
-//!    places more than two horizons apart (also one nucleated away from the tips, or a
-//!    branch). When the chord iteration and Newton fail (nearly singular tangents once
+//!    the outline ([`Front::separated`]) or the macro cracks of the damage, with the
+//!    tracked cracks counted in, cut it (`cut::crack_cuts_body`: one reaching the outline
+//!    at two places more than two horizons apart, or a chain through the holes, such as
+//!    the tracked crack into a hole and a crack nucleated at the hole's far side running
+//!    to the outline; also cracks nucleated away from the tips, or branches). When the
+//!    chord iteration and Newton fail (nearly singular tangents once
 //!    pieces hang by a few bonds), ADR looks
 //!    for the equilibrium. Under load control the last equilibria before separation do not
 //!    exist: a failure of all three after bonds broke in the same step is taken as collapse
@@ -577,11 +580,14 @@ fn track(
     if front.separated() {
         return Ok(Tracked::Separated);
     }
-    if let Some((a, b)) = crack_cuts_body(x, phi, front, params, (tr.dx, tr.delta))? {
+    if let Some(cut) = crack_cuts_body(x, phi, front, params, (tr.dx, tr.delta))? {
         tr.apart = true;
+        let (a, b) = cut.contacts;
+        history.notes.push(cut.note(step, load));
         obs.event(
             "cut",
-            json!({"step": step, "load": load, "outline_contacts": [[a.x, a.y], [b.x, b.y]]}),
+            json!({"step": step, "load": load, "contacts": [[a.x, a.y], [b.x, b.y]],
+                   "holes": cut.holes}),
         );
         return Ok(Tracked::Separated);
     }
