@@ -14,7 +14,8 @@ use crate::growth::front::Front;
 pub(super) struct Cut {
     /// A contact of each end of the closing link (on the outline or a hole).
     pub contacts: (P2, P2),
-    /// Names of the holes the chain of cracks runs through (empty for one crack from
+    /// Names of the holes in the cut's chain of cracks: those it runs through, and any
+    /// other hole cracks had joined to its boundaries before (empty for one crack from
     /// outline to outline).
     pub holes: Vec<String>,
 }
@@ -260,7 +261,10 @@ mod tests {
         for other in [out_top, out_right] {
             let cut = cut_of(vec![into.clone(), other], true).expect("cut through the hole");
             assert_eq!(cut.holes, vec!["hole".to_string()]);
-            assert!(cut.note(3, 1.5).contains("through the hole(s) hole"), "{cut:?}");
+            assert!(
+                cut.note(3, 1.5).contains("through the hole(s) hole"),
+                "{cut:?}"
+            );
         }
         // A tracked crack from the bottom edge into the hole whose nodes are not damaged
         // (as a pre-crack's neighbours, below the threshold) links the edge to the hole
