@@ -30,20 +30,12 @@ impl Front {
                 contacts[self.root(t.crack)].push(n);
             }
         }
-        let mut parent: Vec<usize> = (0..=self.holes.len()).collect();
-        let find = |parent: &mut Vec<usize>, mut i: usize| {
-            while parent[i] != i {
-                i = parent[i];
-            }
-            i
-        };
+        let mut graph = BoundaryGraph::new(1 + self.holes.len());
         for group in contacts {
             for w in group.windows(2) {
-                let (a, b) = (find(&mut parent, w[0]), find(&mut parent, w[1]));
-                if a == b {
+                if graph.link(w[0], w[1]) {
                     return true;
                 }
-                parent[a] = b;
             }
         }
         false
@@ -58,6 +50,49 @@ impl Front {
             .collect();
         out.dedup();
         out
+    }
+}
+
+/// The boundaries (node 0 the outline, node 1 + h hole h) linked so far by the cracks:
+/// union-find, a link between two boundaries already linked closes a cycle, a cut.
+pub(crate) struct BoundaryGraph {
+    parent: Vec<usize>,
+}
+
+impl BoundaryGraph {
+    /// `n` boundaries, none linked.
+    pub(crate) fn new(n: usize) -> Self {
+        BoundaryGraph {
+            parent: (0..n).collect(),
+        }
+    }
+
+    /// Number of boundaries.
+    pub(crate) fn len(&self) -> usize {
+        self.parent.len()
+    }
+
+    fn root(&self, mut i: usize) -> usize {
+        while self.parent[i] != i {
+            i = self.parent[i];
+        }
+        i
+    }
+
+    /// Links boundaries `a` and `b`; true when they were linked already (a cycle).
+    pub(crate) fn link(&mut self, a: usize, b: usize) -> bool {
+        let (ra, rb) = (self.root(a), self.root(b));
+        if ra == rb {
+            return true;
+        }
+        self.parent[ra] = rb;
+        false
+    }
+
+    /// The boundaries linked with `a`.
+    pub(crate) fn cycle_nodes(&self, a: usize) -> Vec<usize> {
+        let r = self.root(a);
+        (0..self.len()).filter(|&b| self.root(b) == r).collect()
     }
 }
 

@@ -20,6 +20,7 @@
 //!   cut the body too (`cut.rs`).
 
 mod cut;
+pub(crate) use cut::BoundaryGraph;
 
 use pdbem_geometry::{
     point_segment_distance, polyline_length, ray_circle, ray_polygon, ray_segment, HoleShape, P2,

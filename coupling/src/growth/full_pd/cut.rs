@@ -6,7 +6,7 @@ use pdbem_pd::crack_path::{crack_clusters, PathParams};
 
 use super::rounds::pd_fail;
 use crate::error::CouplingError;
-use crate::growth::front::Front;
+use crate::growth::front::{BoundaryGraph, Front};
 
 /// A cut found by [`crack_cuts_body`]: the two contacts of the link that closed it and
 /// the holes it runs through.
@@ -119,46 +119,6 @@ fn with_tracked_cracks(x: &[[f64; 2]], phi: &[f64], front: &Front, dx: f64) -> V
         }
     }
     out
-}
-
-/// The boundaries linked so far by the cracks (union-find over the outline and the holes).
-struct BoundaryGraph {
-    parent: Vec<usize>,
-}
-
-impl BoundaryGraph {
-    fn new(n: usize) -> Self {
-        BoundaryGraph {
-            parent: (0..n).collect(),
-        }
-    }
-
-    fn len(&self) -> usize {
-        self.parent.len()
-    }
-
-    fn root(&self, mut i: usize) -> usize {
-        while self.parent[i] != i {
-            i = self.parent[i];
-        }
-        i
-    }
-
-    /// Links boundaries `a` and `b`; true when they were linked already (a cycle).
-    fn link(&mut self, a: usize, b: usize) -> bool {
-        let (ra, rb) = (self.root(a), self.root(b));
-        if ra == rb {
-            return true;
-        }
-        self.parent[ra] = rb;
-        false
-    }
-
-    /// The boundaries linked with `a`.
-    fn cycle_nodes(&self, a: usize) -> Vec<usize> {
-        let r = self.root(a);
-        (0..self.len()).filter(|&b| self.root(b) == r).collect()
-    }
 }
 
 /// One point of every group of `points` linked within `link` (single linkage), in order
