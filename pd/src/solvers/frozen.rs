@@ -36,6 +36,17 @@ const CHORD_ANDERSON: usize = 3;
 /// Chord iterations per equilibrium before a fallback takes over.
 const CHORD_ITERS: usize = 50;
 
+/// Refactorisations for poor contraction a window's chord iteration may make per
+/// equilibrium before ADR takes over ([`Fallbacks::chord_refactors`]). Where the chord
+/// iteration fails, a window is nearly cut and its contraction stalls near 1: every
+/// iteration asked for a refactorisation (about 96 factorisations and 0.15 s per failed
+/// equilibrium of a 20 x 20 window), while ADR converged in 0.03-0.08 s. Measured on
+/// `growth_tension_edge` (2 cores): without a limit 6 failed chord iterations took 0.70 s
+/// and the window solves 3.29 s; with 8, 10 took 0.21 s and the window solves 2.32 s,
+/// the run 4.8 s instead of 5.5 s, the path the same node for node; 4 sent 42
+/// equilibria to ADR and cost more.
+const CHORD_REFACTORS: usize = 8;
+
 /// What [`FrozenSolver`] does where its first solvers fail.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Fallbacks {
@@ -43,6 +54,9 @@ pub struct Fallbacks {
     pub refactor_contraction: f64,
     /// Chord iterations before a fallback takes over.
     pub chord_iters: usize,
+    /// Refactorisations for poor contraction within one chord iteration before a fallback
+    /// takes over ([`SecantParams::max_refactors`]); `None`: no limit.
+    pub chord_refactors: Option<usize>,
     /// After a failed chord iteration, ADR before Newton (Newton only where ADR fails).
     /// The windows' choice: where the chord iteration fails a window is nearly cut, and
     /// there Newton (LU on an indefinite tangent) failed too in every case measured on
@@ -60,13 +74,15 @@ pub struct Fallbacks {
 }
 
 impl Default for Fallbacks {
-    /// The windows' settings: the switch's refactorisation threshold, ADR before Newton
+    /// The windows' settings: the switch's refactorisation threshold, at most
+    /// [`CHORD_REFACTORS`] refactorisations per chord iteration, ADR before Newton
     /// after a failed chord iteration, no loose Newton stalls, ADR to `ADR_FALLBACK_TOL`
     /// within `ADR_FALLBACK_MAX_ITERS` steps.
     fn default() -> Self {
         Fallbacks {
             refactor_contraction: CONTRACTION_REFACTOR,
             chord_iters: CHORD_ITERS,
+            chord_refactors: Some(CHORD_REFACTORS),
             adr_before_newton: true,
             loose_measure: 0.0,
             adr_tol: ADR_FALLBACK_TOL,
@@ -200,6 +216,7 @@ impl FrozenSolver {
                 max_columns: CHORD_COLUMNS,
                 anderson_depth: CHORD_ANDERSON,
                 refactor_contraction: fb.refactor_contraction,
+                max_refactors: fb.chord_refactors,
             };
             let solved = chord
                 .track_changes(model, tangent, info)

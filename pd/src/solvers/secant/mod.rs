@@ -80,6 +80,9 @@ pub struct SecantParams {
     /// Contraction per iteration above which $K_0$ is refactorised
     /// ([`CONTRACTION_REFACTOR`] by default).
     pub refactor_contraction: f64,
+    /// Refactorisations for poor contraction allowed per equilibrium; one more ends the
+    /// iteration with [`PdError::NoConvergence`] (a fallback's turn). `None`: no limit.
+    pub max_refactors: Option<usize>,
 }
 
 /// Chord iteration on a factorised secant tangent with Woodbury updates.
@@ -205,6 +208,7 @@ impl SecantSolver {
         let mut prev = f64::INFINITY;
         let mut measure = f64::INFINITY;
         let mut rref = 0.0f64;
+        let mut refactors = 0;
         for it in 1..=p.max_iters {
             model.compute_forces(History::Secant);
             let (r, rr) = residual_norms(model);
@@ -228,27 +232,45 @@ impl SecantSolver {
             self.anderson.mix(&mut self.rhs);
             measure = self.add_step(model, tangent);
             info.residual_history.push(measure);
+            if std::env::var("PDBEM_DBG2").is_ok() {
+                eprintln!("DBG2 it {it} measure {measure:.3e} chord {chord:.3e} rel {rel:.3e}");
+            }
             if let Convergence::Displacement { e0 } = p.convergence {
                 if measure < e0 {
                     return Ok((it, measure));
                 }
             }
             if it > 1 && chord > p.refactor_contraction * prev {
+                refactors += 1;
+                if p.max_refactors.is_some_and(|m| refactors > m) {
+                    return Err(self.no_convergence(model, p, it, measure));
+                }
                 self.refactor(model, tangent, info)?;
                 self.anderson.reset();
             }
             prev = chord;
         }
-        Err(PdError::NoConvergence {
+        Err(self.no_convergence(model, p, p.max_iters, measure))
+    }
+
+    /// The error of an equilibrium given up after `iterations` at `measure`.
+    fn no_convergence(
+        &self,
+        model: &PdModel,
+        p: &SecantParams,
+        iterations: usize,
+        measure: f64,
+    ) -> PdError {
+        PdError::NoConvergence {
             solver: "secant",
-            iterations: p.max_iters,
+            iterations,
             load: model.load,
             measure,
             tolerance: match p.convergence {
                 Convergence::Displacement { e0 } => e0,
                 Convergence::Residual { tol } => tol,
             },
-        })
+        }
     }
 
     /// `u += rhs` at the free DOFs; returns the relative change (Eq. 16).

@@ -193,6 +193,7 @@ fn chord_iteration_reaches_the_newton_equilibrium() {
         max_columns: 8,
         anderson_depth: 3,
         refactor_contraction: super::CONTRACTION_REFACTOR,
+        max_refactors: None,
     };
     // Newton (consistent tangent) on the elastic response at load 1.
     let mut newton_model = strip();
@@ -228,5 +229,47 @@ fn chord_iteration_reaches_the_newton_equilibrium() {
     assert!(
         d < 1e-10 * n,
         "chord and Newton differ by {d:e} (max |u| {n:e})"
+    );
+}
+
+#[test]
+fn a_chord_iteration_out_of_refactorisations_gives_up_to_a_fallback() {
+    // A threshold no contraction meets asks for a refactorisation at every iteration
+    // after the first; with at most 2 allowed the third request ends the iteration.
+    let params = SecantParams {
+        convergence: Convergence::Displacement { e0: 1e-12 },
+        residual_tol: 1e-13,
+        max_iters: 50,
+        max_columns: 8,
+        anderson_depth: 3,
+        refactor_contraction: 1e-30,
+        max_refactors: Some(2),
+    };
+    let mut m = strip();
+    let mut t = Tangent::new(&m.bonds, &m.bc.fixed).unwrap();
+    let mut info = SolveInfo::default();
+    let mut sec = SecantSolver::new(&m, t.n_free, params.max_columns, params.anderson_depth);
+    m.set_load_factor(1.0);
+    match sec.equilibrate(&mut m, &mut t, &params, &mut info) {
+        Err(PdError::NoConvergence { iterations, .. }) => assert_eq!(iterations, 4),
+        other => panic!("expected NoConvergence after 4 iterations, got {other:?}"),
+    }
+    // The first factor and the two refactorisations allowed.
+    assert_eq!(sec.factorizations, 3);
+    // Without the limit the same iteration converges (refactorising every time).
+    let unlimited = SecantParams {
+        max_refactors: None,
+        ..params
+    };
+    let mut m = strip();
+    let mut sec = SecantSolver::new(&m, t.n_free, params.max_columns, params.anderson_depth);
+    m.set_load_factor(1.0);
+    let (it, _) = sec
+        .equilibrate(&mut m, &mut t, &unlimited, &mut info)
+        .unwrap();
+    assert!(
+        it >= 4 && sec.factorizations > 3,
+        "{it} iterations, {} factorisations",
+        sec.factorizations
     );
 }

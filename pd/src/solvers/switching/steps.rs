@@ -47,6 +47,7 @@ impl<'p> Switcher<'p> {
                 max_columns: p.max_secant_columns,
                 anderson_depth: p.anderson_depth,
                 refactor_contraction: crate::solvers::secant::CONTRACTION_REFACTOR,
+                max_refactors: None,
             },
             newton,
             secant,
