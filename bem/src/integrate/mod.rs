@@ -20,6 +20,7 @@
 //! element from the body side, so the boundary equations read
 //! $u(x) + \sum \hat T u = \sum \hat U t$ and $t(x) = \sum \hat K t - \sum \hat H u$.
 
+pub mod far;
 pub mod moments;
 pub mod quadrature;
 pub mod tensors;

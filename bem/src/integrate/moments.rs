@@ -87,17 +87,30 @@ impl Moments {
     }
 }
 
+/// The order of the plain Gauss rule over the whole element that [`element_moments`]
+/// uses for a pair this far from the element (distance / length >= 3), `None` for nearer
+/// or coplanar pairs.
+pub fn far_gauss_order(g: &PairGeometry) -> Option<usize> {
+    if g.eta.abs() <= COPLANAR_TOL * g.h {
+        return None;
+    }
+    let ratio = g.distance() / g.h;
+    if ratio >= 10.0 {
+        Some(4)
+    } else if ratio >= 3.0 {
+        Some(8)
+    } else {
+        None
+    }
+}
+
 /// Moments by the method the geometry calls for.
 pub fn element_moments(g: &PairGeometry) -> Moments {
-    let ratio = g.distance() / g.h;
+    if let Some(n) = far_gauss_order(g) {
+        return gauss(g, g.s1, g.s2, n);
+    }
     if g.eta.abs() <= COPLANAR_TOL * g.h {
         return coplanar(g);
-    }
-    if ratio >= 10.0 {
-        return gauss(g, g.s1, g.s2, 4);
-    }
-    if ratio >= 3.0 {
-        return gauss(g, g.s1, g.s2, 8);
     }
     let over = g.s1 <= 0.0 && g.s2 >= 0.0;
     let near_end = g.s1.abs().min(g.s2.abs());

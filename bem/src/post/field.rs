@@ -3,6 +3,7 @@
 //! $\sigma_{ij}(x) = \sum_e \int D_{kij} t_k - \int S_{kij} u_k$ (REFERENCES.md), the stress
 //! obtained row by row as the traction on the planes with normals $e_1$ and $e_2$.
 
+use crate::integrate::far::{far_displacement, Densities};
 use crate::integrate::{
     integrate_element, integrate_element_linear, integrate_element_linear_displacement,
     KernelConsts, PairIntegrals,
@@ -83,10 +84,21 @@ impl<'a> FieldEvaluator<'a> {
         }
     }
 
-    /// Displacement at an interior point.
+    /// Displacement at an interior point. Elements at least 3 lengths away are summed
+    /// straight from the kernels at their Gauss points ([`far_displacement`]).
     pub fn displacement(&self, x: V2) -> [f64; 2] {
         let mut u = self.background_u(x);
         for (e, (ue, te)) in self.sol.u.iter().zip(&self.sol.t).enumerate() {
+            let d = Densities {
+                t: *te,
+                u: *ue,
+                g: self.sol.du.get(e).copied().unwrap_or_default(),
+            };
+            if let Some(du) = far_displacement(x, &self.mesh.elements[e], &self.kc, &d) {
+                u[0] += du[0];
+                u[1] += du[1];
+                continue;
+            }
             let (p, lin) = self.pair(x, V2::new(1.0, 0.0), e, true);
             for i in 0..2 {
                 for j in 0..2 {

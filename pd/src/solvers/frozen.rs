@@ -38,14 +38,19 @@ const CHORD_ITERS: usize = 50;
 
 /// Refactorisations for poor contraction a window's chord iteration may make per
 /// equilibrium before ADR takes over ([`Fallbacks::chord_refactors`]). Where the chord
-/// iteration fails, a window is nearly cut and its contraction stalls near 1: every
-/// iteration asked for a refactorisation (about 96 factorisations and 0.15 s per failed
-/// equilibrium of a 20 x 20 window), while ADR converged in 0.03-0.08 s. Measured on
-/// `growth_tension_edge` (2 cores): without a limit 6 failed chord iterations took 0.70 s
-/// and the window solves 3.29 s; with 8, 10 took 0.21 s and the window solves 2.32 s,
-/// the run 4.8 s instead of 5.5 s, the path the same node for node; 4 sent 42
-/// equilibria to ADR and cost more.
-const CHORD_REFACTORS: usize = 8;
+/// iteration fails, a window is nearly cut and its contraction stalls near 1: without a
+/// limit every iteration asked for a refactorisation (about 96 factorisations and 0.15 s
+/// per failed equilibrium of a 20 x 20 window) while ADR converged in 0.03-0.08 s.
+/// `growth_tension_edge` over seven interface tolerances psi = (0.94-1.06) 1e-4 (each a
+/// different but equally valid sequence of break rounds), wall time on 2 cores: no limit
+/// median 6.07 s; 8, 5.21 s; 4 with [`STALLED_CHORD_REFACTORS`], 4.65 s; 2 with it,
+/// 5.26 s. The paths are the same node for node.
+const CHORD_REFACTORS: usize = 4;
+
+/// [`CHORD_REFACTORS`] after a failed chord iteration of the same window. Failures come
+/// in runs (a nearly cut window fails at every coupling iteration until its state moves
+/// on: 30 in a row measured), and each tried refactorisation is lost.
+const STALLED_CHORD_REFACTORS: usize = 1;
 
 /// What [`FrozenSolver`] does where its first solvers fail.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -75,7 +80,8 @@ pub struct Fallbacks {
 
 impl Default for Fallbacks {
     /// The windows' settings: the switch's refactorisation threshold, at most
-    /// [`CHORD_REFACTORS`] refactorisations per chord iteration, ADR before Newton
+    /// [`CHORD_REFACTORS`] refactorisations per chord iteration (fewer after a failed
+    /// one), ADR before Newton
     /// after a failed chord iteration, no loose Newton stalls, ADR to `ADR_FALLBACK_TOL`
     /// within `ADR_FALLBACK_MAX_ITERS` steps.
     fn default() -> Self {
@@ -124,6 +130,9 @@ pub struct FrozenSolver {
     shape: (usize, usize),
     /// Its fallback settings.
     pub fallbacks: Fallbacks,
+    /// The last chord iteration failed: with a refactorisation limit the next one gets
+    /// at most [`STALLED_CHORD_REFACTORS`].
+    stalled: bool,
 }
 
 impl FrozenSolver {
@@ -138,6 +147,7 @@ impl FrozenSolver {
             chord,
             shape: (model.n_nodes(), model.n_bonds()),
             fallbacks: Fallbacks::default(),
+            stalled: false,
         })
     }
 
@@ -216,11 +226,18 @@ impl FrozenSolver {
                 max_columns: CHORD_COLUMNS,
                 anderson_depth: CHORD_ANDERSON,
                 refactor_contraction: fb.refactor_contraction,
-                max_refactors: fb.chord_refactors,
+                max_refactors: fb.chord_refactors.map(|m| {
+                    if self.stalled {
+                        m.min(STALLED_CHORD_REFACTORS)
+                    } else {
+                        m
+                    }
+                }),
             };
             let solved = chord
                 .track_changes(model, tangent, info)
                 .and_then(|_| chord.equilibrate(model, tangent, &sp, info));
+            self.stalled = solved.is_err();
             match solved {
                 Ok((iters, _)) => return Ok(Solved::Chord(iters)),
                 Err(_) => {
@@ -436,6 +453,42 @@ mod tests {
             residual_tol: 1e-9,
             ..Default::default()
         }
+    }
+
+    #[test]
+    fn a_window_out_of_refactorisations_goes_to_adr_and_tries_less_the_next_time() {
+        let params = ImplicitParams {
+            convergence: Convergence::Residual { tol: 1e-13 },
+            residual_tol: 1e-13,
+            ..Default::default()
+        };
+        // A threshold every iteration misses: each one after the first asks to refactorise.
+        let fb = Fallbacks {
+            refactor_contraction: -1.0,
+            chord_refactors: Some(3),
+            ..Fallbacks::default()
+        };
+        let reference = by_newton(edge_plate(6.0), &params);
+        let mut m = edge_plate(6.0);
+        let start = m.displacements().to_vec();
+        let mut solver = FrozenSolver::new(&m).unwrap().with_fallbacks(fb);
+        let mut info = SolveInfo::default();
+        let solved = solver
+            .equilibrate(&mut m, &params, &start, &mut info)
+            .unwrap();
+        assert!(matches!(solved, Solved::Adr(_)), "{solved:?}");
+        let d = reference.relative_displacement_gap(&m);
+        assert!(d < 1e-6, "ADR vs Newton: {d:.2e}");
+        // The first factor and the 3 refactorisations allowed.
+        assert_eq!(info.factorizations, 4);
+        // The same equilibrium again: after the failure the chord iteration gets one.
+        m.set_displacements(&start).unwrap();
+        let mut again = SolveInfo::default();
+        let solved = solver
+            .equilibrate(&mut m, &params, &start, &mut again)
+            .unwrap();
+        assert!(matches!(solved, Solved::Adr(_)), "{solved:?}");
+        assert_eq!(again.factorizations, 2);
     }
 
     #[test]
