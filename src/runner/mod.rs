@@ -165,3 +165,24 @@ fn run_growth(scene: &Scene, ctx: &RunContext) -> anyhow::Result<RunSummary> {
     };
     crate::growth::output::finish(scene, ctx, &history)
 }
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn scenes_run_on_a_thread_of_the_pool() {
+        assert_eq!(
+            rayon::current_thread_index(),
+            None,
+            "the test thread is outside"
+        );
+        assert!(super::in_pool(rayon::current_thread_index).is_some());
+        // Already inside: inline, on the same thread.
+        let (outer, inner) = super::in_pool(|| {
+            (
+                rayon::current_thread_index(),
+                super::in_pool(rayon::current_thread_index),
+            )
+        });
+        assert_eq!(outer, inner);
+    }
+}
