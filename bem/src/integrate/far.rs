@@ -6,8 +6,9 @@
 //! reconstruction about the midpoint $c$ (REFERENCES.md, seed 002 Eqs. 17-18):
 //! $$\Delta u_i = \int U_{ij} t_j\,d\xi - \int T_{ij}\,(u_j + (\xi - c) g_j)\,d\xi,$$
 //! $$U_{ij} t_j = C_U[-(3-4\nu) t_i \ln r + R_i (R\cdot t)/r^2],$$
-//! $$T_{ij} v_j = -C_T[(1-2\nu)\eta v_i/r^2 + 2\eta R_i (R\cdot v)/r^4
-//!   - (1-2\nu)(R_i (n\cdot v) - n_i (R\cdot v))/r^2].$$
+//! $$T_{ij} v_j = -C_T[(1-2\nu)\eta v_i/r^2 + 2\eta R_i (R\cdot v)/r^4 -
+//!   (1-2\nu)(R_i (n\cdot v) - n_i (R\cdot v))/r^2].$$
+//!
 //! The rule is the one [`super::moments::element_moments`] picks for the pair
 //! ([`super::moments::far_gauss_order`]), so both paths give the same sum to round-off.
 
