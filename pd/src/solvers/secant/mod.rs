@@ -232,9 +232,6 @@ impl SecantSolver {
             self.anderson.mix(&mut self.rhs);
             measure = self.add_step(model, tangent);
             info.residual_history.push(measure);
-            if std::env::var("PDBEM_DBG2").is_ok() {
-                eprintln!("DBG2 it {it} measure {measure:.3e} chord {chord:.3e} rel {rel:.3e}");
-            }
             if let Convergence::Displacement { e0 } = p.convergence {
                 if measure < e0 {
                     return Ok((it, measure));
