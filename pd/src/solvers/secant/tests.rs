@@ -184,17 +184,32 @@ fn woodbury_solve_equals_a_fresh_factorisation_after_damage() {
     );
 }
 
-#[test]
-fn chord_iteration_reaches_the_newton_equilibrium() {
-    let params = SecantParams {
+/// The chord iteration's parameters on the strip: tolerances near round-off, 8 low-rank
+/// columns, Anderson depth 3, the given refactorisation rule.
+fn tight_chord(refactor_contraction: f64, max_refactors: Option<usize>) -> SecantParams {
+    SecantParams {
         convergence: Convergence::Displacement { e0: 1e-12 },
         residual_tol: 1e-13,
         max_iters: 50,
         max_columns: 8,
         anderson_depth: 3,
-        refactor_contraction: super::CONTRACTION_REFACTOR,
-        max_refactors: None,
-    };
+        refactor_contraction,
+        max_refactors,
+    }
+}
+
+/// The strip at load 1 with a fresh tangent and chord solver for `params`.
+fn strip_chord(params: &SecantParams) -> (PdModel, Tangent, SecantSolver) {
+    let mut m = strip();
+    let t = Tangent::new(&m.bonds, &m.bc.fixed).unwrap();
+    let sec = SecantSolver::new(&m, t.n_free, params.max_columns, params.anderson_depth);
+    m.set_load_factor(1.0);
+    (m, t, sec)
+}
+
+#[test]
+fn chord_iteration_reaches_the_newton_equilibrium() {
+    let params = tight_chord(super::CONTRACTION_REFACTOR, None);
     // Newton (consistent tangent) on the elastic response at load 1.
     let mut newton_model = strip();
     let ip = crate::solvers::implicit::ImplicitParams {
@@ -205,11 +220,8 @@ fn chord_iteration_reaches_the_newton_equilibrium() {
     crate::solvers::implicit::solve(&mut newton_model, &ip).unwrap();
     // Secant chord iterations from the factor taken at u = 0 (no bond
     // reaches the damage onset, so the secant law is the elastic one).
-    let mut m = strip();
-    let mut t = Tangent::new(&m.bonds, &m.bc.fixed).unwrap();
+    let (mut m, mut t, mut sec) = strip_chord(&params);
     let mut info = SolveInfo::default();
-    let mut sec = SecantSolver::new(&m, t.n_free, params.max_columns, params.anderson_depth);
-    m.set_load_factor(1.0);
     let (it, _) = sec.equilibrate(&mut m, &mut t, &params, &mut info).unwrap();
     let (mut d, mut n) = (0.0f64, 0.0f64);
     for (a, b) in m.u.iter().zip(&newton_model.u) {
@@ -236,20 +248,9 @@ fn chord_iteration_reaches_the_newton_equilibrium() {
 fn a_chord_iteration_out_of_refactorisations_gives_up_to_a_fallback() {
     // A threshold no contraction meets asks for a refactorisation at every iteration
     // after the first; with at most 2 allowed the third request ends the iteration.
-    let params = SecantParams {
-        convergence: Convergence::Displacement { e0: 1e-12 },
-        residual_tol: 1e-13,
-        max_iters: 50,
-        max_columns: 8,
-        anderson_depth: 3,
-        refactor_contraction: 1e-30,
-        max_refactors: Some(2),
-    };
-    let mut m = strip();
-    let mut t = Tangent::new(&m.bonds, &m.bc.fixed).unwrap();
+    let params = tight_chord(1e-30, Some(2));
+    let (mut m, mut t, mut sec) = strip_chord(&params);
     let mut info = SolveInfo::default();
-    let mut sec = SecantSolver::new(&m, t.n_free, params.max_columns, params.anderson_depth);
-    m.set_load_factor(1.0);
     match sec.equilibrate(&mut m, &mut t, &params, &mut info) {
         Err(PdError::NoConvergence { iterations, .. }) => assert_eq!(iterations, 4),
         other => panic!("expected NoConvergence after 4 iterations, got {other:?}"),
@@ -257,13 +258,8 @@ fn a_chord_iteration_out_of_refactorisations_gives_up_to_a_fallback() {
     // The first factor and the two refactorisations allowed.
     assert_eq!(sec.factorizations, 3);
     // Without the limit the same iteration converges (refactorising every time).
-    let unlimited = SecantParams {
-        max_refactors: None,
-        ..params
-    };
-    let mut m = strip();
-    let mut sec = SecantSolver::new(&m, t.n_free, params.max_columns, params.anderson_depth);
-    m.set_load_factor(1.0);
+    let unlimited = tight_chord(1e-30, None);
+    let (mut m, mut t, mut sec) = strip_chord(&unlimited);
     let (it, _) = sec
         .equilibrate(&mut m, &mut t, &unlimited, &mut info)
         .unwrap();
