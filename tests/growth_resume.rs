@@ -224,8 +224,19 @@ fn stop_and_resume_with(
 
 #[test]
 fn pd_bem_resumed_after_a_step_with_broken_bonds_equals_an_uninterrupted_run() {
-    // Measured: uninterrupted 17 s, stopped after step 0 + resumed 14 s (2 cores shared).
-    stop_and_resume(&tension_edge(|t| t), 0, "pd-bem");
+    // The K record at 2 m spacing (4 rows instead of the default 32: each row is a BEM
+    // solve of the path) still goes through the checkpoint and the resumed outputs.
+    // Measured: uninterrupted 17 s, stopped after step 0 + resumed 14 s (2 cores shared)
+    // with the default spacing.
+    let sparse_k = |t: String| {
+        t.replace(
+            "growth: (mode: PdBem,",
+            "growth: (mode: PdBem, sif_spacing: 2.0,",
+        )
+    };
+    let scene = tension_edge(sparse_k);
+    assert_eq!(scene.growth.as_ref().unwrap().sif_spacing, Some(2.0));
+    stop_and_resume(&scene, 0, "pd-bem");
 }
 
 #[test]

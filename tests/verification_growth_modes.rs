@@ -416,7 +416,10 @@ fn snapshots_at_the_chosen_steps_in_every_mode() {
     }
     assert!(grown > 1, "BEM-only ran {grown} steps");
     // PD-BEM: the tension plate's first step (the run fails in its second).
-    let mut tension = case("growth_tension_edge", &[("load.count", "2")]);
+    let mut tension = case(
+        "growth_tension_edge",
+        &[("load.count", "2"), ("growth.sif_spacing", "0")],
+    );
     tension.growth.as_mut().unwrap().snapshot_steps = vec![0];
     let pdbem = grow(&tension, "snap_pdbem");
     assert_eq!(pdbem.steps.len(), 2);
