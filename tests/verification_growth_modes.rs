@@ -232,6 +232,7 @@ fn seed001_inclined_crack_full_pd_coarse_turns_perpendicular_near_the_griffith_l
         "growth_inclined_crack",
         &[
             ("growth.mode", "\"FullPd\""),
+            ("growth.sif_spacing", "0"),
             ("coupling.n", "10"),
             ("load.initial", "13.5"),
             ("load.step", "0.5"),
