@@ -88,12 +88,22 @@ pub fn run_mpi_sweep(
         &mut all_ok,
         SystemOperation::min(),
     );
+    // mpirun ends the job at the first rank that exits with an error and can drop what
+    // the others had still to say: a rank that cannot start says why before the barrier,
+    // the others leave only after it.
     let writer = match (ready, all_ok) {
-        (Err(e), _) => return Err(e),
-        (Ok(_), 0) => anyhow::bail!(
-            "rank {rank}: another rank could not start the sweep (see its message); \
-             nothing was run"
-        ),
+        (Err(e), _) => {
+            eprintln!("error: rank {rank}: {e:#}");
+            world.barrier();
+            anyhow::bail!("rank {rank} could not start the sweep (the message above)")
+        }
+        (Ok(_), 0) => {
+            world.barrier();
+            anyhow::bail!(
+                "rank {rank}: another rank could not start the sweep (see its message); \
+                 nothing was run"
+            )
+        }
         (Ok(w), _) => w,
     };
     if rank != 0 {
