@@ -48,6 +48,31 @@ pub fn save_plot<F: Figure>(
     summary: &mut RunSummary,
 ) -> anyhow::Result<()> {
     let saved = plot::save(fig, &w.staging_path(stem), formats)?;
+    register_plot(w, stem, &saved, summary);
+    Ok(())
+}
+
+/// [`save_plot`] for many figures: drawn in parallel (a growth run has one damage
+/// snapshot per relocation), registered and noted in their order.
+pub fn save_plots<F: Figure + Sync>(
+    w: &OutputWriter,
+    figures: &[(String, F)],
+    formats: &[PlotFormat],
+    summary: &mut RunSummary,
+) -> anyhow::Result<()> {
+    use rayon::prelude::*;
+    let saved: Vec<_> = figures
+        .par_iter()
+        .map(|(stem, fig)| plot::save(fig, &w.staging_path(stem), formats))
+        .collect();
+    for ((stem, _), saved) in figures.iter().zip(saved) {
+        register_plot(w, stem, &saved?, summary);
+    }
+    Ok(())
+}
+
+/// Registers the files of a saved plot; a plot drawn without text adds a note.
+fn register_plot(w: &OutputWriter, stem: &str, saved: &plot::SavedPlot, summary: &mut RunSummary) {
     for f in &saved.files {
         if let Some(name) = f.file_name().and_then(|n| n.to_str()) {
             w.register(name);
@@ -58,7 +83,6 @@ pub fn save_plot<F: Figure>(
             .notes
             .push(format!("{stem}: drawn without text (no usable font)"));
     }
-    Ok(())
 }
 
 /// Geometry plot of a scene, with the run's tips and mesh nodes when given.

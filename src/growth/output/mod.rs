@@ -20,7 +20,7 @@ use crate::output::csv::{num, opt, CsvTable};
 use crate::plot::field::{Mark, Polyline};
 use crate::plot::{PathGroup, PathsPlot, ScatterField, Series, SeriesStyle, XyPlot};
 use crate::runner::context::RunContext;
-use crate::runner::report::save_plot;
+use crate::runner::report::{save_plot, save_plots};
 use crate::runner::summary::RunSummary;
 use crate::scene::shapes::SceneGeometry;
 use crate::scene::Scene;
@@ -474,13 +474,16 @@ fn write_plots(
     // A step can be asked for twice (initiation or the last step in
     // `growth.snapshot_steps`): the first of a name is plotted.
     let mut seen = std::collections::HashSet::new();
-    for s in &h.snapshots {
-        let stem = super::vtk::snapshot_stem(s);
-        if seen.insert(stem.clone()) {
-            save_plot(w, &stem, &snapshot_plot(scene, h, s), formats, summary)?;
-        }
-    }
-    Ok(())
+    let snapshots: Vec<_> = h
+        .snapshots
+        .iter()
+        .filter_map(|s| {
+            let stem = super::vtk::snapshot_stem(s);
+            seen.insert(stem.clone())
+                .then(|| (stem, snapshot_plot(scene, h, s)))
+        })
+        .collect();
+    save_plots(w, &snapshots, formats, summary)
 }
 
 #[cfg(test)]
