@@ -91,7 +91,7 @@ pub fn internal_forces(
         .theta
         .par_iter_mut()
         .enumerate()
-        .with_min_len(64)
+        .with_min_len(crate::forces::PAR_MIN_NODES)
         .map(|(k, th)| {
             let (ip, hp, tp) = (intact, s_hist, tfac);
             let mut st = ForceStats::default();
@@ -124,7 +124,7 @@ pub fn internal_forces(
     let mixed = !bonds.s_scale.is_empty();
     out.par_iter_mut()
         .enumerate()
-        .with_min_len(64)
+        .with_min_len(crate::forces::PAR_MIN_NODES)
         .for_each(|(k, f)| {
             *f = group_sum(&bonds.meta, bonds.row(k), |b| {
                 let t = sb.tfac[b];
