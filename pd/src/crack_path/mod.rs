@@ -11,9 +11,16 @@
 //!   previous tip (growth tracking over load steps).
 //! - [`crack_clusters`]: every macro crack of a field (its connected
 //!   components), with no entry point.
+//! - [`trace_crack_spaced`]: on plain arrays with one spacing per node (a
+//!   mixed grid).
 //!
-//! Both return a [`CrackPath`]; [`PathParams`] sets the threshold and the
-//! lengths, all in units of the grid spacing `dx`.
+//! They return a [`CrackPath`]; [`PathParams`] sets the threshold and the
+//! lengths, all in units of the grid spacing `dx`. On a mixed grid
+//! ([`crate::mixed`]) every length is taken at the spacing of the nodes it is
+//! measured from (a link at the larger of its two nodes'), so a crack in the
+//! fine cells of a refinement zone is traced at their spacing: taken at the
+//! coarse spacing, the link would bridge an intact ligament of two fine cells
+//! and the centring would average over four fine rows.
 //!
 //! Algorithm:
 //! 1. Candidates: real nodes with damage $\varphi > $ `threshold`.
@@ -48,6 +55,7 @@
 //!
 //! Files of the module:
 //! - `mod.rs`: [`PathParams`], [`CrackPath`], the entry points and the tracing steps.
+//! - `tests`: the tracker's unit tests.
 //! - `search`: steps 1-4: candidates, in-crack shortest paths (Dijkstra), the chain back
 //!   from the tip, the tip beyond a previous tip.
 //! - `smooth`: steps 5-6: resampling and centring the path across the band (mean shift).
@@ -64,10 +72,11 @@ use crate::error::PdError;
 use crate::geometry::P2;
 use crate::model::PdModel;
 use cell_hash::CellHash;
-use search::{chain_to_tip, crack_nodes, shortest_paths, tip_beyond};
+use search::{chain_to_tip, crack_nodes, shortest_paths, tip_beyond, Spacing};
 use smooth::{centre_across, point_at_length, polyline_length, resample};
 
-/// Parameters of the tip tracker. Lengths are multiples of the grid spacing.
+/// Parameters of the tip tracker. Lengths are multiples of the grid spacing (of each
+/// node's own spacing on a mixed grid).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct PathParams {
     /// Damage above which a node belongs to the macro crack (seed 002
@@ -168,15 +177,49 @@ impl CrackPath {
 }
 
 /// Trace the macro crack of `model` connected to `entry` (real nodes only,
-/// current damage). See the module docs for the algorithm.
+/// current damage). See the module docs for the algorithm; on a mixed grid the lengths
+/// of `params` are taken at each node's own spacing ([`trace_crack_spaced`]).
 pub fn trace_crack(model: &PdModel, entry: P2, params: &PathParams) -> Result<CrackPath, PdError> {
     let n = model.n_real();
     let phi = model.damage();
-    trace_crack_in(
+    let grid = model.grid();
+    let spacing = if grid.is_mixed() {
+        Spacing::PerNode(&grid.spacing[..n])
+    } else {
+        Spacing::Uniform(grid.dx)
+    };
+    trace(
         &model.positions()[..n],
         &phi[..n],
-        model.grid().dx,
+        spacing,
         entry,
+        None,
+        params,
+    )
+}
+
+/// [`trace_crack_in`] on nodes of different spacings `spacing` (m, one per node; a mixed
+/// grid, [`crate::mixed`]). Every length of `params` is taken at the spacing of the nodes
+/// it is measured from: a candidate seeds the path within `entry_radius` of its own
+/// spacing of the entry, two candidates link within `link` times the larger of their
+/// spacings (so the band of a crack that runs from coarse into fine cells stays
+/// connected), the path is resampled every `spacing` of the finest connected node, and a
+/// point is centred across the band within `smoothing` times the spacing of the
+/// connected node nearest to it. With one spacing for every node this is
+/// [`trace_crack_in`], bit for bit.
+pub fn trace_crack_spaced(
+    positions: &[P2],
+    damage: &[f64],
+    spacing: &[f64],
+    entry: P2,
+    params: &PathParams,
+) -> Result<CrackPath, PdError> {
+    trace(
+        positions,
+        damage,
+        Spacing::PerNode(spacing),
+        entry,
+        None,
         params,
     )
 }
@@ -190,7 +233,7 @@ pub fn trace_crack_in(
     entry: P2,
     params: &PathParams,
 ) -> Result<CrackPath, PdError> {
-    trace(positions, damage, dx, entry, None, params)
+    trace(positions, damage, Spacing::Uniform(dx), entry, None, params)
 }
 
 /// The macro cracks of a damage field: the connected components of the nodes
@@ -205,7 +248,8 @@ pub fn crack_clusters(
     dx: f64,
     params: &PathParams,
 ) -> Result<Vec<Vec<usize>>, PdError> {
-    let (cand, pts) = crack_nodes(positions, damage, dx, params)?;
+    let c = crack_nodes(positions, damage, Spacing::Uniform(dx), params)?;
+    let (cand, pts) = (c.idx, c.pts);
     let link = params.link * dx;
     let hash = CellHash::new(&pts, link);
     let mut seen = vec![false; pts.len()];
@@ -250,33 +294,47 @@ pub fn trace_crack_beyond(
     previous_tip: P2,
     params: &PathParams,
 ) -> Result<CrackPath, PdError> {
-    trace(positions, damage, dx, entry, Some(previous_tip), params)
+    trace(
+        positions,
+        damage,
+        Spacing::Uniform(dx),
+        entry,
+        Some(previous_tip),
+        params,
+    )
 }
 
 fn trace(
     positions: &[P2],
     damage: &[f64],
-    dx: f64,
+    spacing: Spacing,
     entry: P2,
     previous_tip: Option<P2>,
     params: &PathParams,
 ) -> Result<CrackPath, PdError> {
-    let (cand, pts) = crack_nodes(positions, damage, dx, params)?;
-    let hash = CellHash::new(&pts, params.link * dx);
-    let Some(mut search) = shortest_paths(&pts, &hash, entry, params, dx) else {
+    let c = crack_nodes(positions, damage, spacing, params)?;
+    let hash = CellHash::new(&c.pts, params.link * c.h_max);
+    let Some(mut search) = shortest_paths(&c, &hash, entry, params) else {
         return Ok(CrackPath {
             points: vec![entry],
             ..Default::default()
         });
     };
     if let Some(p) = previous_tip {
-        search.tip = tip_beyond(&pts, &hash, &search, p, params.link * dx, BEYOND_DX * dx);
+        search.tip = tip_beyond(&c, &hash, &search, p, params.link, BEYOND_DX);
     }
-    let chain = chain_to_tip(&pts, &search, entry);
-    let raw = resample(&chain, params.spacing * dx);
-    let connected: Vec<P2> = search.reached.iter().map(|&k| pts[k]).collect();
-    let points = centre_across(&raw, &connected, params.smoothing * dx);
+    let chain = chain_to_tip(&c.pts, &search, entry);
+    let h_min = search
+        .reached
+        .iter()
+        .map(|&k| c.h[k])
+        .fold(c.h_max, f64::min);
+    let raw = resample(&chain, params.spacing * h_min);
+    let connected: Vec<P2> = search.reached.iter().map(|&k| c.pts[k]).collect();
+    let h_connected: Vec<f64> = search.reached.iter().map(|&k| c.h[k]).collect();
+    let points = centre_across(&raw, &connected, &h_connected, params.smoothing);
     let length = polyline_length(&points);
+    let cand = &c.idx;
     let mut nodes: Vec<usize> = search.reached.iter().map(|&k| cand[k]).collect();
     nodes.sort_unstable();
     Ok(CrackPath {
@@ -288,198 +346,4 @@ fn trace(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::problem::{PdProblem, Region};
-
-    /// Unit grid `nx x ny` (dx = 1, nodes at cell centres) with damage 0.5
-    /// on the nodes for which `band` holds.
-    fn field(nx: usize, ny: usize, band: impl Fn(f64, f64) -> bool) -> (Vec<P2>, Vec<f64>) {
-        let mut pos = Vec::new();
-        let mut phi = Vec::new();
-        for j in 0..ny {
-            for i in 0..nx {
-                let p = [i as f64 + 0.5, j as f64 + 0.5];
-                phi.push(if band(p[0], p[1]) { 0.5 } else { 0.1 });
-                pos.push(p);
-            }
-        }
-        (pos, phi)
-    }
-
-    fn max_offset_from_line(points: &[P2], y: f64) -> f64 {
-        points.iter().map(|p| (p[1] - y).abs()).fold(0.0, f64::max)
-    }
-
-    #[test]
-    fn straight_two_row_band_is_centred_and_reaches_the_tip() {
-        // A crack along y = 10 from x = 0 to x = 12: the rows y = 9.5 and
-        // 10.5 are damaged. Centred path: on y = 10 within 1e-12 except the
-        // entry, tip at the farthest node x = 11.5.
-        let (pos, phi) = field(30, 20, |x, y| x < 12.0 && (y - 10.0).abs() < 1.0);
-        let p = trace_crack_in(&pos, &phi, 1.0, [0.0, 10.0], &PathParams::default()).unwrap();
-        // Measured: 0.034 dx next to the entry (the band starts there), 1e-9
-        // from x = 4 on.
-        assert!(
-            max_offset_from_line(&p.points, 10.0) < 0.05,
-            "{:?}",
-            p.points
-        );
-        assert!((p.tip()[0] - 11.5).abs() < 1e-12, "tip {:?}", p.tip());
-        assert_eq!(p.nodes.len(), 24);
-        assert!((p.length - 11.5).abs() < 0.01, "length {}", p.length);
-        let d = p.tip_direction(3.0).unwrap();
-        assert!((d[0] - 1.0).abs() < 1e-12);
-    }
-
-    #[test]
-    fn kinked_band_is_followed_to_its_far_end() {
-        // Horizontal to x = 10, then up at 45 degrees (one-node-wide band
-        // along y = 10 + (x - 10), two rows wide on the flat part).
-        let (pos, phi) = field(30, 30, |x, y| {
-            (x < 10.0 && (y - 10.0).abs() < 1.0)
-                || ((10.0..20.0).contains(&x) && (y - x).abs() < 1.0)
-        });
-        let p = trace_crack_in(&pos, &phi, 1.0, [0.0, 10.0], &PathParams::default()).unwrap();
-        let t = p.tip();
-        assert!(t[0] > 19.0 && (t[1] - t[0]).abs() < 1.0, "tip {t:?}");
-        let d = p.tip_direction(4.0).unwrap();
-        let ang = d[1].atan2(d[0]).to_degrees();
-        assert!((ang - 45.0).abs() < 5.0, "tip direction {ang} deg");
-    }
-
-    #[test]
-    fn crack_not_connected_to_the_entry_is_ignored() {
-        // A damaged blob far from the entry; the entry has no crack near it.
-        let (pos, phi) = field(20, 20, |x, y| {
-            (x - 15.0).abs() < 2.0 && (y - 15.0).abs() < 2.0
-        });
-        let p = trace_crack_in(&pos, &phi, 1.0, [0.0, 5.0], &PathParams::default()).unwrap();
-        assert!(p.is_empty());
-        assert_eq!(p.points, vec![[0.0, 5.0]]);
-        assert_eq!(p.length, 0.0);
-    }
-
-    #[test]
-    fn gap_of_two_cells_stops_the_path() {
-        // Band broken between x = 8 and x = 10: two cells, more than the
-        // 1.5 dx link, so the tip stays at x = 7.5.
-        let (pos, phi) = field(30, 20, |x, y| {
-            (x < 8.0 || (10.0..20.0).contains(&x)) && (y - 10.0).abs() < 1.0
-        });
-        let p = trace_crack_in(&pos, &phi, 1.0, [0.0, 10.0], &PathParams::default()).unwrap();
-        assert!((p.tip()[0] - 7.5).abs() < 1e-12);
-    }
-
-    #[test]
-    fn branch_longest_along_the_crack_wins() {
-        // Main band to x = 15; a short branch down at x = 5 (6 long). The
-        // farthest point along the crack is the end of the main band.
-        let (pos, phi) = field(30, 30, |x, y| {
-            (x < 15.0 && (y - 20.0).abs() < 1.0) || ((x - 5.0).abs() < 1.0 && y > 13.0 && y < 20.0)
-        });
-        let p = trace_crack_in(&pos, &phi, 1.0, [0.0, 20.0], &PathParams::default()).unwrap();
-        assert!((p.tip()[0] - 14.5).abs() < 1e-12, "tip {:?}", p.tip());
-    }
-
-    #[test]
-    fn a_crack_joining_behind_the_previous_tip_does_not_take_the_tip_over() {
-        // Main band along y = 20 to x = 15 (entry at x = 0); a second crack
-        // joins it at x = 3 and runs down to y = 0, 22 dx along the crack
-        // from the entry against the main band's 14.5. Traced from scratch
-        // its end is the farthest point; traced beyond the previous tip at
-        // x = 10 the tip stays on the main band, at its end.
-        let (pos, phi) = field(30, 30, |x, y| {
-            (x < 15.0 && (y - 20.0).abs() < 1.0) || ((x - 3.0).abs() < 1.0 && y < 20.0)
-        });
-        let prm = PathParams::default();
-        let free = trace_crack_in(&pos, &phi, 1.0, [0.0, 20.0], &prm).unwrap();
-        assert!(free.tip()[1] < 1.0, "from scratch: tip {:?}", free.tip());
-        let on = trace_crack_beyond(&pos, &phi, 1.0, [0.0, 20.0], [10.0, 20.0], &prm).unwrap();
-        assert!((on.tip()[0] - 14.5).abs() < 1e-12, "tip {:?}", on.tip());
-        assert!(
-            max_offset_from_line(&on.points, 20.0) < 0.6,
-            "{:?}",
-            on.points
-        );
-        // A previous tip at the end of the band: the tip stays there, and
-        // one at the entry gives the trace from scratch.
-        let end = trace_crack_beyond(&pos, &phi, 1.0, [0.0, 20.0], [14.5, 20.0], &prm).unwrap();
-        assert!((end.tip()[0] - 14.5).abs() < 1e-12, "tip {:?}", end.tip());
-        let entry = trace_crack_beyond(&pos, &phi, 1.0, [0.0, 20.0], [0.0, 20.0], &prm).unwrap();
-        assert_eq!(entry, free);
-    }
-
-    #[test]
-    fn a_fork_just_behind_the_previous_tip_still_continues_it() {
-        // The band forks 1 dx behind the previous tip (x = 9, tip at x = 10):
-        // both arms are beyond it within BEYOND_DX, and the longer one (down,
-        // 12 dx against 5 along y = 20) is the tip.
-        let (pos, phi) = field(30, 30, |x, y| {
-            (x < 15.0 && (y - 20.0).abs() < 1.0) || ((x - 9.0).abs() < 1.0 && y < 20.0 && y > 7.0)
-        });
-        let prm = PathParams::default();
-        let on = trace_crack_beyond(&pos, &phi, 1.0, [0.0, 20.0], [10.0, 20.0], &prm).unwrap();
-        assert!(on.tip()[1] < 8.0, "tip {:?}", on.tip());
-    }
-
-    #[test]
-    fn clusters_are_the_connected_cracks() {
-        // Two bands two cells apart (more than the 1.5 dx link) and a band
-        // touching the first diagonally (linked): two clusters.
-        let (pos, phi) = field(20, 20, |x, y| {
-            (x < 8.0 && (y - 10.0).abs() < 1.0)
-                || ((10.0..16.0).contains(&x) && (y - 10.0).abs() < 1.0)
-                || ((x - 8.5).abs() < 0.6 && (y - 11.5).abs() < 0.6)
-        });
-        let c = crack_clusters(&pos, &phi, 1.0, &PathParams::default()).unwrap();
-        assert_eq!(c.len(), 2, "{c:?}");
-        assert_eq!((c[0].len(), c[1].len()), (17, 12));
-        assert!(c[0].contains(&(11 * 20 + 8)));
-    }
-
-    #[test]
-    fn bad_input_is_reported_with_numbers() {
-        let (pos, phi) = field(4, 4, |_, _| false);
-        let e = trace_crack_in(&pos, &phi[..3], 1.0, [0.0, 0.0], &PathParams::default());
-        assert!(matches!(
-            e,
-            Err(PdError::LengthMismatch {
-                expected: 16,
-                got: 3,
-                ..
-            })
-        ));
-        let bad = PathParams {
-            threshold: 1.5,
-            ..Default::default()
-        };
-        assert!(trace_crack_in(&pos, &phi, 1.0, [0.0, 0.0], &bad).is_err());
-    }
-
-    #[test]
-    fn model_pre_crack_is_traced_along_its_line() {
-        // 20 x 10 cells, dx = 1, pre-crack along y = 5 from the left edge to
-        // x = 8 (between node rows): the pre-cut damage is about 0.39 next
-        // to the line, above the 0.38 threshold; the traced tip lies within
-        // 1.5 dx of the pre-crack tip and the path on the line.
-        let p = PdProblem {
-            region: Region::rectangle([0.0, 0.0], [20.0, 10.0]),
-            dx: 1.0,
-            youngs_modulus: 1.0,
-            cracks: vec![vec![[-1.0, 5.0], [8.0, 5.0]]],
-            ..Default::default()
-        };
-        let m = PdModel::new(&p).unwrap();
-        let path = trace_crack(&m, [0.0, 5.0], &PathParams::default()).unwrap();
-        assert!(!path.is_empty());
-        // Measured: tip node at x = 6.5 (the nodes at x = 7.5 beside the
-        // pre-crack tip lose fewer than 0.38 of their bonds).
-        assert!((path.tip()[0] - 8.0).abs() <= 1.5, "tip {:?}", path.tip());
-        assert!(
-            max_offset_from_line(&path.points, 5.0) < 0.05,
-            "{:?}",
-            path.points
-        );
-    }
-}
+mod tests;

@@ -1,6 +1,8 @@
 //! The crack nodes and in-crack shortest paths of the tracker (module docs of
 //! [`crate::crack_path`], steps 1-4): candidates, Dijkstra over the candidate graph from
-//! the entry, the chain back from the tip, the tip beyond a previous tip.
+//! the entry, the chain back from the tip, the tip beyond a previous tip. Lengths given in
+//! spacings are taken at each candidate's own spacing ([`Spacing`]); a link between two
+//! candidates uses the larger of their two.
 
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
@@ -13,16 +15,17 @@ use crate::geometry::P2;
 
 /// The farthest reached candidate beyond the previous tip `p` (module docs,
 /// step 4): $d_e(q) + d_q(n) \le d_e(n) + $ `slack`, with $q$ the reached
-/// candidate nearest `p` and $d_q$ the in-crack distance from it. $q$
-/// itself always qualifies.
+/// candidate nearest `p` and $d_q$ the in-crack distance from it; `link` and `slack` in
+/// spacings ($q$'s for the slack). $q$ itself always qualifies.
 pub(super) fn tip_beyond(
-    pts: &[P2],
+    c: &Candidates,
     hash: &CellHash,
     s: &Search,
     p: P2,
     link: f64,
     slack: f64,
 ) -> usize {
+    let pts = &c.pts;
     let q = *s
         .reached
         .iter()
@@ -32,7 +35,8 @@ pub(super) fn tip_beyond(
                 .then(a.cmp(&b))
         })
         .expect("a search reaches its seeds");
-    let dq = dijkstra(pts, hash, &[(q, 0.0)], link).dist;
+    let dq = dijkstra(c, hash, &[(q, 0.0)], link).dist;
+    let slack = slack * c.h[q];
     let mut tip = q;
     for &n in &s.reached {
         let beyond = s.dist[q] + dq[n] <= s.dist[n] + slack;
@@ -43,14 +47,40 @@ pub(super) fn tip_beyond(
     tip
 }
 
-/// The candidates (step 1 of the module docs): indices and positions of the
+/// Node spacing of a traced field: one `dx` for a uniform grid, or one per node (a mixed
+/// grid, [`crate::mixed`]).
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Spacing<'a> {
+    Uniform(f64),
+    PerNode(&'a [f64]),
+}
+
+impl Spacing<'_> {
+    fn at(&self, i: usize) -> f64 {
+        match self {
+            Spacing::Uniform(dx) => *dx,
+            Spacing::PerNode(h) => h[i],
+        }
+    }
+}
+
+/// The candidates of a trace: node indices, positions and spacings, and the largest
+/// spacing among them (the cell size of the neighbour queries).
+pub(super) struct Candidates {
+    pub(super) idx: Vec<usize>,
+    pub(super) pts: Vec<P2>,
+    pub(super) h: Vec<f64>,
+    pub(super) h_max: f64,
+}
+
+/// The candidates (step 1 of the module docs): indices, positions and spacings of the
 /// nodes with damage above the threshold, after checking the inputs.
 pub(super) fn crack_nodes(
     positions: &[P2],
     damage: &[f64],
-    dx: f64,
+    spacing: Spacing,
     params: &PathParams,
-) -> Result<(Vec<usize>, Vec<P2>), PdError> {
+) -> Result<Candidates, PdError> {
     params.validate()?;
     if damage.len() != positions.len() {
         return Err(PdError::LengthMismatch {
@@ -59,17 +89,33 @@ pub(super) fn crack_nodes(
             got: damage.len(),
         });
     }
-    if !(dx > 0.0 && dx.is_finite()) {
-        return Err(PdError::invalid(
-            "dx",
-            format!("grid spacing {dx} m must be positive"),
-        ));
+    let bad_dx = |dx: f64| PdError::invalid("dx", format!("grid spacing {dx} m must be positive"));
+    match spacing {
+        Spacing::Uniform(dx) if !(dx > 0.0 && dx.is_finite()) => return Err(bad_dx(dx)),
+        Spacing::PerNode(h) => {
+            if h.len() != positions.len() {
+                return Err(PdError::LengthMismatch {
+                    what: "spacing",
+                    expected: positions.len(),
+                    got: h.len(),
+                });
+            }
+            if let Some(&dx) = h.iter().find(|&&v| !(v > 0.0 && v.is_finite())) {
+                return Err(bad_dx(dx));
+            }
+        }
+        Spacing::Uniform(_) => {}
     }
-    let cand: Vec<usize> = (0..positions.len())
+    let idx: Vec<usize> = (0..positions.len())
         .filter(|&i| damage[i] > params.threshold)
         .collect();
-    let pts = cand.iter().map(|&i| positions[i]).collect();
-    Ok((cand, pts))
+    let pts = idx.iter().map(|&i| positions[i]).collect();
+    let h: Vec<f64> = idx.iter().map(|&i| spacing.at(i)).collect();
+    let h_max = match spacing {
+        Spacing::Uniform(dx) => dx,
+        Spacing::PerNode(_) => h.iter().copied().fold(f64::MIN_POSITIVE, f64::max),
+    };
+    Ok(Candidates { idx, pts, h, h_max })
 }
 
 /// Result of the Dijkstra search over the candidate graph.
@@ -105,23 +151,22 @@ impl PartialOrd for Item {
 
 /// Dijkstra from the seeds near `entry`; `None` when there is no seed.
 pub(super) fn shortest_paths(
-    pts: &[P2],
+    c: &Candidates,
     hash: &CellHash,
     entry: P2,
     params: &PathParams,
-    dx: f64,
 ) -> Option<Search> {
-    let r_entry = params.entry_radius * dx;
-    let seeds: Vec<(usize, f64)> = pts
+    let seeds: Vec<(usize, f64)> = c
+        .pts
         .iter()
         .enumerate()
         .map(|(k, p)| (k, dist2(*p, entry).sqrt()))
-        .filter(|(_, d)| *d <= r_entry)
+        .filter(|&(k, d)| d <= params.entry_radius * c.h[k])
         .collect();
     if seeds.is_empty() {
         return None;
     }
-    let s = dijkstra(pts, hash, &seeds, params.link * dx);
+    let s = dijkstra(c, hash, &seeds, params.link);
     // The farthest candidate; of equal distances the first settled (the
     // smallest index).
     let mut far = s.reached[0];
@@ -133,9 +178,11 @@ pub(super) fn shortest_paths(
     Some(Search { tip: far, ..s })
 }
 
-/// Dijkstra over the candidates linked within `link` from `seeds` (candidate,
-/// starting distance); `tip` is left at the first seed settled.
-fn dijkstra(pts: &[P2], hash: &CellHash, seeds: &[(usize, f64)], link: f64) -> Search {
+/// Dijkstra over the candidates linked within `link` spacings (the larger of the two
+/// candidates') from `seeds` (candidate, starting distance); `tip` is left at the first
+/// seed settled.
+fn dijkstra(c: &Candidates, hash: &CellHash, seeds: &[(usize, f64)], link: f64) -> Search {
+    let pts = &c.pts;
     let n = pts.len();
     let mut dist = vec![f64::INFINITY; n];
     let mut pred = vec![usize::MAX; n];
@@ -154,7 +201,10 @@ fn dijkstra(pts: &[P2], hash: &CellHash, seeds: &[(usize, f64)], link: f64) -> S
         }
         done[k] = true;
         reached.push(k);
-        hash.for_each_within(pts, pts[k], link, |j| {
+        hash.for_each_within(pts, pts[k], link * c.h_max, |j| {
+            if !within(pts[k], pts[j], link * c.h[k].max(c.h[j])) {
+                return;
+            }
             let nd = d + dist2(pts[k], pts[j]).sqrt();
             if !done[j] && nd < dist[j] {
                 dist[j] = nd;
@@ -170,6 +220,13 @@ fn dijkstra(pts: &[P2], hash: &CellHash, seeds: &[(usize, f64)], link: f64) -> S
         reached,
         tip,
     }
+}
+
+/// Whether `a` and `b` are at most `r` apart, with the tolerance of
+/// [`CellHash::for_each_within`] (on a uniform grid every candidate the hash returns
+/// passes).
+pub(super) fn within(a: P2, b: P2, r: f64) -> bool {
+    dist2(a, b) <= (r * (1.0 + 1e-9)).powi(2)
 }
 
 /// The entry followed by the node positions from the seed to the tip.

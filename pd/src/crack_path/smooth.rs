@@ -18,19 +18,34 @@ pub(super) fn resample(line: &[P2], h: f64) -> Vec<P2> {
 }
 
 /// Move every point but the first across the path to the weighted
-/// centroid of the crack nodes within `radius` of it (normal component
-/// only). The normal at a point is that of the chord of `line` from
-/// `radius` before to `radius` after it, which averages out the zig-zag of
-/// the node chain.
-pub(super) fn centre_across(line: &[P2], crack: &[P2], radius: f64) -> Vec<P2> {
-    if line.len() < 2 || radius == 0.0 {
+/// centroid of the crack nodes within a radius of it (normal component
+/// only): `smoothing` times the spacing `h` of the crack node nearest to the
+/// point (one radius when every node has the same spacing). The normal at a
+/// point is that of the chord of `line` from one radius before to one after
+/// it, which averages out the zig-zag of the node chain.
+pub(super) fn centre_across(line: &[P2], crack: &[P2], h: &[f64], smoothing: f64) -> Vec<P2> {
+    let Some(h_max) = h.iter().copied().reduce(f64::max) else {
+        return line.to_vec();
+    };
+    if line.len() < 2 || smoothing == 0.0 {
         return line.to_vec();
     }
-    let hash = CellHash::new(crack, radius);
+    let uniform = h.iter().all(|&v| v == h_max);
+    let radius_at = |p: P2| {
+        if uniform {
+            return smoothing * h_max;
+        }
+        let nearest = (0..crack.len())
+            .min_by(|&a, &b| dist2(crack[a], p).total_cmp(&dist2(crack[b], p)))
+            .expect("a connected crack has nodes");
+        smoothing * h[nearest]
+    };
+    let hash = CellHash::new(crack, smoothing * h_max);
     let mut out = line.to_vec();
     let mut s = 0.0;
     for k in 1..line.len() {
         s += dist2(line[k - 1], line[k]).sqrt();
+        let radius = radius_at(line[k]);
         let a = point_at_length(line, (s - radius).max(0.0));
         let b = point_at_length(line, s + radius);
         let t = [b[0] - a[0], b[1] - a[1]];
