@@ -28,15 +28,26 @@
 //! scene loads and the PD interface forces. When the window's ligament breaks, nothing
 //! balances the load and the iteration diverges: the crack has cut the body.
 //!
-//! Which pieces: a body with one held piece (prescribed displacements fixing its rigid
-//! motions) corrects every other piece; when no piece is held (a free plate), the piece
-//! with the most elements keeps the solver's gauge, as the whole body did before it was
-//! cut. A piece with one or two free rigid motions beside another piece (a roller only)
-//! is refused.
+//! **Partly held pieces.** A piece whose displacement conditions fix some of its rigid
+//! motions but not all (a roller, a displacement prescribed in one direction) is
+//! corrected along its free motions only: with $V$ the basis of those motions
+//! ([`pdbem_bem::BemSystem::free_motions`], orthonormalised in the $q$ coordinates
+//! above), $q = V a$, the fit is over $a$, and the step is $\tilde a = a + K^{-1} V^T G$.
+//! A free motion leaves every displacement-prescribed component unmoved, so the
+//! reactions do no work on it and $V^T G$ is the out-of-balance of the loads along it;
+//! the fixed point has $V^T G = 0$, the piece's equilibrium along the motions its
+//! conditions leave free. A fully free piece has $V = I$ (the three motions above).
+//!
+//! Which pieces: a body with a held piece (prescribed displacements fixing all its rigid
+//! motions) corrects every other piece along its free motions; when no piece is held and
+//! every piece is free (a free plate), the piece with the most elements keeps the
+//! solver's gauge, as the whole body did before it was cut. Partly held pieces with no
+//! fully held one (a body held by rollers alone, cut apart) are refused: the body's own
+//! free motions would then be shared between pieces.
 
 use std::sync::OnceLock;
 
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{DMatrix, DVector, Vector3};
 use pdbem_bem::post::Background;
 use pdbem_bem::{BemSystem, Material, Mesh, Solution, V2};
 
@@ -61,13 +72,17 @@ struct Piece {
     /// Length scale of the rotation unknown (RMS distance of the elements from the
     /// centroid).
     length: f64,
+    /// Its free motions in the coordinates $q = (a_x, a_y, \theta L)$, orthonormal: the
+    /// unit vectors for a piece with no prescribed displacement.
+    modes: Vec<Vector3<f64>>,
 }
 
 /// The floating pieces of one prepared BEM system and their rigid responses on the
-/// virtual nodes (computed at the first use, for the map of that use).
+/// virtual nodes, one per free motion (computed at the first use, for the map of that
+/// use).
 pub struct FloatingPieces {
     pieces: Vec<Piece>,
-    responses: OnceLock<Vec<[Vec<f64>; 3]>>,
+    responses: OnceLock<Vec<Vec<Vec<f64>>>>,
 }
 
 impl FloatingPieces {
@@ -86,38 +101,26 @@ impl FloatingPieces {
         let free = system.free_modes_per_piece();
         let mut pieces = Vec::new();
         if free.len() > 1 {
-            if let Some(p) = free.iter().position(|&f| f == 1 || f == 2) {
+            let partly = free.iter().position(|&f| f == 1 || f == 2);
+            if let (Some(p), false) = (partly, free.contains(&0)) {
                 return Err(CouplingError::FloatingPiece {
                     message: format!(
-                        "piece {p} of {} has {} free rigid motion(s): a piece cut off by \
-                         cracks must be held fully by displacement conditions or not at all",
+                        "piece {p} of {} has {} free rigid motion(s) and no piece is fully \
+                         held: a body cut apart by cracks needs one piece whose displacement \
+                         conditions fix all its rigid motions",
                         free.len(),
                         free[p]
                     ),
                 });
             }
-            let floating: Vec<usize> = (0..free.len()).filter(|&p| free[p] == 3).collect();
             let count = |p: usize| labels.iter().filter(|&&l| l == p).count();
-            let reference = if floating.len() == free.len() {
-                floating.iter().copied().max_by_key(|&p| count(p))
+            let reference = if free.iter().all(|&f| f == 3) {
+                (0..free.len()).max_by_key(|&p| count(p))
             } else {
                 None
             };
-            for p in floating.into_iter().filter(|&p| Some(p) != reference) {
-                let elements: Vec<usize> = (0..labels.len()).filter(|&e| labels[e] == p).collect();
-                let centroid = elements.iter().map(|&e| mesh.elements[e].mid).sum::<V2>()
-                    / elements.len() as f64;
-                let length = (elements
-                    .iter()
-                    .map(|&e| (mesh.elements[e].mid - centroid).norm_squared())
-                    .sum::<f64>()
-                    / elements.len() as f64)
-                    .sqrt();
-                pieces.push(Piece {
-                    elements,
-                    centroid,
-                    length,
-                });
+            for p in (0..free.len()).filter(|&p| free[p] > 0 && Some(p) != reference) {
+                pieces.push(piece(mesh, system, labels, p, free[p]));
             }
         }
         Ok(FloatingPieces {
@@ -157,18 +160,67 @@ impl FloatingPieces {
         });
         let k = STIFFNESS_FACTOR * material.e;
         for (p, r) in self.pieces.iter().zip(responses) {
-            let q = fit(p, r, x, xt)?;
+            let a = fit(p, r, x, xt)?;
             let (f, m) = out_of_balance(p, mesh, sol);
-            let q = q + Vector3::new(f.x, f.y, m / p.length) / k;
+            let g = Vector3::new(f.x, f.y, m / p.length);
+            let a: Vec<f64> = a
+                .iter()
+                .zip(&p.modes)
+                .map(|(ak, v)| ak + v.dot(&g) / k)
+                .collect();
+            let q = a.iter().zip(&p.modes).map(|(ak, v)| v * *ak).sum();
             move_piece(p, mesh, sol, &q);
-            for (k, rk) in r.iter().enumerate() {
+            for (ak, rk) in a.iter().zip(r) {
                 for (v, dv) in xt.iter_mut().zip(rk) {
-                    *v += q[k] * dv;
+                    *v += ak * dv;
                 }
             }
         }
         Ok(())
     }
+}
+
+/// Piece `p` of `system` with `free` free motions: its elements, frame and motions.
+fn piece(mesh: &Mesh, system: &BemSystem, labels: &[usize], p: usize, free: usize) -> Piece {
+    let elements: Vec<usize> = (0..labels.len()).filter(|&e| labels[e] == p).collect();
+    let centroid =
+        elements.iter().map(|&e| mesh.elements[e].mid).sum::<V2>() / elements.len() as f64;
+    let length = (elements
+        .iter()
+        .map(|&e| (mesh.elements[e].mid - centroid).norm_squared())
+        .sum::<f64>()
+        / elements.len() as f64)
+        .sqrt();
+    let modes = if free == 3 {
+        vec![Vector3::x(), Vector3::y(), Vector3::z()]
+    } else {
+        let (c, motions) = system.free_motions(mesh, p);
+        let d = centroid - c;
+        // The same motion about this piece's centroid, in q = (a_x, a_y, theta L).
+        let raw = motions
+            .iter()
+            .map(|&[ax, ay, th]| Vector3::new(ax - th * d.y, ay + th * d.x, th * length));
+        orthonormal(raw)
+    };
+    Piece {
+        elements,
+        centroid,
+        length,
+        modes,
+    }
+}
+
+/// Gram-Schmidt on `vectors` (dropping any that depend on the earlier ones).
+fn orthonormal(vectors: impl Iterator<Item = Vector3<f64>>) -> Vec<Vector3<f64>> {
+    let mut out: Vec<Vector3<f64>> = Vec::new();
+    for v in vectors {
+        let scale = v.norm();
+        let w = out.iter().fold(v, |w, u| w - u * u.dot(&w));
+        if w.norm() > 1e-8 * scale {
+            out.push(w.normalize());
+        }
+    }
+    out
 }
 
 /// The rigid displacement of motion `q` at `p`.
@@ -208,7 +260,7 @@ fn out_of_balance(piece: &Piece, mesh: &Mesh, sol: &Solution) -> (V2, f64) {
     (f, m)
 }
 
-/// Virtual displacements of the piece's unit rigid motions (x, y, rotation 1/length).
+/// Virtual displacements of the piece's free motions ([`Piece::modes`]).
 fn unit_responses(
     piece: &Piece,
     mesh: &Mesh,
@@ -216,65 +268,61 @@ fn unit_responses(
     map: DisplacementMap,
     ifaces: &[Interface],
     reconstruct: bool,
-) -> [Vec<f64>; 3] {
-    std::array::from_fn(|k| {
-        let mut q = Vector3::zeros();
-        q[k] = 1.0;
-        let mut sol = Solution {
-            u: vec![[0.0; 2]; mesh.len()],
-            t: vec![[0.0; 2]; mesh.len()],
-            lambda: Vec::new(),
-            du: if reconstruct {
-                vec![[0.0; 2]; mesh.len()]
-            } else {
-                Vec::new()
-            },
-        };
-        move_piece(piece, mesh, &mut sol, &q);
-        let view = BemView {
-            mesh,
-            material,
-            solution: &sol,
-            background: Background::default(),
-        };
-        bem_to_virtual(map, &view, ifaces)
-    })
+) -> Vec<Vec<f64>> {
+    piece
+        .modes
+        .iter()
+        .map(|q| {
+            let mut sol = Solution {
+                u: vec![[0.0; 2]; mesh.len()],
+                t: vec![[0.0; 2]; mesh.len()],
+                lambda: Vec::new(),
+                du: if reconstruct {
+                    vec![[0.0; 2]; mesh.len()]
+                } else {
+                    Vec::new()
+                },
+            };
+            move_piece(piece, mesh, &mut sol, q);
+            let view = BemView {
+                mesh,
+                material,
+                solution: &sol,
+                background: Background::default(),
+            };
+            bem_to_virtual(map, &view, ifaces)
+        })
+        .collect()
 }
 
-/// Least-squares rigid motion of the piece in `x - xt`.
-fn fit(
-    piece: &Piece,
-    r: &[Vec<f64>; 3],
-    x: &[f64],
-    xt: &[f64],
-) -> Result<Vector3<f64>, CouplingError> {
-    let mut g = Matrix3::<f64>::zeros();
-    let mut b = Vector3::<f64>::zeros();
-    for k in 0..3 {
-        for l in 0..3 {
-            g[(k, l)] = r[k].iter().zip(&r[l]).map(|(a, c)| a * c).sum();
-        }
-        b[k] = r[k]
-            .iter()
+/// Least-squares coefficients of the piece's free motions in `x - xt`.
+fn fit(piece: &Piece, r: &[Vec<f64>], x: &[f64], xt: &[f64]) -> Result<Vec<f64>, CouplingError> {
+    let n = r.len();
+    let g = DMatrix::from_fn(n, n, |k, l| {
+        r[k].iter().zip(&r[l]).map(|(a, c)| a * c).sum::<f64>()
+    });
+    let b = DVector::from_fn(n, |k, _| {
+        r[k].iter()
             .zip(x.iter().zip(xt))
             .map(|(a, (xi, ti))| a * (xi - ti))
-            .sum();
-    }
+            .sum()
+    });
     let scale = g.trace().max(f64::MIN_POSITIVE);
     let chol = (g / scale).cholesky().filter(|c| {
         let d = c.l().diagonal();
         d.min() > 1e-6 * d.max()
     });
     match chol {
-        Some(c) => Ok(c.solve(&(b / scale))),
+        Some(c) => Ok(c.solve(&(b / scale)).iter().copied().collect()),
         None => Err(CouplingError::FloatingPiece {
             message: format!(
-                "the piece of {} elements around ({:.4}, {:.4}) has no prescribed \
-                 displacement and too few coupled PD nodes to hold it (it touches no window, \
-                 or one along a line); hold it with displacement conditions",
+                "the piece of {} elements around ({:.4}, {:.4}) is not held along {} of its \
+                 rigid motions and has too few coupled PD nodes to hold it (it touches no \
+                 window, or one along a line); hold it with displacement conditions",
                 piece.elements.len(),
                 piece.centroid.x,
-                piece.centroid.y
+                piece.centroid.y,
+                piece.modes.len()
             ),
         }),
     }

@@ -324,6 +324,21 @@ impl BemSystem {
         &self.free_in_piece
     }
 
+    /// The rigid motions left free in piece `p` of `mesh` (the mesh this system was built
+    /// for): the piece's centroid (mean collocation point) and one `(a_x, a_y, theta)`
+    /// per free motion, a translation and a rotation (radians) about that centroid,
+    /// [`Self::free_modes_per_piece`] of them. Every such motion leaves the piece's
+    /// displacement-prescribed components unmoved, so the reactions do no work on it.
+    pub fn free_motions(&self, mesh: &Mesh, p: usize) -> (crate::V2, Vec<[f64; 3]>) {
+        let frame = rigid::piece_frame(mesh, &self.bcs, &self.pieces, p);
+        let motions = frame
+            .free
+            .iter()
+            .map(|v| [v[0], v[1], v[2] / frame.scale])
+            .collect();
+        (frame.centroid, motions)
+    }
+
     fn factor(&mut self) {
         let n = self.n;
         let par = Par::rayon(0);
