@@ -101,3 +101,22 @@ fn a_part_on_a_roller_held_by_a_window_is_corrected_along_its_free_motions() {
     assert!(cut.abs() < 0.02, "cut {cut}");
     assert!(iterations <= 30, "{iterations}");
 }
+
+#[test]
+fn a_body_cut_apart_with_no_fully_held_part_is_refused_with_the_reason() {
+    // The left edge on a roller too (ux = 0): before the cut the body is free to move in
+    // y, after it neither part has all its rigid motions fixed, so which part keeps the
+    // solver's gauge along the body's own free motion is not defined: refused, naming
+    // the part and the remedy.
+    let mut s = scene_with(9.05, Some((10.0, 1.0)), ", y: Displacement(0)");
+    s.boundary[0].y = pdbem::scene::Component::Free;
+    let e = format!(
+        "{:#}",
+        pdbem::run_coupled::solve(&s).err().expect("refused")
+    );
+    println!("{e}");
+    assert!(
+        e.contains("free rigid motion") && e.contains("no piece is fully held"),
+        "{e}"
+    );
+}
