@@ -473,3 +473,36 @@ fn a_tracker_that_loses_a_fresh_crack_says_so() {
     assert_eq!(lost.len(), 4, "{:?}", h.notes);
     assert!(lost.iter().all(|n| n.contains("growth.damage_threshold")));
 }
+
+#[test]
+fn seed002_tension_plate_on_a_roller_runs_to_failure_with_its_cut_part_held() {
+    // growth_tension_edge with the right edge on a roller (uy = 0) besides its tension:
+    // when the crack cuts the plate, the last window and the roller hold the right part
+    // (held in one combination of its y translation and rotation, free along the other
+    // two motions: pdbem_coupling::floating corrects it along those). Before partly held
+    // parts were corrected the run ended at the cut ("must be held fully", exit 3).
+    let mut sc = scene("growth_tension_edge");
+    let right = sc.boundary.iter_mut().find(|b| b.on == "right").unwrap();
+    right.y = pdbem::scene::Component::Displacement(0.0);
+    let h = run_pd_bem(&sc, "roller");
+    let free = lefm_load(&scene("growth_tension_edge"));
+    let held = lefm_load(&sc);
+    eprintln!(
+        "roller: LEFM loads free {free:.4}, roller {held:.4}; failure {:?} at {:?}, {:?}",
+        h.failure, h.failure_load, h.failure_reason
+    );
+    assert!(h.failure, "{:?}", h.failure_reason);
+    assert_eq!(h.paths[0].ended.as_deref(), Some("outline"));
+    let end = h.paths[0].points.last().unwrap();
+    assert!(end.y.abs() < 1e-9, "end {end:?}");
+    // The roller stiffens the plate against the crack's opening: LEFM's failure load
+    // rises from 2.723 to 3.061 (measured, K_c from the window's s0). PD-BEM's rises with
+    // it, from 3.35 (the free plate, 1.23 x LEFM: the window's crack starts later than
+    // LEFM's) to 3.65 (1.19 x).
+    let ratio = h.failure_load.unwrap() / held;
+    assert!(
+        (1.1..1.3).contains(&ratio),
+        "PD-BEM / LEFM failure load {ratio}"
+    );
+    assert!(held > free * 1.05, "LEFM: roller {held}, free {free}");
+}
