@@ -87,11 +87,12 @@ fn a_part_held_only_by_a_window_carries_the_load_like_a_bem_ligament() {
 fn a_part_on_a_roller_held_by_a_window_is_corrected_along_its_free_motions() {
     // The right edge on a roller (uy = 0): the roller fixes one combination of the
     // cut-off right part's y translation and rotation; its x translation and its rotation
-    // about a point of the edge are held only by the window. Before partly held parts were corrected, the coupled solve
-    // refused this body ("must be held fully by displacement conditions or not at all").
-    // Measured: strip a = 8.55 m +0.01 % (16 iterations), cut a = 9.05 m -0.83 % (17
-    // iterations): the roller stops the rotation that opens the free plate's crack (CMOD
-    // 0.019 m against 0.67 m), and with it the PD-BEM difference of the window's tip.
+    // about a point of the edge are held only by the window. Before partly held parts
+    // were corrected, the coupled solve refused this body ("must be held fully by
+    // displacement conditions or not at all"). Measured: strip a = 8.55 m +0.01 % (16
+    // iterations), cut a = 9.05 m -0.83 % (17 iterations); the roller stops the rotation
+    // that opens the free plate's crack (CMOD 0.019 m against 0.67 m), and the gaps to
+    // BEM alone are much smaller than the free plate's.
     // Without the correction along the free motions the part's x motion is the BEM
     // solver's gauge: CMOD -2.5e-3 m at a = 9.05 m, a gap of -112 % (measured).
     let roller = ", y: Displacement(0)";
