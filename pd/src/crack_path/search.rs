@@ -225,7 +225,7 @@ fn dijkstra(c: &Candidates, hash: &CellHash, seeds: &[(usize, f64)], link: f64) 
 /// Whether `a` and `b` are at most `r` apart, with the tolerance of
 /// [`CellHash::for_each_within`] (on a uniform grid every candidate the hash returns
 /// passes).
-pub(super) fn within(a: P2, b: P2, r: f64) -> bool {
+fn within(a: P2, b: P2, r: f64) -> bool {
     dist2(a, b) <= (r * (1.0 + 1e-9)).powi(2)
 }
 
