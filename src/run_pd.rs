@@ -33,7 +33,7 @@ use std::time::Instant;
 
 /// `v` to 12 significant digits: a ramp's `start + k step` (14.999999999999993) written
 /// as the load it means (15).
-fn round12(v: f64) -> f64 {
+pub fn round12(v: f64) -> f64 {
     format!("{v:.11e}").parse().unwrap_or(v)
 }
 

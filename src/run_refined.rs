@@ -3,21 +3,28 @@
 //! the particles in the static regions (`near_cracks`, `circles`) and those damaged past
 //! `critical_damage` by the pre-cracks (Eq. 15) split into four children (level by level
 //! up to `max_level`), and the elastic equilibrium at the final load factor is solved by
-//! conjugate gradients. Writes the particle table and plots like [`crate::run_pd`]
-//! (`nodes.csv` holds the particles) and reports the particle counts and times. With
-//! `pd.solver: Explicit` the refined body runs explicit dynamics instead
-//! ([`crate::run_adaptive`]).
+//! conjugate gradients. With a breaking law (`CriticalStretch`, `FromGc`), pre-cracks
+//! and a load ramp, the body runs the crack-initiation ramp of stand-alone PD instead
+//! ([`pdbem_pd::refine::ramp`]: at every load, solve, split while Eq. 15 or Eq. 16 fires,
+//! break, until the crack runs two horizons) and reports the same loads as
+//! [`crate::run_pd`] (`first_break_load`, `initiation_load`, `kink_deg`). Writes the
+//! particle table and plots like [`crate::run_pd`] (`nodes.csv` holds the particles) and
+//! reports the particle counts and times. With `pd.solver: Explicit` the refined body runs
+//! explicit dynamics instead ([`crate::run_adaptive`]).
 
 use std::time::Instant;
 
 use anyhow::{Context, Result};
-use pdbem_pd::refine::{run as refine_run, Refinement};
+use pdbem_pd::measure::{crack_tips, kink_angle_of, RampParams, Tip};
+use pdbem_pd::refine::{ramp, run as refine_run, RefinedRamp, Refinement};
 use pdbem_pd::Selection;
 use serde_json::json;
 
+use crate::run_pd::{round12, traction_scale};
 use crate::runner::context::RunContext;
 use crate::runner::summary::RunSummary;
-use crate::scene::{PdRefinement, Scene};
+use crate::scene::shapes::SceneGeometry;
+use crate::scene::{Failure, PdRefinement, Scene};
 use crate::setup::pd::labelled_problem_from_scene;
 
 /// The library settings of the scene's `pd.refinement` on the problem's pre-cracks.
@@ -38,7 +45,7 @@ pub fn settings(r: &PdRefinement, cracks: &[Vec<[f64; 2]>]) -> Refinement {
     }
     Refinement {
         critical_damage: r.critical_damage,
-        strain_factor: None,
+        strain_factor: r.strain_factor,
         regions,
         max_level: r.max_level,
         max_rounds: 0,
@@ -56,45 +63,145 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     let (problem, _) = labelled_problem_from_scene(scene)?;
     let pd = scene.pd.as_ref().context("no pd section")?;
     let r = pd.refinement.as_ref().context("no pd.refinement")?;
-    let load = scene.load.factors().last().copied().unwrap_or(1.0);
-    ctx.log(&format!("{}: PD solve with refinement", scene.name));
-    let out = refine_run(&problem, &settings(r, &problem.cracks), load)
-        .with_context(|| format!("{}: refined PD", file.display()))?;
-    let b = &out.body;
-    let base = b.level.iter().filter(|&&l| l == 0).count();
-    ctx.log(&format!(
-        "{}: {} particles ({} base, {} refined)",
-        scene.name,
-        b.len(),
-        base,
-        b.len() - base
-    ));
     let mut summary = RunSummary {
         scene: scene.name.clone(),
         mode: "pd".into(),
         ..Default::default()
     };
-    let split: usize = out.rounds.iter().map(|x| x.split).sum();
+    let breaking = matches!(pd.failure, Failure::CriticalStretch(_) | Failure::FromGc);
+    ctx.log(&format!("{}: PD solve with refinement", scene.name));
+    let settings = settings(r, &problem.cracks);
+    let body = if breaking {
+        let tips = scene_tips(scene);
+        let params = ramp_params(scene, problem.horizon());
+        let out = ramp(&problem, &settings, &tips, &params)
+            .with_context(|| format!("{}: refined PD load ramp", file.display()))?;
+        report_ramp(scene, &out, &tips, problem.horizon(), &mut summary);
+        out.body
+    } else {
+        let load = scene.load.factors().last().copied().unwrap_or(1.0);
+        let out = refine_run(&problem, &settings, load)
+            .with_context(|| format!("{}: refined PD", file.display()))?;
+        let split: usize = out.rounds.iter().map(|x| x.split).sum();
+        let e = &mut summary.extra;
+        e.insert("split".into(), json!(split));
+        e.insert(
+            "iterations".into(),
+            json!(out.rounds.iter().map(|x| x.iterations).sum::<usize>()),
+        );
+        e.insert(
+            "time_s".into(),
+            json!({"refinement": out.rounds.iter().map(|x| x.split_s).sum::<f64>(),
+                   "solve": out.rounds.iter().map(|x| x.solve_s).sum::<f64>()}),
+        );
+        out.body
+    };
+    let base = body.level.iter().filter(|&&l| l == 0).count();
+    ctx.log(&format!(
+        "{}: {} particles ({} base, {} refined)",
+        scene.name,
+        body.len(),
+        base,
+        body.len() - base
+    ));
     let levels: Vec<usize> = (0..=r.max_level)
-        .map(|l| b.level.iter().filter(|&&x| x == l).count())
+        .map(|l| body.level.iter().filter(|&&x| x == l).count())
         .collect();
     let e = &mut summary.extra;
     e.insert("refinement".into(), json!(true));
     e.insert("traction".into(), json!(pd.traction));
-    e.insert("particles".into(), json!(b.len()));
+    e.insert("particles".into(), json!(body.len()));
     e.insert("particles_per_level".into(), json!(levels));
-    e.insert("split".into(), json!(split));
-    e.insert(
-        "iterations".into(),
-        json!(out.rounds.iter().map(|x| x.iterations).sum::<usize>()),
-    );
-    e.insert(
-        "time_s".into(),
-        json!({"refinement": out.rounds.iter().map(|x| x.split_s).sum::<f64>(),
-               "solve": out.rounds.iter().map(|x| x.solve_s).sum::<f64>()}),
-    );
-    let phi = b.damage();
-    crate::pd_fields::write_fields(scene, ctx, (b.positions(), &b.u, &phi), &mut summary)?;
+    let phi = body.damage();
+    crate::pd_fields::write_fields(scene, ctx, (body.positions(), &body.u, &phi), &mut summary)?;
     summary.wall_time_s = t0.elapsed().as_secs_f64();
     Ok(summary)
+}
+
+/// The pre-crack tips of the scene (edge cracks: the inner end only).
+fn scene_tips(scene: &Scene) -> Vec<Tip> {
+    SceneGeometry::of(scene)
+        .cracks
+        .iter()
+        .flat_map(|c| {
+            crack_tips(
+                &c.points.iter().map(|p| [p.x, p.y]).collect::<Vec<_>>(),
+                c.mouth,
+            )
+        })
+        .collect()
+}
+
+/// The ramp of stand-alone PD ([`crate::run_pd`]): `load.initial` by `load.step` to the
+/// last factor; the crack runs at two horizons, and grows on to five for the kink angle.
+fn ramp_params(scene: &Scene, delta: f64) -> RampParams {
+    let last = scene.load.factors().last().copied().unwrap_or(1.0);
+    RampParams {
+        start: scene.load.initial,
+        step: if scene.load.step > 0.0 {
+            scene.load.step
+        } else {
+            0.05 * scene.load.initial
+        },
+        max_load: last,
+        run_length: 2.0 * delta,
+        grow_to: 5.0 * delta,
+        max_rounds: 400,
+    }
+}
+
+/// The ramp's loads (Pa: the factor times the largest applied traction, as
+/// [`crate::run_pd`]), kink angles and counts into `summary`; a ramp that reached its
+/// last load without the crack running gets a note.
+fn report_ramp(
+    scene: &Scene,
+    out: &RefinedRamp,
+    tips: &[Tip],
+    delta: f64,
+    summary: &mut RunSummary,
+) {
+    let rec = &out.record;
+    let scale = traction_scale(scene).unwrap_or(1.0);
+    let pa = |f: Option<f64>| f.map(|f| round12(f * scale));
+    let b = &out.body;
+    let phi = b.damage();
+    let kinks: Vec<Option<f64>> = tips
+        .iter()
+        .map(|t| kink_angle_of(b.positions(), &phi, *t, delta, 4.0 * delta))
+        .collect();
+    if rec.initiation_load.is_none() {
+        let last = scene.load.factors().last().copied().unwrap_or(1.0);
+        summary.notes.push(format!(
+            "the crack did not run by the last load factor {last} (extension {:.4e} m): no initiation load",
+            rec.extension
+        ));
+    }
+    let unit = if traction_scale(scene).is_some() {
+        "Pa"
+    } else {
+        "-"
+    };
+    let e = &mut summary.extra;
+    e.insert("first_break_load".into(), json!(pa(rec.first_break_load)));
+    e.insert("initiation_load".into(), json!(pa(rec.initiation_load)));
+    e.insert(
+        "initiation_load_factor".into(),
+        json!(rec.initiation_load.map(round12)),
+    );
+    e.insert("unstable_growth".into(), json!(rec.unstable));
+    e.insert("load_unit".into(), json!(unit));
+    e.insert(
+        "kink_deg".into(),
+        json!(kinks.iter().flatten().copied().next()),
+    );
+    e.insert("kink_deg_per_tip".into(), json!(kinks));
+    e.insert("extension".into(), json!(rec.extension));
+    let split: usize = rec.setup_split + rec.steps.iter().map(|s| s.split).sum::<usize>();
+    e.insert("split".into(), json!(split));
+    e.insert("iterations".into(), json!(rec.iterations));
+    e.insert("ramp".into(), json!(rec.steps));
+    e.insert(
+        "time_s".into(),
+        json!({"refinement": rec.split_s, "solve": rec.solve_s}),
+    );
 }

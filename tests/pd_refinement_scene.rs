@@ -1,6 +1,7 @@
 //! `pd.refinement` from a scene: `cases/seed004_edge_crack_adaptive.ron` (seed 004 Table 2,
 //! a/L = 0.3) goes through the scene's PD problem and the refinement settings to the
-//! refined solve, and its crack-mouth opening is Irwin's within the seed's adaptive error.
+//! refined solve, and its crack-mouth opening is Irwin's within the seed's adaptive error;
+//! `cases/seed004_edge_crack_initiation_adaptive.ron` runs the refined load ramp.
 
 use std::path::PathBuf;
 
@@ -23,4 +24,59 @@ fn seed004_adaptive_case_opens_like_irwin() {
     let e = cod / 6.9257e-6 - 1.0;
     assert!(e.abs() < 0.0241, "{e}");
     assert!(b.len() > 5000 && b.len() < 20_000, "{}", b.len());
+}
+
+/// `cases/seed004_edge_crack_initiation_adaptive.ron` through `pdbem run`'s runner on a
+/// 2 mm grid (the case's 1 mm grid is in docs/seed004.md): the refined load ramp reports
+/// the initiation load in Pa, measured 46 MPa with the case's 4 mm tip circle (1628
+/// particles); uniform grids give 43 MPa (2 mm), 45 MPa (1 mm) and 46 MPa (0.5 mm), so
+/// 44-48 MPa says the tip was refined. And a straight mode-I crack, more particles than
+/// the grid's 1250, and no note.
+#[test]
+fn seed004_initiation_case_runs_the_refined_ramp() {
+    use pdbem::scene::path::{parse_value, with_overrides};
+    let f = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("cases/seed004_edge_crack_initiation_adaptive.ron");
+    let scene = Scene::load(&f).expect("valid case");
+    let scene = with_overrides(&scene, &[("pd.dx".to_string(), parse_value("0.002"))]).unwrap();
+    let dir = std::env::temp_dir().join(format!("pdbem-refined-ramp-{}", std::process::id()));
+    let s = pdbem::runner::run_scene(&scene, &dir, true).expect("run");
+    let x = &s.extra;
+    let init = x["initiation_load"].as_f64().expect("initiation load");
+    let particles = x["particles"].as_u64().unwrap();
+    let kink = x["kink_deg"].as_f64().expect("kink");
+    eprintln!("initiation {init} Pa, {particles} particles, kink {kink}");
+    assert!((44e6..48e6).contains(&init), "{init}");
+    assert_eq!(x["load_unit"], "Pa");
+    assert!(particles > 1250, "{particles}");
+    assert!(kink.abs() < 5.0, "{kink}");
+    assert!(s.notes.is_empty(), "{:?}", s.notes);
+    assert!(x["ramp"].as_array().is_some_and(|r| !r.is_empty()));
+    assert!(dir.join("summary.json").exists() && dir.join("nodes.csv").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A ramp that ends below the initiation load reports no initiation load and says why.
+#[test]
+fn refined_ramp_that_ends_early_says_so() {
+    use pdbem::scene::path::{parse_value, with_overrides};
+    let f = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("cases/seed004_edge_crack_initiation_adaptive.ron");
+    let scene = Scene::load(&f).expect("valid case");
+    let ov = [
+        ("pd.dx".to_string(), parse_value("0.002")),
+        ("load.count".to_string(), parse_value("5")),
+    ];
+    let scene = with_overrides(&scene, &ov).unwrap();
+    let dir = std::env::temp_dir().join(format!("pdbem-refined-ramp-early-{}", std::process::id()));
+    let s = pdbem::runner::run_scene(&scene, &dir, true).expect("run");
+    assert!(s.extra["initiation_load"].is_null());
+    assert!(
+        s.notes
+            .iter()
+            .any(|n| n.contains("did not run by the last load factor 3.4")),
+        "{:?}",
+        s.notes
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -159,6 +159,19 @@ fn pd_refinement_rules() {
         "pd.refinement",
         "failure: Elastic",
     );
+    // With pre-cracks and a load ramp a breaking law runs the refined initiation ramp.
+    let ramp = "load: (initial: 1, step: 0.1, count: 10), pd: (dx: 0.5, model: StateBased, failure: CriticalStretch(0.01), refinement: (strain_factor: 0.5))";
+    load(&base_with(ramp)).expect("valid refined ramp");
+    assert_invalid(
+        &base_with("load: (initial: 1, step: 0.1, count: 10), pd: (dx: 0.5, model: StateBased, failure: Degradation(s_m: 0.01, s_c: 0.02, beta: 3), refinement: ())"),
+        "pd.failure",
+        "tanh",
+    );
+    assert_invalid(
+        &base_with("pd: (dx: 0.5, model: StateBased, refinement: (strain_factor: 0.5))"),
+        "pd.refinement.strain_factor",
+        "breaking",
+    );
     assert_invalid(
         &base_with("pd: (dx: 0.5, model: StateBased, refinement: (critical_damage: 1.2))"),
         "pd.refinement.critical_damage",

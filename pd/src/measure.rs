@@ -56,19 +56,24 @@ pub fn crack_tips(line: &[P2], edge_start: bool) -> Vec<Tip> {
 /// distance between the cracks, for the tips of the others (two parallel
 /// cracks 25 mm apart "ran" at the first broken row).
 pub fn crack_extension(model: &PdModel, tips: &[Tip]) -> f64 {
-    let phi = model.damage();
-    let x = model.positions();
+    let n = model.n_real();
+    crack_extension_of(&model.positions()[..n], &model.damage()[..n], tips)
+}
+
+/// [`crack_extension`] of the particles at `x` with damage `phi` (any particle set, e.g.
+/// a refined body's).
+pub fn crack_extension_of(x: &[P2], phi: &[f64], tips: &[Tip]) -> f64 {
     let mut ext: f64 = 0.0;
-    for i in 0..model.n_real() {
-        if phi[i] <= MACRO_CRACK_DAMAGE {
+    for (xi, &p) in x.iter().zip(phi) {
+        if p <= MACRO_CRACK_DAMAGE {
             continue;
         }
         let nearest = tips
             .iter()
-            .map(|t| (t, (x[i][0] - t.at[0]).hypot(x[i][1] - t.at[1])))
+            .map(|t| (t, (xi[0] - t.at[0]).hypot(xi[1] - t.at[1])))
             .min_by(|a, b| a.1.total_cmp(&b.1));
         if let Some((t, d)) = nearest {
-            let r = [x[i][0] - t.at[0], x[i][1] - t.at[1]];
+            let r = [xi[0] - t.at[0], xi[1] - t.at[1]];
             if r[0] * t.dir[0] + r[1] * t.dir[1] > 0.0 {
                 ext = ext.max(d);
             }
@@ -81,14 +86,24 @@ pub fn crack_extension(model: &PdModel, tips: &[Tip]) -> f64 {
 /// annulus `r_min..r_max` around `tip`, measured from the tip direction.
 /// `None` when no macro-cracked node lies there.
 pub fn kink_angle(model: &PdModel, tip: Tip, r_min: f64, r_max: f64) -> Option<f64> {
-    let phi = model.damage();
-    let x = model.positions();
+    let n = model.n_real();
+    kink_angle_of(
+        &model.positions()[..n],
+        &model.damage()[..n],
+        tip,
+        r_min,
+        r_max,
+    )
+}
+
+/// [`kink_angle`] of the particles at `x` with damage `phi`.
+pub fn kink_angle_of(x: &[P2], phi: &[f64], tip: Tip, r_min: f64, r_max: f64) -> Option<f64> {
     let (mut sx, mut sy) = (0.0, 0.0);
-    for i in 0..model.n_real() {
-        if phi[i] <= MACRO_CRACK_DAMAGE {
+    for (xi, &p) in x.iter().zip(phi) {
+        if p <= MACRO_CRACK_DAMAGE {
             continue;
         }
-        let r = [x[i][0] - tip.at[0], x[i][1] - tip.at[1]];
+        let r = [xi[0] - tip.at[0], xi[1] - tip.at[1]];
         let d = r[0].hypot(r[1]);
         if d < r_min || d > r_max || r[0] * tip.dir[0] + r[1] * tip.dir[1] <= 0.0 {
             continue;

@@ -45,6 +45,11 @@
 //! no failure law); the accumulated-strain criterion needs a critical stretch from the
 //! problem's failure law.
 //!
+//! **Load ramp** ([`ramp()`]): stand-alone PD's quasi-static crack-initiation ramp on the
+//! refined body, with brittle breaking and Eq. 15/16 splitting at every equilibrium
+//! (split before break, so a bond breaks only once its region is refined as far as the
+//! criteria ask).
+//!
 //! **Dynamics** ([`dynamics`]): velocity Verlet on the refined body with bond breaking
 //! every step and Eq. 15/16 splitting every few steps during the run (Fig. 5 steps 3-5,
 //! children inheriting their parent's velocity, Eq. 30).
@@ -55,6 +60,9 @@ mod body;
 pub mod dynamics;
 pub mod linear;
 mod pass;
+pub mod ramp;
+#[cfg(test)]
+mod ramp_tests;
 mod run;
 mod split;
 #[cfg(test)]
@@ -62,6 +70,7 @@ mod tests;
 
 pub use body::Body;
 pub use dynamics::{run_dynamic, AdaptiveInfo, AdaptiveObserver, SplitEvent};
+pub use ramp::{ramp, RampRecord, RampStep, RefinedRamp};
 pub use run::{run, RefinedRun, Round};
 
 use serde::{Deserialize, Serialize};

@@ -106,7 +106,7 @@ fn check_refinement(
             "refinement needs `model: StateBased` (dual-horizon state-based particles, seed 004)",
         );
     }
-    check_refinement_law(c, pd, r);
+    check_refinement_law(c, scene, pd, r);
     let displaced = scene.boundary.iter().any(|b| {
         [b.x, b.y]
             .iter()
@@ -115,7 +115,7 @@ fn check_refinement(
     if displaced && !matches!(pd.solver, PdSolver::Explicit(_)) {
         c.fail_at(
             "pd.refinement",
-            "the refined elastic solve takes traction-loaded bodies only (prescribed displacements on refined particles run in adaptive dynamics, `solver: Explicit`)",
+            "the refined quasi-static solves (elastic, load ramp) take traction-loaded bodies only (prescribed displacements on refined particles run in adaptive dynamics, `solver: Explicit`)",
         );
     }
     if let Some(phi) = r.critical_damage {
@@ -159,28 +159,35 @@ fn check_refinement(
 }
 
 /// The solver and failure law a refined body can run: the elastic solve (`failure:
-/// Elastic`, no strain criterion) or adaptive explicit dynamics (`solver: Explicit`,
-/// bonds breaking at a critical stretch, children with halved horizons, `check_every`
-/// at least 1, `strain_factor` alpha in (0, 1) with a breaking law).
+/// Elastic`, no strain criterion), the quasi-static crack-initiation ramp (a critical
+/// stretch, pre-cracks and a load ramp, as stand-alone PD's ramp: [`crate::run_refined`])
+/// or adaptive explicit dynamics (`solver: Explicit`, bonds breaking at a critical
+/// stretch, children with halved horizons, `check_every` at least 1). The strain
+/// criterion (`strain_factor` alpha in (0, 1)) needs a breaking law.
 fn check_refinement_law(
     c: &mut Checker,
+    scene: &Scene,
     pd: &crate::scene::PdSettings,
     r: &crate::scene::PdRefinement,
 ) {
     let explicit = matches!(pd.solver, PdSolver::Explicit(_));
     if !explicit {
-        if pd.failure != Failure::Elastic {
-            c.fail_at(
-                "pd.refinement",
-                "a refined body solves elastic equilibrium (no bond breaking) unless `solver: Explicit` (adaptive dynamics): use `failure: Elastic` or the Explicit solver",
-            );
+        match pd.failure {
+            Failure::Elastic => {}
+            Failure::Degradation { .. } => c.fail_at(
+                "pd.failure",
+                "a refined body breaks bonds at a critical stretch (it has no tanh degradation): use CriticalStretch or FromGc, or `failure: Elastic`",
+            ),
+            Failure::CriticalStretch(_) | Failure::FromGc => {
+                if scene.cracks.is_empty() || scene.load.factors().len() < 2 {
+                    c.fail_at(
+                        "pd.refinement",
+                        "a refined body with a breaking law runs the crack-initiation ramp: it needs pre-cracks (`cracks`) and a load ramp (`load: (initial, step, end)` with more than one step); use `failure: Elastic` for one elastic solve",
+                    );
+                }
+            }
         }
-        if r.strain_factor.is_some() {
-            c.fail_at(
-                "pd.refinement.strain_factor",
-                "Eq. 16's strain criterion refines during explicit dynamics only: drop the field or use `solver: Explicit`",
-            );
-        }
+        check_strain_factor(c, pd, r);
         return;
     }
     if matches!(pd.failure, Failure::Degradation { .. }) {
@@ -201,6 +208,15 @@ fn check_refinement_law(
         1,
         "time steps between refinement checks",
     );
+    check_strain_factor(c, pd, r);
+}
+
+/// Eq. 16's `strain_factor`: alpha in (0, 1), with a breaking failure law.
+fn check_strain_factor(
+    c: &mut Checker,
+    pd: &crate::scene::PdSettings,
+    r: &crate::scene::PdRefinement,
+) {
     if let Some(a) = r.strain_factor {
         if c.finite("pd.refinement.strain_factor", a) && !(a > 0.0 && a < 1.0) {
             c.fail(
