@@ -19,15 +19,16 @@ use pdbem_pd::{PdModel, TractionLoad};
 
 const A_OVER_L: f64 = 0.3;
 
-/// The BEM opening between the points `(dx/2, L ± dx/2)` of the case's plate (tolerance
-/// 1e-3 on K and CMOD; the interior values move by 0.04 % at 4e-4).
+/// The BEM opening between the points `(dx/2, L ± dx/2)` of the case's plate (2640
+/// elements: CMOD error estimate 0.13 %, the interior openings within 0.1 % of a solve
+/// to the tolerance 1e-3), a tenth of the PD errors measured here.
 fn bem_openings(dxs: &[f64]) -> Vec<f64> {
     let scene = case("seed004_table2_bem", &[]);
     let (summary, level) = pdbem::run_bem::solve(&scene).unwrap();
     let crack = &summary.cracks[0];
     let cmod = crack.cmod.expect("edge crack CMOD");
     let estimate = crack.cmod_err_est.expect("CMOD error estimate");
-    assert!(estimate < 1e-3 * cmod, "{crack:?}");
+    assert!(estimate < 2e-3 * cmod, "{crack:?}");
     let ev = FieldEvaluator::new(
         &level.setup.mesh,
         &level.setup.material,
@@ -56,8 +57,9 @@ fn pd_opening(dx: f64) -> f64 {
     mouth_opening(&m.positions()[..m.n_real()], m.displacements(), HEIGHT).expect("mouth")
 }
 
-/// Measured: BEM 6.9092 um (dx = 1 mm points) and 6.9784 um (0.5 mm); PD 7.0109 um
-/// (+1.47 %) and 7.0274 um (+0.70 %): the error ratio 0.48, first order. Bounds: both
+/// Measured: BEM 6.9146 um (dx = 1 mm points) and 6.9839 um (0.5 mm); PD 7.0109 um
+/// (+1.39 %) and 7.0274 um (+0.62 %): the error ratio 0.45, first order (against the
+/// tolerance-1e-3 BEM of docs/seed004.md: +1.47 %, +0.70 %, 0.48). Bounds: both
 /// errors positive (PD's softer skin at the crack faces and the free edge) and below
 /// 2 % and 1 %, and the ratio within [0.35, 0.65] of a first-order method's 0.5.
 #[test]
@@ -87,8 +89,8 @@ fn pd_opening_converges_to_the_elastic_solution_at_first_order() {
 }
 
 /// Dual-horizon particles (`pdbem_pd::refine`) refined within 4 mm of the crack read the
-/// opening at the children's points (dx/2 = 0.25 mm): measured +1.10 % against the BEM
-/// there, between the coarse grid's +1.47 % and the fine grid's +0.70 %. Asserted:
+/// opening at the children's points (dx/2 = 0.25 mm): measured +1.02 % against the BEM
+/// there, between the coarse grid's +1.39 % and the fine grid's +0.62 %. Asserted:
 /// between half the coarse grid's error and the coarse grid's error.
 #[test]
 fn region_refinement_lies_between_the_coarse_and_fine_grids() {
