@@ -506,3 +506,31 @@ fn seed002_tension_plate_on_a_roller_runs_to_failure_with_its_cut_part_held() {
     );
     assert!(held > free * 1.05, "LEFM: roller {held}, free {free}");
 }
+
+/// The shear plate with a uniform 3 m, 60 x 60 window (`growth_shear_edge_refined`
+/// without its zone): the window comes to hold the end of the bottom clamp, where full PD
+/// starts its second crack (docs/growth_modes.md), and bonds break there. The stray-damage
+/// watch ends the run after the first step with damage there, with the reason (measured:
+/// load 0.26, step 9, damage 0.41 at (10.225, 0.025), 12.7 horizons from the tracked
+/// crack; 19 s). Before the watch the run went on growing the tracked crack alone, past
+/// load 0.38 in 11 minutes.
+#[test]
+fn a_second_crack_in_a_window_ends_the_run() {
+    let mut sc = scene("growth_shear_edge_refined");
+    let c = sc.coupling.as_mut().unwrap();
+    c.refine = None;
+    c.n = 60;
+    let h = run_pd_bem(&sc, "stray");
+    let s = h.stray_damage.expect("stray damage recorded");
+    eprintln!("{s:?}");
+    assert!(s.distance > 2.0 * s.horizon, "{s:?}");
+    // At the clamp's end (10, 0), far from the tracked crack.
+    assert!(
+        (s.position[0] - 10.0).abs() < 0.5 && s.position[1] < 0.3,
+        "{s:?}"
+    );
+    let reason = h.failure_reason.expect("the run ended early");
+    assert!(reason.contains("second crack"), "{reason}");
+    assert!(!h.failure);
+    assert_eq!(h.steps.last().map(|st| st.load), Some(s.load));
+}

@@ -85,6 +85,27 @@ pub struct Overstrain {
     pub onset: f64,
 }
 
+/// The first step after which a PD window held damage more than
+/// [`crate::growth::records::STRAY_REACH`] horizons from every crack it tracks: a second
+/// crack that PD-BEM does not follow.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct WindowStray {
+    /// Load step (0-based).
+    pub step: usize,
+    /// Load factor.
+    pub load: f64,
+    /// Window index.
+    pub window: usize,
+    /// The damaged node farthest from the window's crack lines (m).
+    pub position: [f64; 2],
+    /// Its damage (-).
+    pub damage: f64,
+    /// Its distance to the nearest crack line of the window (m).
+    pub distance: f64,
+    /// The window's horizon (m).
+    pub horizon: f64,
+}
+
 /// One window relocation (the geometry iteration of Algorithm 2).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Relocation {
@@ -130,6 +151,10 @@ pub struct GrowthHistory {
     /// when it never is, and in the other modes.
     #[serde(default)]
     pub overstrain: Option<Overstrain>,
+    /// PD-BEM: the first step after which a window held damage off every crack it tracks
+    /// (a second crack); None when none did, and in the other modes.
+    #[serde(default)]
+    pub stray_damage: Option<WindowStray>,
     /// Messages for the user (why the run stopped, merged windows, ...).
     pub notes: Vec<String>,
     /// Why the run ended early without structural failure (a load step no back-off could

@@ -64,10 +64,12 @@ pub struct GrowthParams {
     /// seed's ADR with a fixed number of steps per iteration limits growth the same way).
     pub coupling: CouplingParams,
     /// End the run at the first load step whose BEM body reaches the PD onset stretch
-    /// away from the windows ([`crate::growth::overstrain`]), with
-    /// [`crate::growth::GrowthResult::failure_reason`]: PD would start a crack there that
-    /// the windows cannot model. False (the default here): note it and go on assuming the
-    /// body stays elastic there. Scenes end by default (`growth.overstrain: End`).
+    /// away from the windows ([`crate::growth::overstrain`]), or after which a window
+    /// holds damage off every crack it tracks (the stray-damage watch of
+    /// [`crate::growth::driver`]), with [`crate::growth::GrowthResult::failure_reason`]:
+    /// PD would start, or has started, a crack there that PD-BEM does not model. False
+    /// (the default here): note it and go on. Scenes end by default
+    /// (`growth.overstrain: End`).
     pub end_on_overstrain: bool,
 }
 

@@ -83,7 +83,34 @@ pub struct StepResult {
     /// the windows ([`crate::growth::overstrain`]); None when the step did not converge
     /// (failure) or the bonds never break.
     pub overstrain: Option<Hotspot>,
+    /// Damage in a window off every crack it tracks after the step (a second crack,
+    /// [`crate::growth::driver`]'s stray-damage watch); None when there is none.
+    #[serde(default)]
+    pub stray: Option<StrayDamage>,
 }
+
+/// Damage in a PD window farther than [`STRAY_REACH`] horizons from every crack line the
+/// window holds (its pre-cracks and the traced paths of its tips): a crack that PD-BEM
+/// does not track.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct StrayDamage {
+    /// Window index.
+    pub window: usize,
+    /// The damaged node farthest from the window's crack lines (m).
+    pub position: V2,
+    /// Its damage.
+    pub damage: f64,
+    /// Its distance to the nearest crack line of the window (m).
+    pub distance: f64,
+    /// The window's horizon (m).
+    pub horizon: f64,
+}
+
+/// Distance (in horizons) from every tracked crack line beyond which window damage above
+/// the tracking threshold is a second crack: the tracked tip lags the damage by up to 3
+/// dx (about a horizon, [`crate::growth::driver`]'s under-threshold note), and the damage
+/// band of a crack reaches about a horizon either side of its line.
+pub const STRAY_REACH: f64 = 2.0;
 
 /// One window relocation.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]

@@ -10,7 +10,7 @@ use pdbem_bem::V2;
 use super::driver::Growth;
 use super::history::{
     FieldSnapshot, GrowthHistory, Overstrain, PathPoint, Relocation, StepRecord, TipPath,
-    WindowOutline,
+    WindowOutline, WindowStray,
 };
 use super::overstrain::Hotspot;
 use super::params::GrowthParams;
@@ -136,6 +136,10 @@ pub fn history_of<S: Scenario>(
     if let Some(o) = &overstrain {
         notes.push(overstrain_note(o));
     }
+    let stray = first_stray(&result.steps);
+    if let Some(s) = &stray {
+        notes.push(stray_note(s));
+    }
     GrowthHistory {
         mode: "pd-bem".into(),
         paths,
@@ -157,6 +161,7 @@ pub fn history_of<S: Scenario>(
         failure: result.failure.is_some(),
         failure_load: result.failure.as_ref().map(|f| f.load),
         overstrain,
+        stray_damage: stray.as_ref().and_then(window_stray),
         notes,
         failure_reason: result.failure_reason.clone(),
         sif_path: Vec::new(),
@@ -198,6 +203,71 @@ pub fn overstrain_end(params: &GrowthParams, steps: &[StepResult]) -> Option<Str
     ))
 }
 
+/// The first step after which a window held damage off the cracks it tracks
+/// ([`StepResult::stray`]).
+pub fn first_stray(steps: &[StepResult]) -> Option<StepResult> {
+    steps.iter().find(|s| s.stray.is_some()).cloned()
+}
+
+/// The history's record of the stray damage of step `s`.
+fn window_stray(s: &StepResult) -> Option<WindowStray> {
+    let d = s.stray?;
+    Some(WindowStray {
+        step: s.step,
+        load: s.load,
+        window: d.window,
+        position: [d.position.x, d.position.y],
+        damage: d.damage,
+        distance: d.distance,
+        horizon: d.horizon,
+    })
+}
+
+/// What the stray damage of step `s` is.
+fn stray_account(s: &StepResult) -> String {
+    let Some(d) = s.stray else {
+        return String::new();
+    };
+    format!(
+        "after step {} (load {}) PD window {} holds damage {:.2} at ({:.3}, {:.3}), {:.3e} m \
+         ({:.1} horizons) from every crack it tracks: a second crack, which PD-BEM does not \
+         follow (the tracker follows each crack from its tip, and a window move keeps only \
+         the tracked path)",
+        s.step,
+        s.load,
+        d.window,
+        d.damage,
+        d.position.x,
+        d.position.y,
+        d.distance,
+        d.distance / d.horizon
+    )
+}
+
+/// With [`GrowthParams::end_on_overstrain`], why the run ends after the last of `steps`
+/// when that step is the first whose windows hold stray damage (None otherwise).
+pub fn stray_end(params: &GrowthParams, steps: &[StepResult]) -> Option<String> {
+    let (last, before) = steps.split_last()?;
+    if !params.end_on_overstrain || first_stray(before).is_some() || last.stray.is_none() {
+        return None;
+    }
+    Some(format!(
+        "run ended at load {} (step {}): {}; growth beyond this load is not computed (check \
+         with --growth-mode full-pd, or set growth.overstrain: Note to go on without it)",
+        last.load,
+        last.step,
+        stray_account(last)
+    ))
+}
+
+/// The note of the first step with stray damage.
+pub fn stray_note(s: &StepResult) -> String {
+    format!(
+        "{}; results from this load on leave that crack out (check with --growth-mode full-pd)",
+        stray_account(s)
+    )
+}
+
 /// The note of the first overstrained step ([`GrowthHistory::overstrain`]).
 pub fn overstrain_note(o: &Overstrain) -> String {
     format!(
@@ -215,6 +285,7 @@ mod tests {
     use super::*;
     use crate::growth::fixtures::{plate_setup, PlateScenario};
     use crate::growth::params::LoadSteps;
+    use crate::growth::records::StrayDamage;
     use crate::growth::Silent;
 
     /// A 10 m x 5 m plate clamped on its left edge and pulled along x (1 MPa times the
@@ -374,5 +445,65 @@ mod tests {
             "{:?}",
             out.notes
         );
+    }
+
+    /// The stray-damage end: only after the first step with stray damage, and only when
+    /// the run ends on such findings ([`GrowthParams::end_on_overstrain`]); its reason and
+    /// the note name the window, the place and the distance in horizons.
+    #[test]
+    fn stray_damage_ends_the_run_once_and_only_when_asked() {
+        let step = |k: usize, stray: bool| StepResult {
+            step: k,
+            load: 0.1 * (k + 1) as f64,
+            iterations: 1,
+            residual: 0.0,
+            converged: true,
+            broken_bonds: 0,
+            tips: Vec::new(),
+            cmod: None,
+            relocations: 0,
+            wall_s: 0.0,
+            pd_s: 0.0,
+            overstrain: None,
+            stray: stray.then_some(StrayDamage {
+                window: 1,
+                position: V2::new(10.0, 0.5),
+                damage: 0.45,
+                distance: 0.6,
+                horizon: 0.15,
+            }),
+        };
+        let loads = LoadSteps {
+            initial: 0.1,
+            step: 0.1,
+            count: 3,
+        };
+        let mut params = GrowthParams::new(loads, 0.5);
+        params.end_on_overstrain = true;
+        assert!(stray_end(&params, &[step(0, false)]).is_none());
+        let steps = [step(0, false), step(1, true)];
+        let reason = stray_end(&params, &steps).expect("ends at the first stray step");
+        assert!(
+            reason.contains("run ended at load 0.2 (step 1)"),
+            "{reason}"
+        );
+        assert!(
+            reason.contains("PD window 1 holds damage 0.45 at (10.000, 0.500)"),
+            "{reason}"
+        );
+        assert!(reason.contains("(4.0 horizons)"), "{reason}");
+        // Only the first such step ends a run (a resumed or noted run goes on).
+        assert!(stray_end(&params, &[step(0, true), step(1, true)]).is_none());
+        params.end_on_overstrain = false;
+        assert!(stray_end(&params, &steps).is_none());
+        let first = first_stray(&steps).expect("step 1");
+        assert_eq!(first.step, 1);
+        let note = stray_note(&first);
+        assert!(
+            note.contains("second crack") && note.contains("leave that crack out"),
+            "{note}"
+        );
+        let w = window_stray(&first).expect("a record");
+        assert_eq!((w.step, w.window, w.position), (1, 1, [10.0, 0.5]));
     }
 }

@@ -88,6 +88,7 @@ pub fn growth_summary(scene: &Scene, h: &GrowthHistory) -> RunSummary {
     extra.insert("relocation_rebuild_s".into(), json!(rebuild));
     if h.mode == "pd-bem" {
         extra.insert("bem_overstrain".into(), json!(h.overstrain));
+        extra.insert("window_stray_damage".into(), json!(h.stray_damage));
     }
     RunSummary {
         scene: scene.name.clone(),

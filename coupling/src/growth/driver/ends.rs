@@ -1,12 +1,12 @@
 //! How tips and runs end: tips at the outline, a hole or another crack, a ligament giving
-//! way, damage beyond the tracked tips.
+//! way, damage beyond the tracked tips, damage off the tracked cracks (a second crack).
 
 use pdbem_bem::V2;
 
 use super::Growth;
 use crate::error::CouplingError;
 use crate::growth::observer::Observer;
-use crate::growth::records::Scenario;
+use crate::growth::records::{Scenario, StrayDamage, STRAY_REACH};
 use crate::growth::tips::{
     cut_at_meeting, joined, ran_into, reached_boundary, towards_tip, track, TipEnd, TipState,
 };
@@ -122,6 +122,48 @@ impl<'s, S: Scenario> Growth<'s, S> {
             && to_outline(tip.position()) < to_outline(tip.entry)
     }
 
+    /// The stray-damage watch: in every window, the real node with damage above the
+    /// tracking threshold farthest from the window's crack lines (its pre-cracks and the
+    /// traced paths of the tips it holds), when farther than [`STRAY_REACH`] horizons; the
+    /// farthest over the windows. Such damage is a crack the tracker does not follow: it
+    /// is not in any tip's path, and a window move keeps only the tracked path as its
+    /// pre-crack.
+    pub(super) fn stray_damage(&self) -> Option<StrayDamage> {
+        let threshold = self.params.path.threshold;
+        let mut worst: Option<StrayDamage> = None;
+        for (w, wm) in self.problem.windows.iter().enumerate() {
+            let delta = wm.window.delta();
+            let as_v2 = |line: &[[f64; 2]]| -> Vec<V2> {
+                line.iter().map(|p| V2::new(p[0], p[1])).collect()
+            };
+            let mut lines: Vec<Vec<V2>> = wm.problem.cracks.iter().map(|c| as_v2(c)).collect();
+            lines.extend(
+                self.tips
+                    .iter()
+                    .filter(|t| t.window == w)
+                    .map(|t| as_v2(&t.path.points)),
+            );
+            let (phi, x) = (wm.model.damage(), wm.model.positions());
+            for i in (0..wm.model.n_real()).filter(|&i| phi[i] > threshold) {
+                let p = V2::new(x[i][0], x[i][1]);
+                let d = lines
+                    .iter()
+                    .map(|l| pdbem_geometry::polyline_distance_hypot(&p, l))
+                    .fold(f64::INFINITY, f64::min);
+                if d > STRAY_REACH * delta && worst.is_none_or(|s| d > s.distance) {
+                    worst = Some(StrayDamage {
+                        window: w,
+                        position: p,
+                        damage: phi[i],
+                        distance: d,
+                        horizon: delta,
+                    });
+                }
+            }
+        }
+        worst
+    }
+
     /// A note for every active tip whose window has damage just under the threshold
     /// reaching more than [`UNDER_THRESHOLD_REACH`] dx beyond the tracked tip: the crack
     /// ran on but the tracker did not follow it (the window never moves). On the regular
@@ -226,6 +268,75 @@ mod tests {
             .sides
             .contains(&SideKind::Outer));
         assert!(inside.ligament_gave_way(&stall).is_none());
+    }
+
+    /// The stray-damage watch: the window's own crack (the pre-crack cut: its face nodes
+    /// carry damage 0.4-0.5) is not stray; a node broken loose (damage 0.80) 2.4 horizons
+    /// from the crack (its tip at (5, 2.5), the 1 m window centred on it) is, reported at
+    /// its position with its distance; one broken loose within a horizon of the tip is
+    /// not.
+    #[test]
+    fn damage_off_the_tracked_crack_is_a_second_crack() {
+        let threshold = GrowthParams::new(
+            LoadSteps {
+                initial: 1.0,
+                step: 0.5,
+                count: 1,
+            },
+            0.5,
+        )
+        .path
+        .threshold;
+        for (target, stray) in [(V2::new(5.325, 2.675), true), (V2::new(5.1, 2.6), false)] {
+            // The scenes' trigger ratio 0.9: bonds break up to 0.45 m from the centre.
+            let crack = vec![V2::new(5.0, 0.0), V2::new(5.0, 2.5)];
+            let setup = plate_setup((10.0, 5.0), vec![], vec![crack], Some(3e-3));
+            let loads = LoadSteps {
+                initial: 1.0,
+                step: 0.5,
+                count: 1,
+            };
+            let mut g = Growth::new(setup, &PlateScenario, GrowthParams::new(loads, 0.9)).unwrap();
+            let wm = &g.problem.windows[0];
+            assert!(
+                wm.model.damage()[..wm.model.n_real()]
+                    .iter()
+                    .any(|&d| d > threshold),
+                "the pre-crack's faces are damaged"
+            );
+            assert!(g.stray_damage().is_none());
+            // Break every bond of the real node nearest `target` by moving it far off.
+            let wm = &mut g.problem.windows[0];
+            let x = wm.model.positions().to_vec();
+            let k = (0..wm.model.n_real())
+                .min_by(|&a, &b| {
+                    let d = |i: usize| (V2::new(x[i][0], x[i][1]) - target).norm();
+                    d(a).total_cmp(&d(b))
+                })
+                .unwrap();
+            let mut u = wm.model.displacements().to_vec();
+            u[k] = [0.5, 0.5];
+            wm.model.set_displacements(&u).unwrap();
+            wm.model.commit_history();
+            // (Its bonds into the no-fail band by the window's sides hold.)
+            assert!(
+                wm.model.damage()[k] > 0.5,
+                "node {k} at {:?} broke loose",
+                x[k]
+            );
+            let found = g.stray_damage();
+            assert_eq!(found.is_some(), stray, "{target:?}: {found:?}");
+            if let Some(d) = found {
+                let p = V2::new(x[k][0], x[k][1]);
+                assert_eq!(d.window, 0);
+                assert_eq!(d.position, p);
+                assert!(
+                    (d.distance - (p - V2::new(5.0, 2.5)).norm()).abs() < 1e-9,
+                    "{d:?}"
+                );
+                assert!(d.distance > 2.0 * d.horizon);
+            }
+        }
     }
 
     #[test]

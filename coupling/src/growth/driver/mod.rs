@@ -49,7 +49,12 @@
 //! - `state`: the run's state between load steps ([`Growth::state`],
 //!   [`Growth::set_state`], [`Growth::resume`]).
 //! - `ends`: tips and runs that end (outline, hole, other crack, ligament), damage beyond
-//!   the tips.
+//!   the tips, and the stray-damage watch: damage in a window more than
+//!   [`STRAY_REACH`](crate::growth::records::STRAY_REACH) horizons from every crack it
+//!   tracks is a second crack PD-BEM does not follow; recorded per step
+//!   ([`StepResult::stray`](crate::growth::records::StepResult::stray)), noted, and with
+//!   `end_on_overstrain` it ends the run after the first such step, like the strain
+//!   watch outside the windows.
 //! - `join`: a tip that ended at a hole joins it in the BEM geometry (its crack runs on
 //!   to the hole rim, [`join_name`]).
 

@@ -18,7 +18,7 @@ use crate::growth::params::GrowthParams;
 use crate::growth::records::{
     Failure, GrowthResult, IterationEvent, Scenario, SolveOutcome, StepResult,
 };
-use crate::growth::summary::overstrain_end;
+use crate::growth::summary::{overstrain_end, stray_end};
 use crate::growth::tips::{passed_margin, reached_boundary, track, TipEnd, TipState};
 use crate::iteration::{solve_prepared, StepOptions};
 use crate::relaxation::SecantColumns;
@@ -337,6 +337,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
                 pd_s: run.pd_s,
                 // Only an equilibrium says how strained the body is.
                 overstrain: if converged { self.overstrain() } else { None },
+                stray: self.stray_damage(),
             };
             observer.step(&rec);
             observer.state(&rec, &self.problem, self.last.as_ref());
@@ -352,7 +353,9 @@ impl<'s, S: Scenario> Growth<'s, S> {
                 });
                 break;
             }
-            if let Some(reason) = overstrain_end(&self.params, &out.steps) {
+            if let Some(reason) = overstrain_end(&self.params, &out.steps)
+                .or_else(|| stray_end(&self.params, &out.steps))
+            {
                 observer.note(&reason);
                 out.failure_reason = Some(reason);
                 break;
