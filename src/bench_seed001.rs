@@ -187,7 +187,7 @@ pub fn lefm(scene: &Scene) -> Result<(Option<f64>, Option<f64>)> {
         Plane::Strain => (e * g_c / (1.0 - nu * nu)).sqrt(),
     };
     let factor = crate::setup::final_factor(scene);
-    let sigma1 = crate::run_pd::traction_scale(scene).context("the scene has no traction")?;
+    let sigma1 = crate::pd_loads::traction_scale(scene).context("the scene has no traction")?;
     let (summary, _) = crate::run_bem::solve(&bem)?;
     let governing = summary
         .tips

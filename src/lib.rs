@@ -28,6 +28,7 @@ pub mod growth;
 pub mod load_displacement;
 pub mod output;
 pub mod pd_fields;
+pub mod pd_loads;
 pub mod plot;
 pub mod provenance;
 pub mod refine;

@@ -19,37 +19,17 @@
 //! self-equilibrated, so the pins carry no reaction.
 
 use crate::load_displacement::LoadDisplacement;
+use crate::pd_loads::{initiation_ramp, round12, scene_tips, traction_scale};
 use crate::runner::context::RunContext;
 use crate::runner::summary::RunSummary;
-use crate::scene::shapes::SceneGeometry;
-use crate::scene::{Component, Failure, PdSolver, Scene};
+use crate::scene::{Failure, PdSolver, Scene};
 use crate::setup::pd::labelled_problem_from_scene;
 use anyhow::{Context, Result};
-use pdbem_pd::measure::{crack_tips, kink_angle, ramp_to_initiation, RampParams};
+use pdbem_pd::measure::{kink_angle, ramp_to_initiation};
 use pdbem_pd::solvers::{adr, implicit, switching, Convergence};
 use pdbem_pd::PdModel;
 use serde_json::json;
 use std::time::Instant;
-
-/// `v` to 12 significant digits: a ramp's `start + k step` (14.999999999999993) written
-/// as the load it means (15).
-pub fn round12(v: f64) -> f64 {
-    format!("{v:.11e}").parse().unwrap_or(v)
-}
-
-/// Largest applied traction magnitude (Pa) at load factor 1.
-pub fn traction_scale(scene: &Scene) -> Option<f64> {
-    scene
-        .boundary
-        .iter()
-        .flat_map(|b| [b.x, b.y])
-        .filter_map(|c| match c {
-            Component::Traction(v) => Some(v.abs()),
-            _ => None,
-        })
-        .chain(scene.boundary.iter().filter_map(|b| b.normal.map(f64::abs)))
-        .fold(None, |m: Option<f64>, v| Some(m.map_or(v, |m| m.max(v))))
-}
 
 /// The error of an explicit-dynamics scene on the equilibrium path.
 fn unreachable_explicit(file: &std::path::Path) -> Result<pdbem_pd::SolveInfo> {
@@ -119,32 +99,11 @@ pub fn solve_recorded(scene: &Scene) -> Result<(RunSummary, PdModel, LoadDisplac
         mode: "pd".into(),
         ..Default::default()
     };
-    let geo = SceneGeometry::of(scene);
     let brittle = matches!(pd.failure, Failure::CriticalStretch(_) | Failure::FromGc);
     let info = if brittle && !problem.cracks.is_empty() && factors.len() > 1 {
-        let tips: Vec<_> = geo
-            .cracks
-            .iter()
-            .flat_map(|c| {
-                crack_tips(
-                    &c.points.iter().map(|p| [p.x, p.y]).collect::<Vec<_>>(),
-                    c.mouth,
-                )
-            })
-            .collect();
+        let tips = scene_tips(scene);
         let delta = problem.horizon();
-        let ramp = RampParams {
-            start: scene.load.initial,
-            step: if scene.load.step > 0.0 {
-                scene.load.step
-            } else {
-                0.05 * scene.load.initial
-            },
-            max_load: last,
-            run_length: 2.0 * delta,
-            grow_to: 5.0 * delta,
-            max_rounds: 200,
-        };
+        let ramp = initiation_ramp(scene, delta, 200);
         let init = ramp_to_initiation(&mut model, &tips, &ramp)
             .with_context(|| format!("{}: load ramp", file.display()))?;
         let scale = traction_scale(scene).unwrap_or(1.0);

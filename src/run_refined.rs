@@ -15,15 +15,14 @@
 use std::time::Instant;
 
 use anyhow::{Context, Result};
-use pdbem_pd::measure::{crack_tips, kink_angle_of, RampParams, Tip};
+use pdbem_pd::measure::{kink_angle_of, Tip};
 use pdbem_pd::refine::{ramp, run as refine_run, RefinedRamp, Refinement};
 use pdbem_pd::Selection;
 use serde_json::json;
 
-use crate::run_pd::{round12, traction_scale};
+use crate::pd_loads::{initiation_ramp, round12, scene_tips, traction_scale};
 use crate::runner::context::RunContext;
 use crate::runner::summary::RunSummary;
-use crate::scene::shapes::SceneGeometry;
 use crate::scene::{Failure, PdRefinement, Scene};
 use crate::setup::pd::labelled_problem_from_scene;
 
@@ -73,7 +72,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     let settings = settings(r, &problem.cracks);
     let body = if breaking {
         let tips = scene_tips(scene);
-        let params = ramp_params(scene, problem.horizon());
+        let params = initiation_ramp(scene, problem.horizon(), 400);
         let out = ramp(&problem, &settings, &tips, &params)
             .with_context(|| format!("{}: refined PD load ramp", file.display()))?;
         report_ramp(scene, &out, &tips, problem.horizon(), &mut summary);
@@ -116,38 +115,6 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     crate::pd_fields::write_fields(scene, ctx, (body.positions(), &body.u, &phi), &mut summary)?;
     summary.wall_time_s = t0.elapsed().as_secs_f64();
     Ok(summary)
-}
-
-/// The pre-crack tips of the scene (edge cracks: the inner end only).
-fn scene_tips(scene: &Scene) -> Vec<Tip> {
-    SceneGeometry::of(scene)
-        .cracks
-        .iter()
-        .flat_map(|c| {
-            crack_tips(
-                &c.points.iter().map(|p| [p.x, p.y]).collect::<Vec<_>>(),
-                c.mouth,
-            )
-        })
-        .collect()
-}
-
-/// The ramp of stand-alone PD ([`crate::run_pd`]): `load.initial` by `load.step` to the
-/// last factor; the crack runs at two horizons, and grows on to five for the kink angle.
-fn ramp_params(scene: &Scene, delta: f64) -> RampParams {
-    let last = scene.load.factors().last().copied().unwrap_or(1.0);
-    RampParams {
-        start: scene.load.initial,
-        step: if scene.load.step > 0.0 {
-            scene.load.step
-        } else {
-            0.05 * scene.load.initial
-        },
-        max_load: last,
-        run_length: 2.0 * delta,
-        grow_to: 5.0 * delta,
-        max_rounds: 400,
-    }
 }
 
 /// The ramp's loads (Pa: the factor times the largest applied traction, as

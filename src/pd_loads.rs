@@ -1,0 +1,64 @@
+//! Loads of the stand-alone PD crack-initiation ramps ([`crate::run_pd`] on a grid,
+//! [`crate::run_refined`] on refined particles): the ramp's parameters from the scene,
+//! and the units of the reports (loads in Pa, the load factor times the largest applied
+//! traction; load factors to 12 significant digits).
+
+use pdbem_pd::measure::{crack_tips, RampParams, Tip};
+
+use crate::scene::shapes::SceneGeometry;
+use crate::scene::{Component, Scene};
+
+/// The pre-crack tips of the scene, where the ramps measure the crack's extension (an
+/// edge crack: its inner end only).
+pub fn scene_tips(scene: &Scene) -> Vec<Tip> {
+    SceneGeometry::of(scene)
+        .cracks
+        .iter()
+        .flat_map(|c| {
+            crack_tips(
+                &c.points.iter().map(|p| [p.x, p.y]).collect::<Vec<_>>(),
+                c.mouth,
+            )
+        })
+        .collect()
+}
+
+/// The initiation ramp of `scene`: from `load.initial` by `load.step` (5 % of the
+/// initial load when the scene gives none) to the last load factor; the crack has run at
+/// two horizons `delta` (m) of extension and grows on to five for the kink angle; at most
+/// `max_rounds` break-and-re-solve rounds per load.
+pub fn initiation_ramp(scene: &Scene, delta: f64, max_rounds: usize) -> RampParams {
+    let last = scene.load.factors().last().copied().unwrap_or(1.0);
+    RampParams {
+        start: scene.load.initial,
+        step: if scene.load.step > 0.0 {
+            scene.load.step
+        } else {
+            0.05 * scene.load.initial
+        },
+        max_load: last,
+        run_length: 2.0 * delta,
+        grow_to: 5.0 * delta,
+        max_rounds,
+    }
+}
+
+/// `v` to 12 significant digits: a ramp's `start + k step` (14.999999999999993) written
+/// as the load it means (15).
+pub fn round12(v: f64) -> f64 {
+    format!("{v:.11e}").parse().unwrap_or(v)
+}
+
+/// Largest applied traction magnitude (Pa) at load factor 1.
+pub fn traction_scale(scene: &Scene) -> Option<f64> {
+    scene
+        .boundary
+        .iter()
+        .flat_map(|b| [b.x, b.y])
+        .filter_map(|c| match c {
+            Component::Traction(v) => Some(v.abs()),
+            _ => None,
+        })
+        .chain(scene.boundary.iter().filter_map(|b| b.normal.map(f64::abs)))
+        .fold(None, |m: Option<f64>, v| Some(m.map_or(v, |m| m.max(v))))
+}
