@@ -131,11 +131,19 @@ impl Body {
         f
     }
 
-    /// Critical stretch of particle `k`'s bonds from the failure law (`None` without one).
+    /// Critical stretch of particle `k`'s bonds from the failure law (`None` without one):
+    /// seed 004 Eq. 11 with `k`'s horizon for `FractureEnergy`; for `CriticalStretch`,
+    /// `s0` (given for the base grid's horizon) times `sqrt(delta_base / delta_k)`, the
+    /// scaling of Eq. 11 at a fixed fracture energy (`s0 ~ delta^-1/2`; the mixed grid of
+    /// the windows scales it the same way, [`crate::mixed`]), so that children with halved
+    /// horizons are as tough as their parents rather than half as tough.
     pub fn critical_stretch(&self, k: usize) -> Option<f64> {
         match self.failure {
             Failure::None => None,
-            Failure::CriticalStretch { s0 } => Some(s0),
+            Failure::CriticalStretch { s0 } => {
+                let base = self.m * self.size[k] * f64::from(1u32 << self.level[k]);
+                Some(s0 * (base / self.dh.delta[k]).sqrt())
+            }
             Failure::FractureEnergy { g_c } => Some(critical_stretch(
                 self.moduli.0,
                 self.moduli.1,

@@ -341,3 +341,34 @@ fn accumulated_strain_criterion_refines_ahead_of_the_tip() {
     );
     assert!(far < 3.0 * 3.015, "{far}");
 }
+
+/// `CriticalStretch` at a fixed fracture energy: children with halved horizons break at
+/// `s0 sqrt(2)` (Eq. 11: `s0 ~ delta^-1/2`), children keeping their parent's horizon at
+/// `s0`, base particles at `s0`; `FractureEnergy` gives Eq. 11 with each horizon, so the
+/// two laws scale alike.
+#[test]
+fn critical_stretch_scales_with_the_horizon_at_a_fixed_fracture_energy() {
+    for keep in [false, true] {
+        let mut p = square(Vec::new());
+        p.failure = crate::Failure::CriticalStretch { s0: 1e-3 };
+        let mut b = Body::from_problem(&p).unwrap();
+        b.keep_horizon = keep;
+        b.split(&[0]).unwrap();
+        let child = b.len() - 1;
+        assert_eq!(b.level[child], 1);
+        assert!((b.critical_stretch(0).unwrap() - 1e-3).abs() < 1e-15);
+        let expected = if keep { 1e-3 } else { 1e-3 * 2f64.sqrt() };
+        let got = b.critical_stretch(child).unwrap();
+        assert!(
+            (got - expected).abs() < 1e-12 * expected,
+            "keep {keep}: {got}"
+        );
+        // The fracture-energy law scales the same way between the two sizes.
+        b.failure = crate::Failure::FractureEnergy { g_c: 10.0 };
+        let ratio = b.critical_stretch(child).unwrap() / b.critical_stretch(0).unwrap();
+        assert!(
+            (ratio - expected / 1e-3).abs() < 1e-12,
+            "keep {keep}: {ratio}"
+        );
+    }
+}
