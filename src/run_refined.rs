@@ -143,6 +143,21 @@ fn report_ramp(
             rec.extension
         ));
     }
+    let unsettled: Vec<f64> = rec
+        .steps
+        .iter()
+        .filter(|s| !s.settled)
+        .map(|s| s.load)
+        .collect();
+    if !unsettled.is_empty() {
+        summary.notes.push(format!(
+            "{} load step(s) used up their break-and-re-solve rounds with bonds still breaking \
+             (first at load factor {}): the ramp went on from a state that was not an \
+             equilibrium there",
+            unsettled.len(),
+            unsettled[0]
+        ));
+    }
     let unit = if traction_scale(scene).is_some() {
         "Pa"
     } else {

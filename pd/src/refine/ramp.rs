@@ -48,6 +48,9 @@ fn cg_cap(particles: usize) -> usize {
     2000 + (50.0 * ((2 * particles) as f64).sqrt()) as usize
 }
 
+/// Most load steps a ramp may take (the scenes' `load.count` bound).
+const MAX_STEPS: f64 = 1e5;
+
 /// One load step of the ramp.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct RampStep {
@@ -61,6 +64,9 @@ pub struct RampStep {
     pub broken: usize,
     /// Crack extension at the end of the step (m).
     pub extension: f64,
+    /// The step ended with no bond left to break (or at `grow_to`, or in unstable growth);
+    /// false when it used up `max_rounds` with bonds still breaking.
+    pub settled: bool,
 }
 
 /// Result of [`ramp`]: the body in its final state and the ramp's record.
@@ -143,6 +149,15 @@ fn check_params(rp: &RampParams) -> Result<(), PdError> {
             format!(
                 "the ramp needs 0 < start <= end and a positive step, got start {}, step {}, end {}",
                 rp.start, rp.step, rp.max_load
+            ),
+        ));
+    }
+    if (rp.max_load - rp.start) / rp.step > MAX_STEPS {
+        return Err(PdError::invalid(
+            "load",
+            format!(
+                "the ramp from {} to {} by {} takes more than {MAX_STEPS} load steps",
+                rp.start, rp.max_load, rp.step
             ),
         ));
     }
@@ -259,6 +274,7 @@ fn load_step(
         split: 0,
         broken: 0,
         extension: out.extension,
+        settled: false,
     };
     for _round in 0..rp.max_rounds {
         if let Err(e) = solve(body, r, lam, out) {
@@ -267,6 +283,7 @@ fn load_step(
             }
             out.unstable = true;
             out.initiation_load.get_or_insert(lam);
+            step.settled = true;
             break;
         }
         let t = Instant::now();
@@ -287,6 +304,7 @@ fn load_step(
             out.initiation_load = Some(lam);
         }
         if broken == 0 || (out.initiation_load.is_some() && ext - ext0 >= rp.grow_to) {
+            step.settled = true;
             break;
         }
     }

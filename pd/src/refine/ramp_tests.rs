@@ -88,6 +88,7 @@ fn refinement_follows_the_running_crack() {
     );
     assert!(rec.initiation_load.is_some() && !rec.unstable, "{rec:?}");
     assert!(rec.extension >= rp.grow_to);
+    assert!(rec.steps.iter().all(|s| s.settled));
     assert!(rec.setup_split > 0 && ramp_split > 0);
     assert!(children > 0 && children < base);
     let line_y = tips[0].at[1];
@@ -160,8 +161,28 @@ fn ramp_refuses_what_it_cannot_run() {
     bad.start = f64::NAN;
     assert!(err(&p, &bad).contains("load"));
     bad = params(0.1);
+    bad.step = 1e-5;
+    assert!(err(&p, &bad).contains("more than"));
+    bad = params(0.1);
     bad.run_length = -1.0;
     assert!(err(&p, &bad).contains("run_length"));
     p.failure = Failure::None;
     assert!(err(&p, &params(0.1)).contains("failure"));
+}
+
+/// A step that runs out of break-and-re-solve rounds with bonds still breaking says so
+/// (`settled: false`): with one round per load the first break leaves the step unsettled.
+#[test]
+fn a_step_out_of_rounds_is_not_settled() {
+    let (p, tips) = plate();
+    let mut rp = params(0.1);
+    rp.max_rounds = 1;
+    let out = ramp(&p, &no_refinement(), &tips, &rp).unwrap();
+    let steps = &out.record.steps;
+    let first = steps
+        .iter()
+        .position(|s| s.broken > 0)
+        .expect("a bond broke");
+    assert!(!steps[first].settled, "{:?}", steps[first]);
+    assert!(steps[..first].iter().all(|s| s.settled));
 }
