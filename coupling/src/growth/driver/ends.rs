@@ -123,8 +123,9 @@ impl<'s, S: Scenario> Growth<'s, S> {
     }
 
     /// The stray-damage watch: in every window, the real node with damage above the
-    /// tracking threshold farthest from the window's crack lines (its pre-cracks and the
-    /// traced paths of the tips it holds), when farther than [`STRAY_REACH`] horizons; the
+    /// tracking threshold farthest from the crack lines (the window's pre-cracks, the
+    /// body's macro cracks as grown and joined so far, and the traced paths of the tips the
+    /// window holds), when farther than [`STRAY_REACH`] horizons; the
     /// farthest over the windows. Such damage is a crack the tracker does not follow: it
     /// is not in any tip's path, and a window move keeps only the tracked path as its
     /// pre-crack.
@@ -137,6 +138,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
                 line.iter().map(|p| V2::new(p[0], p[1])).collect()
             };
             let mut lines: Vec<Vec<V2>> = wm.problem.cracks.iter().map(|c| as_v2(c)).collect();
+            lines.extend(self.setup.layout.cracks.iter().map(|c| c.points.clone()));
             lines.extend(
                 self.tips
                     .iter()
