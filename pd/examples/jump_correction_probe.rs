@@ -1,7 +1,7 @@
 //! Probe (research, not used by the engine): can a variational correction remove the
 //! patch-test error of dual horizons at a size jump (issue 20; docs/coupled_refined.md)?
 //!
-//! On the 24 x 24 patch of `tests/verification_mixed_spacing.rs` (a zone of 8 x 8 cells
+//! On the 24 x 24 patch of `tests/verification_mixed_spacing.rs` (or SIDE x SIDE; a zone of 8 x 8 cells
 //! split `LEVELS` times, the fictitious layer prescribed), it adds to the model's
 //! symmetric stiffness `K` the correction
 //! $$C = \sum_{k\in B} \frac{V_k}{V_{ref}}\, D_k^T H_k D_k,$$
@@ -16,7 +16,8 @@
 //! `K + C`, and the patch test (a mixed homogeneous strain on the layer) solved with each.
 //! Dense matrices: a few seconds per run.
 //!
-//! `cargo run --release -p pdbem-pd --example jump_correction_probe -- LEVELS [pmb|sb] [REACH]`
+//! `cargo run --release -p pdbem-pd --example jump_correction_probe -- LEVELS [pmb|sb] [REACH]
+//! [SIDE]` (SIDE: the patch's side in cells, 24 by default; the zone stays 8 x 8).
 
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use pdbem_pd::mixed::RefineZone;
@@ -29,13 +30,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let levels: u32 = args.get(1).map_or(Ok(1), |s| s.parse())?;
     let state_based = args.get(2).is_some_and(|s| s == "sb");
     let reach: f64 = args.get(3).map_or(Ok(3.0), |s| s.parse())?;
+    let side: f64 = args.get(4).map_or(Ok(24.0), |s| s.parse())?;
     let material = if state_based {
         PdMaterial::StateBased { poisson_ratio: 0.3 }
     } else {
         PdMaterial::Pmb
     };
     let p = PdProblem {
-        region: Region::rectangle([0.0, 0.0], [24.0, 24.0]),
+        region: Region::rectangle([0.0, 0.0], [side, side]),
         dx: 1.0,
         youngs_modulus: 1.0,
         material,
@@ -46,7 +48,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             layer: Layer::Fictitious,
         }],
         refine_zones: vec![RefineZone {
-            centre: [12.0, 12.0],
+            centre: [0.5 * side, 0.5 * side],
             half_size: 4.0,
             levels,
         }],
