@@ -53,9 +53,10 @@ pub fn settings(r: &PdRefinement, cracks: &[Vec<[f64; 2]>]) -> Refinement {
     }
 }
 
-/// Solves `scene` with refined particles and writes its fields (elastic; `pd.solver:
+/// Solves `scene` with refined particles and writes its fields: the elastic solve, or with
+/// a breaking law the crack-initiation ramp ([`pdbem_pd::refine::ramp`]); `pd.solver:
 /// Explicit` runs the adaptive dynamics of [`crate::run_adaptive`] instead, chosen by
-/// [`crate::run_pd::run`]).
+/// [`crate::run_pd::run`].
 pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     let t0 = Instant::now();
     let file = scene.file_label();
