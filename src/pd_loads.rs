@@ -4,6 +4,7 @@
 //! traction; load factors to 12 significant digits).
 
 use pdbem_pd::measure::{crack_tips, RampParams, Tip};
+use serde_json::{json, Map, Value};
 
 use crate::scene::shapes::SceneGeometry;
 use crate::scene::{Component, Scene};
@@ -61,4 +62,41 @@ pub fn traction_scale(scene: &Scene) -> Option<f64> {
         })
         .chain(scene.boundary.iter().filter_map(|b| b.normal.map(f64::abs)))
         .fold(None, |m: Option<f64>, v| Some(m.map_or(v, |m| m.max(v))))
+}
+
+/// The unit of the reported loads: `Pa` when the scene applies tractions (the factor
+/// times [`traction_scale`]), `-` when the loads are load factors.
+pub fn load_unit(scene: &Scene) -> &'static str {
+    if traction_scale(scene).is_some() {
+        "Pa"
+    } else {
+        "-"
+    }
+}
+
+/// What an initiation ramp found, into `extra` (docs/outputs.md): `first_break_load` and
+/// `initiation_load` in [`load_unit`], `initiation_load_factor`, `unstable_growth`,
+/// `kink_deg` (the first tip with one) and `kink_deg_per_tip`; the loads are factors.
+pub fn report_initiation(
+    scene: &Scene,
+    first_break: Option<f64>,
+    initiation: Option<f64>,
+    unstable: bool,
+    kinks: &[Option<f64>],
+    extra: &mut Map<String, Value>,
+) {
+    let scale = traction_scale(scene).unwrap_or(1.0);
+    let load = |f: Option<f64>| f.map(|f| round12(f * scale));
+    extra.insert("first_break_load".into(), json!(load(first_break)));
+    extra.insert("initiation_load".into(), json!(load(initiation)));
+    extra.insert(
+        "initiation_load_factor".into(),
+        json!(initiation.map(round12)),
+    );
+    extra.insert("unstable_growth".into(), json!(unstable));
+    extra.insert(
+        "kink_deg".into(),
+        json!(kinks.iter().flatten().copied().next()),
+    );
+    extra.insert("kink_deg_per_tip".into(), json!(kinks));
 }

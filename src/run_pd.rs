@@ -19,7 +19,9 @@
 //! self-equilibrated, so the pins carry no reaction.
 
 use crate::load_displacement::LoadDisplacement;
-use crate::pd_loads::{initiation_ramp, round12, scene_tips, traction_scale};
+use crate::pd_loads::{
+    initiation_ramp, load_unit, report_initiation, round12, scene_tips, traction_scale,
+};
 use crate::runner::context::RunContext;
 use crate::runner::summary::RunSummary;
 use crate::scene::{Failure, PdSolver, Scene};
@@ -106,33 +108,18 @@ pub fn solve_recorded(scene: &Scene) -> Result<(RunSummary, PdModel, LoadDisplac
         let ramp = initiation_ramp(scene, delta, 200);
         let init = ramp_to_initiation(&mut model, &tips, &ramp)
             .with_context(|| format!("{}: load ramp", file.display()))?;
-        let scale = traction_scale(scene).unwrap_or(1.0);
-        summary.extra.insert(
-            "first_break_load".into(),
-            json!(init.first_break_load.map(|f| round12(f * scale))),
-        );
-        summary.extra.insert(
-            "initiation_load".into(),
-            json!(init.initiation_load.map(|f| round12(f * scale))),
-        );
-        summary.extra.insert(
-            "initiation_load_factor".into(),
-            json!(init.initiation_load.map(round12)),
-        );
-        summary
-            .extra
-            .insert("unstable_growth".into(), json!(init.unstable));
         let kinks: Vec<Option<f64>> = tips
             .iter()
             .map(|t| kink_angle(&model, *t, delta, 4.0 * delta))
             .collect();
-        summary.extra.insert(
-            "kink_deg".into(),
-            json!(kinks.iter().flatten().copied().next()),
+        report_initiation(
+            scene,
+            init.first_break_load,
+            init.initiation_load,
+            init.unstable,
+            &kinks,
+            &mut summary.extra,
         );
-        summary
-            .extra
-            .insert("kink_deg_per_tip".into(), json!(kinks));
         init.info
     } else {
         let conv = |tol: f64| Convergence::Displacement { e0: tol };
@@ -191,12 +178,9 @@ pub fn solve_recorded(scene: &Scene) -> Result<(RunSummary, PdModel, LoadDisplac
     }
     // The unit of the loads above: the largest applied traction times the factor, or the
     // factor alone when the scene applies no traction.
-    let unit = if traction_scale(scene).is_some() {
-        "Pa"
-    } else {
-        "-"
-    };
-    summary.extra.insert("load_unit".into(), json!(unit));
+    summary
+        .extra
+        .insert("load_unit".into(), json!(load_unit(scene)));
     summary.extra.insert("traction".into(), json!(pd.traction));
     summary.extra.insert("nodes".into(), json!(model.n_real()));
     summary

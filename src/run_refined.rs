@@ -20,7 +20,7 @@ use pdbem_pd::refine::{ramp, run as refine_run, RefinedRamp, Refinement};
 use pdbem_pd::Selection;
 use serde_json::json;
 
-use crate::pd_loads::{initiation_ramp, round12, scene_tips, traction_scale};
+use crate::pd_loads::{initiation_ramp, load_unit, report_initiation, scene_tips};
 use crate::runner::context::RunContext;
 use crate::runner::summary::RunSummary;
 use crate::scene::{Failure, PdRefinement, Scene};
@@ -129,8 +129,6 @@ fn report_ramp(
     summary: &mut RunSummary,
 ) {
     let rec = &out.record;
-    let scale = traction_scale(scene).unwrap_or(1.0);
-    let pa = |f: Option<f64>| f.map(|f| round12(f * scale));
     let b = &out.body;
     let phi = b.damage();
     let kinks: Vec<Option<f64>> = tips
@@ -159,25 +157,16 @@ fn report_ramp(
             unsettled[0]
         ));
     }
-    let unit = if traction_scale(scene).is_some() {
-        "Pa"
-    } else {
-        "-"
-    };
+    report_initiation(
+        scene,
+        rec.first_break_load,
+        rec.initiation_load,
+        rec.unstable,
+        &kinks,
+        &mut summary.extra,
+    );
     let e = &mut summary.extra;
-    e.insert("first_break_load".into(), json!(pa(rec.first_break_load)));
-    e.insert("initiation_load".into(), json!(pa(rec.initiation_load)));
-    e.insert(
-        "initiation_load_factor".into(),
-        json!(rec.initiation_load.map(round12)),
-    );
-    e.insert("unstable_growth".into(), json!(rec.unstable));
-    e.insert("load_unit".into(), json!(unit));
-    e.insert(
-        "kink_deg".into(),
-        json!(kinks.iter().flatten().copied().next()),
-    );
-    e.insert("kink_deg_per_tip".into(), json!(kinks));
+    e.insert("load_unit".into(), json!(load_unit(scene)));
     e.insert("extension".into(), json!(rec.extension));
     let split: usize = rec.setup_split + rec.steps.iter().map(|s| s.split).sum::<usize>();
     e.insert("split".into(), json!(split));

@@ -208,7 +208,7 @@ fn first_load(
     solve(body, r, 1.0, out)?;
     let sc = critical_stretches(body)?;
     let owner = body.dh.owners();
-    let ratio = linear_stretches(body)
+    let ratio = linear_stretches(body, &owner)
         .iter()
         .enumerate()
         .filter(|&(b, _)| body.dh.intact[b] != 0)
@@ -227,8 +227,7 @@ fn first_load(
 
 /// The linearised stretch `n . (u_j - u_k) / |xi|` of every bond (the solve's own
 /// measure: a rigid rotation does not stretch it).
-fn linear_stretches(body: &Body) -> Vec<f64> {
-    let owner = body.dh.owners();
+fn linear_stretches(body: &Body, owner: &[u32]) -> Vec<f64> {
     let bonds = &body.dh.bonds;
     (0..bonds.len())
         .map(|b| {
@@ -246,8 +245,8 @@ fn linear_stretches(body: &Body) -> Vec<f64> {
 /// directed bonds broken.
 fn break_bonds(body: &mut Body) -> Result<usize, PdError> {
     let sc = critical_stretches(body)?;
-    let s = linear_stretches(body);
     let owner = body.dh.owners();
+    let s = linear_stretches(body, &owner);
     let mut broken = 0;
     for (b, flag) in body.dh.intact.iter_mut().enumerate() {
         if *flag != 0 && s[b] > sc[owner[b] as usize] {
