@@ -36,16 +36,23 @@ pub fn settings(r: &PdRefinement, cracks: &[Vec<[f64; 2]>]) -> Refinement {
             radius: c.radius,
         })
         .collect();
+    let mut region_levels: Vec<u8> = r
+        .circles
+        .iter()
+        .map(|c| c.level.unwrap_or(r.max_level))
+        .collect();
     if let Some(d) = r.near_cracks {
         regions.extend(cracks.iter().map(|c| Selection::NearPolyline {
             points: c.clone(),
             distance: Some(d),
         }));
+        region_levels.resize(regions.len(), r.max_level);
     }
     Refinement {
         critical_damage: r.critical_damage,
         strain_factor: r.strain_factor,
         regions,
+        region_levels,
         max_level: r.max_level,
         max_rounds: 0,
         tolerance: r.tolerance,

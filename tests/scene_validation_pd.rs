@@ -187,6 +187,13 @@ fn pd_refinement_rules() {
         "pd.refinement.circles.0.radius",
         "radius must be > 0",
     );
+    assert_invalid(
+        &base_with("pd: (dx: 0.5, model: StateBased, refinement: (max_level: 2, circles: [(centre: (3, 10), radius: 2, level: 1), (centre: (3, 10), radius: 1, level: 3)]))"),
+        "pd.refinement.circles.1.level",
+        "max_level = 2",
+    );
+    load(&base_with("pd: (dx: 0.5, model: StateBased, refinement: (max_level: 2, circles: [(centre: (3, 10), radius: 2, level: 1), (centre: (3, 10), radius: 1)]))"))
+        .expect("nested circles");
     let displaced = r#"[(on: "top", y: Displacement(0.1)), (on: "bottom", y: Traction(-1))]"#;
     assert_invalid(
         &make(

@@ -5,7 +5,10 @@
 //! (default 1 mm), radius (default 4 mm). Modes: `coarse` (no refinement), `adaptive`
 //! (Eq. 15 with phi_c = 0.4 and Eq. 16 with alpha = 0.5 at every equilibrium), `region`
 //! (adaptive, and the particles within `radius` of the pre-crack tip split before the
-//! ramp: the static criterion), `fine` (half the spacing, no refinement). LEFM: sigma_c = sqrt(E G_c) / (K_I / sigma), K_I /
+//! ramp: the static criterion), `region2` (the same circle refined twice, to a quarter of
+//! the spacing: one size jump of 4 at its edge), `nested` (the circle at level 2 inside a
+//! level-1 circle of radius `outer`, argument 5, default three radii: every jump a factor
+//! 2), `fine` (half the spacing, no refinement). LEFM: sigma_c = sqrt(E G_c) / (K_I / sigma), K_I /
 //! sigma = 0.36063 m^0.5 from the BEM (`cases/seed004_table2_bem.ron`). Numbers in
 //! docs/seed004.md.
 //!
@@ -25,6 +28,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let step: f64 = args.get(2).map_or(Ok(0.1), |s| s.parse())?;
     let coarse: f64 = args.get(3).map_or(Ok(1e-3), |s| s.parse())?;
     let radius: f64 = args.get(4).map_or(Ok(4e-3), |s| s.parse())?;
+    let outer: f64 = args.get(5).map_or(Ok(3.0 * radius), |s| s.parse())?;
     let dx = if mode == "fine" { 0.5 * coarse } else { coarse };
     let a_over_l = 0.3;
     let mut p = problem(dx, a_over_l, HEIGHT, TractionLoad::TransferFunction);
@@ -40,6 +44,31 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 centre: [a_over_l * SIDE, 0.5 * HEIGHT],
                 radius,
             }],
+            ..Default::default()
+        },
+        "region2" => Refinement {
+            strain_factor: Some(0.5),
+            regions: vec![Selection::Circle {
+                centre: [a_over_l * SIDE, 0.5 * HEIGHT],
+                radius,
+            }],
+            max_level: 2,
+            ..Default::default()
+        },
+        "nested" => Refinement {
+            strain_factor: Some(0.5),
+            regions: vec![
+                Selection::Circle {
+                    centre: [a_over_l * SIDE, 0.5 * HEIGHT],
+                    radius: outer,
+                },
+                Selection::Circle {
+                    centre: [a_over_l * SIDE, 0.5 * HEIGHT],
+                    radius,
+                },
+            ],
+            region_levels: vec![1, 2],
+            max_level: 2,
             ..Default::default()
         },
         _ => Refinement {

@@ -105,6 +105,11 @@ pub struct RefineCircle {
     pub centre: (f64, f64),
     /// Radius (m), > 0.
     pub radius: f64,
+    /// Deepest level inside the circle, 1 to `max_level`; default `max_level`. Nested
+    /// circles with levels 1, 2, ... grade the spacing so that every size jump is a
+    /// factor 2.
+    #[serde(default)]
+    pub level: Option<u8>,
 }
 
 /// How scene tractions enter stand-alone (and full-PD growth) PD models.

@@ -89,6 +89,11 @@ pub struct Refinement {
     pub strain_factor: Option<f64>,
     /// Regions refined before the solve (the static criterion).
     pub regions: Vec<Selection>,
+    /// The deepest level of each region (`regions[i]` refines to `region_levels[i]`,
+    /// at most [`Refinement::max_level`]); empty: every region to `max_level`. Nested
+    /// regions with levels 1, 2, ... grade the spacing so that every size jump is a factor
+    /// 2 instead of `2^max_level` at one edge.
+    pub region_levels: Vec<u8>,
     /// Deepest level: 1 splits the base particles once; default 1.
     pub max_level: u8,
     /// Split-and-solve rounds after the first solve; default 10.
@@ -106,6 +111,7 @@ impl Default for Refinement {
             critical_damage: Some(0.4),
             strain_factor: None,
             regions: Vec::new(),
+            region_levels: Vec::new(),
             max_level: 1,
             max_rounds: 10,
             tolerance: 1e-10,
@@ -115,6 +121,11 @@ impl Default for Refinement {
 }
 
 impl Refinement {
+    /// The deepest level of region `i` ([`Refinement::region_levels`]).
+    pub fn region_level(&self, i: usize) -> u8 {
+        self.region_levels.get(i).copied().unwrap_or(self.max_level)
+    }
+
     /// Check every rule; the error names the field (`refinement.*`).
     pub fn validate(&self) -> Result<(), PdError> {
         if let Some(phi) = self.critical_damage {
@@ -147,6 +158,24 @@ impl Refinement {
                 "refinement.tolerance",
                 format!("must lie in (0, 1), got {}", self.tolerance),
             ));
+        }
+        if !self.region_levels.is_empty() && self.region_levels.len() != self.regions.len() {
+            return Err(PdError::invalid(
+                "refinement.region_levels",
+                format!(
+                    "one level per region: {} levels for {} regions (or none: every region to max_level)",
+                    self.region_levels.len(),
+                    self.regions.len()
+                ),
+            ));
+        }
+        for (k, &l) in self.region_levels.iter().enumerate() {
+            if !(1..=self.max_level).contains(&l) {
+                return Err(PdError::invalid(
+                    format!("refinement.region_levels[{k}]"),
+                    format!("must be 1 to max_level = {}, got {l}", self.max_level),
+                ));
+            }
         }
         for (k, r) in self.regions.iter().enumerate() {
             let ok = match r {

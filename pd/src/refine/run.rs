@@ -35,7 +35,7 @@ pub struct RefinedRun {
 }
 
 /// The particles the criteria select: level below `max_level` and in a static region
-/// (`with_regions`), damaged beyond `phi_c` (Eq. 15) or strained beyond `alpha s_c`
+/// below the region's level (`with_regions`), damaged beyond `phi_c` (Eq. 15) or strained beyond `alpha s_c`
 /// (Eq. 16, `with_strain`).
 pub fn flagged(body: &Body, r: &Refinement, with_regions: bool, with_strain: bool) -> Vec<usize> {
     let phi = r.critical_damage.map(|_| body.damage());
@@ -45,7 +45,11 @@ pub fn flagged(body: &Body, r: &Refinement, with_regions: bool, with_strain: boo
         .filter(|&k| body.level[k] < r.max_level)
         .filter(|&k| {
             let x = body.dh.pos[k];
-            let region = with_regions && r.regions.iter().any(|s| s.contains(x, delta_ref));
+            let region = with_regions
+                && r.regions
+                    .iter()
+                    .enumerate()
+                    .any(|(i, s)| body.level[k] < r.region_level(i) && s.contains(x, delta_ref));
             let damaged = matches!((&phi, r.critical_damage), (Some(p), Some(c)) if p[k] > c);
             let strained = match (&eps, r.strain_factor, body.critical_stretch(k)) {
                 (Some(e), Some(a), Some(sc)) => e[k][0].min(e[k][1]) > a * sc,

@@ -238,6 +238,23 @@ fn validation_names_the_field() {
             },
             "tolerance",
         ),
+        (
+            Refinement {
+                regions: vec![crate::Selection::All],
+                region_levels: vec![1, 1],
+                ..Default::default()
+            },
+            "region_levels",
+        ),
+        (
+            Refinement {
+                regions: vec![crate::Selection::All],
+                region_levels: vec![3],
+                max_level: 2,
+                ..Default::default()
+            },
+            "region_levels[0]",
+        ),
     ];
     for (r, field) in bad {
         let e = r.validate().unwrap_err().to_string();
@@ -371,4 +388,59 @@ fn critical_stretch_scales_with_the_horizon_at_a_fixed_fracture_energy() {
             "keep {keep}: {ratio}"
         );
     }
+}
+
+/// Nested static regions with their own levels: the outer circle refines to level 1, the
+/// inner one to level 2, so the spacing halves at each edge (no jump of 4); the particles
+/// that split, level by level, are those the regions select and no others.
+#[test]
+fn nested_regions_refine_each_to_its_own_level() {
+    let mut b = Body::from_problem(&square(Vec::new())).unwrap();
+    let c = [12.0, 12.0];
+    let r = Refinement {
+        critical_damage: None,
+        regions: vec![
+            crate::Selection::Circle {
+                centre: c,
+                radius: 6.0,
+            },
+            crate::Selection::Circle {
+                centre: c,
+                radius: 2.5,
+            },
+        ],
+        region_levels: vec![1, 2],
+        max_level: 2,
+        ..Default::default()
+    };
+    r.validate().unwrap();
+    for _ in 0..3 {
+        let f = run::flagged(&b, &r, true, false);
+        if f.is_empty() {
+            break;
+        }
+        b.split(&f).unwrap();
+    }
+    let dist = |p: P2| (p[0] - c[0]).hypot(p[1] - c[1]);
+    let (mut l1, mut l2) = (0, 0);
+    for k in 0..b.len() {
+        let (p, l) = (b.dh.pos[k], b.level[k]);
+        // A child lies within half a parent diagonal of its parent's centre.
+        match l {
+            0 => assert!(dist(p) > 6.0 - 1e-9, "level 0 at {p:?}"),
+            1 => {
+                l1 += 1;
+                assert!(
+                    dist(p) <= 6.0 + 0.75 && dist(p) > 2.5 - 0.75,
+                    "level 1 at {p:?}"
+                );
+            }
+            2 => {
+                l2 += 1;
+                assert!(dist(p) <= 2.5 + 1.1, "level 2 at {p:?}");
+            }
+            _ => panic!("level {l} at {p:?}"),
+        }
+    }
+    assert!(l1 > 0 && l2 > 0, "{l1} {l2}");
 }

@@ -148,6 +148,15 @@ fn check_refinement(
             circle.radius,
             "radius",
         );
+        if let Some(l) = circle.level {
+            if !(1..=r.max_level).contains(&l) {
+                c.fail(
+                    format!("pd.refinement.circles.{i}.level"),
+                    l,
+                    format!("must be 1 to max_level = {}", r.max_level),
+                );
+            }
+        }
     }
     if !(1..=4).contains(&r.max_level) {
         c.fail("pd.refinement.max_level", r.max_level, "must be 1 to 4");
