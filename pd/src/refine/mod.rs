@@ -57,6 +57,9 @@
 //! [`DualHorizon::from_families`]: crate::state_based::dual_horizon::DualHorizon::from_families
 
 mod body;
+pub mod direct;
+#[cfg(test)]
+mod direct_tests;
 pub mod dynamics;
 pub mod linear;
 mod pass;

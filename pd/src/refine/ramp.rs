@@ -6,7 +6,9 @@
 //! the first-break load predicted by one elastic solve at $\lambda = 1$, as the uniform
 //! ramp does) the driver repeats, up to `max_rounds` times:
 //! 1. the elastic equilibrium $K(\text{intact})\,u = \lambda f$ of the linearised
-//!    dual-horizon energy by conjugate gradients ([`super::linear`], warm-started);
+//!    dual-horizon energy ([`super::linear`]) by conjugate gradients preconditioned with
+//!    a sparse Cholesky factor of $K$ kept while only bonds break ([`super::direct`],
+//!    warm-started);
 //! 2. the criteria (Eq. 15, $\varphi_k > \varphi_c$; Eq. 16, $\min_i\varepsilon_{ii} >
 //!    \alpha s_c$; level below `max_level`): if any particle fires, it splits
 //!    ([`Body::split`], children inheriting their ancestors' broken bonds) and the round
@@ -22,7 +24,8 @@
 //! keeps breaking at that load until the extension reaches `grow_to` (for the kink
 //! angle), then stops. A solve that fails after bonds have broken is unstable growth under
 //! load control (a piece came loose: its loads have no equilibrium, and the solve stalls
-//! at [`cg_cap`]): the load is the initiation load and `unstable` is set, as in the uniform
+//! on a fresh factor, [`super::direct::FRESH_CAP`]): the load is the initiation load and
+//! `unstable` is set, as in the uniform
 //! ramp. The body is geometrically linear (small strains), so the stretch is the
 //! linearised one: the nonlinear stretch would count a large rigid rotation of a piece
 //! about its last bonds as stretch and break the whole piece. The uniform ramp's Newton
@@ -33,20 +36,12 @@ use std::time::Instant;
 
 use serde::Serialize;
 
+use super::direct::Solver;
 use super::run::{flagged, refuse_layers};
-use super::{linear, Body, Refinement};
+use super::{Body, Refinement};
 use crate::error::PdError;
 use crate::measure::{crack_extension_of, RampParams, Tip};
 use crate::problem::PdProblem;
-
-/// Conjugate-gradient iterations allowed per solve: `2000 + 50 sqrt(n)` for `n`
-/// unknowns. A connected plate converges in about `5 sqrt(n)` (Table 2: 505-557 at 10^4
-/// unknowns, 1005-1087 at 4 10^4); a body the crack has parted (a loaded piece held by
-/// nothing) has no solution, and the cap turns its stalled solve into the unstable-growth
-/// stop (module docs) in seconds instead of minutes.
-fn cg_cap(particles: usize) -> usize {
-    2000 + (50.0 * ((2 * particles) as f64).sqrt()) as usize
-}
 
 /// Most load steps a ramp may take (the scenes' `load.count` bound).
 const MAX_STEPS: f64 = 1e5;
@@ -93,7 +88,7 @@ pub struct RampRecord {
     pub setup_split: usize,
     /// The load steps.
     pub steps: Vec<RampStep>,
-    /// Conjugate-gradient iterations, all solves.
+    /// Preconditioned conjugate-gradient iterations, all solves.
     pub iterations: usize,
     /// Wall time of the splits (s).
     pub split_s: f64,
@@ -126,11 +121,12 @@ pub fn ramp(
         out.setup_split += body.split(&f)?;
     }
     out.split_s += t.elapsed().as_secs_f64();
-    let mut lam = first_load(&mut body, r, rp, &mut out)?;
+    let mut solver = Solver::default();
+    let mut lam = first_load(&mut body, r, rp, &mut solver, &mut out)?;
     let ext0 = extension(&body, tips);
     out.extension = ext0;
     while lam <= rp.max_load * (1.0 + 1e-12) {
-        let step = load_step(&mut body, r, tips, rp, lam, ext0, &mut out)?;
+        let step = load_step(&mut body, r, tips, rp, lam, ext0, &mut solver, &mut out)?;
         out.steps.push(step);
         if out.initiation_load.is_some() {
             break;
@@ -187,10 +183,17 @@ fn extension(body: &Body, tips: &[Tip]) -> f64 {
     crack_extension_of(body.positions(), &body.damage(), tips)
 }
 
-/// Timed conjugate-gradient solve at load `lam`.
-fn solve(body: &mut Body, r: &Refinement, lam: f64, out: &mut RampRecord) -> Result<(), PdError> {
+/// Timed solve at load `lam` (conjugate gradients preconditioned by a kept Cholesky
+/// factor, [`super::direct`]).
+fn solve(
+    body: &mut Body,
+    r: &Refinement,
+    lam: f64,
+    solver: &mut Solver,
+    out: &mut RampRecord,
+) -> Result<(), PdError> {
     let t = Instant::now();
-    let it = linear::solve(body, lam, r.tolerance, cg_cap(body.len()));
+    let it = solver.solve(body, lam, r.tolerance);
     out.solve_s += t.elapsed().as_secs_f64();
     out.iterations += it?;
     Ok(())
@@ -203,9 +206,10 @@ fn first_load(
     body: &mut Body,
     r: &Refinement,
     rp: &RampParams,
+    solver: &mut Solver,
     out: &mut RampRecord,
 ) -> Result<f64, PdError> {
-    solve(body, r, 1.0, out)?;
+    solve(body, r, 1.0, solver, out)?;
     let sc = critical_stretches(body)?;
     let owner = body.dh.owners();
     let ratio = linear_stretches(body, &owner)
@@ -265,6 +269,7 @@ fn load_step(
     rp: &RampParams,
     lam: f64,
     ext0: f64,
+    solver: &mut Solver,
     out: &mut RampRecord,
 ) -> Result<RampStep, PdError> {
     let mut step = RampStep {
@@ -276,7 +281,7 @@ fn load_step(
         settled: false,
     };
     for _round in 0..rp.max_rounds {
-        if let Err(e) = solve(body, r, lam, out) {
+        if let Err(e) = solve(body, r, lam, solver, out) {
             if out.first_break_load.is_none() {
                 return Err(e);
             }

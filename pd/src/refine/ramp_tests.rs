@@ -149,7 +149,7 @@ fn tip_refinement_moves_the_initiation_load_to_the_fine_grids() {
 /// Two levels round the tip on the 2 mm grid (0.5 mm particles there), load step 1 MPa.
 /// One circle of 4 mm refined twice has a size jump of 4 at its edge: measured first break
 /// 42 and initiation 49 MPa, against the uniform 0.5 mm grid's 40 and 46 (20 000
-/// particles, 435 s; docs/seed004.md). Nested circles, level 2 within 4 mm inside level 1
+/// particles; docs/seed004.md). Nested circles, level 2 within 4 mm inside level 1
 /// within 8 mm, halve the spacing at each edge: measured 40 and 46 MPa with 2846
 /// particles in 11 s. Asserted: the nested run within one step of the 0.5 mm grid's
 /// loads and at least two steps below the single circle's initiation.
