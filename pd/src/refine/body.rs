@@ -26,6 +26,9 @@ pub struct Body {
     pub u: Vec<P2>,
     /// Prescribed components.
     pub fixed: Vec<[bool; 2]>,
+    /// Particles of a fictitious layer (outside the body; their constants are the full
+    /// lattice family's, [`DualHorizon::from_families`]).
+    pub layer: Vec<bool>,
     /// Prescribed displacement (m) of the fixed components.
     pub base: Vec<P2>,
     /// Body-force density (N/m^3).
@@ -69,10 +72,12 @@ impl Body {
         let bonds = families(&grid.pos, &size, &volume, &delta);
         let intact = pre_cut(&grid, &bonds, &p.cracks);
         let mods = moduli(p.plane, p.youngs_modulus, poisson_ratio);
-        let dh = DualHorizon::from_families(&grid.pos, volume, delta, bonds, intact, mods)
+        let layer: Vec<bool> = (0..n).map(|i| i >= grid.n_real).collect();
+        let bulk: Vec<Option<f64>> = layer.iter().map(|&l| l.then_some(grid.dx)).collect();
+        let dh = DualHorizon::from_families(&grid.pos, volume, delta, bonds, intact, mods, &bulk)
             .ok_or_else(|| {
-                PdError::invalid("dx", "a particle family does not determine its constants")
-            })?;
+            PdError::invalid("dx", "a particle family does not determine its constants")
+        })?;
         let base = (0..n)
             .map(|i| {
                 let mut b = [0.0; 2];
@@ -90,6 +95,7 @@ impl Body {
             level: vec![0; n],
             u: base.clone(),
             fixed: bc.fixed[..n].to_vec(),
+            layer,
             base,
             body: bc.body[..n].to_vec(),
             cracks: p.cracks.clone(),

@@ -37,7 +37,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use super::direct::Solver;
-use super::run::{flagged, refuse_layers};
+use super::run::flagged;
 use super::{Body, Refinement};
 use crate::error::PdError;
 use crate::measure::{crack_extension_of, RampParams, Tip};
@@ -98,7 +98,8 @@ pub struct RampRecord {
 
 /// Ramp `p` (loads at factor 1) with brittle breaking and adaptive refinement `r` until
 /// the crack from `tips` runs (module docs). The problem needs a failure law with a
-/// critical stretch, and displacements on real nodes only (as [`super::run`]).
+/// critical stretch; prescribed displacements (fictitious layers included) scale with the
+/// load factor, as tractions do.
 pub fn ramp(
     p: &PdProblem,
     r: &Refinement,
@@ -107,7 +108,6 @@ pub fn ramp(
 ) -> Result<RefinedRamp, PdError> {
     check_params(rp)?;
     r.validate()?;
-    refuse_layers(p)?;
     let mut body = Body::from_problem(p)?;
     body.keep_horizon = r.keep_horizon;
     critical_stretches(&body)?;

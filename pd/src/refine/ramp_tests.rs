@@ -187,6 +187,50 @@ fn nested_tip_circles_remove_the_two_level_overshoot() {
     assert!(n2 < 20_000 / 5);
 }
 
+/// Displacement control: the plate's top and bottom edges held by fictitious layers that
+/// move apart by 5 um per unit load factor (the bottom layer also holds x). Unrefined, the
+/// particles' ramp must find the uniform `PdModel` ramp's loads as under tractions (the
+/// layers' particles take the full lattice family's constants, as the model's fictitious
+/// nodes do); measured first break 5.5 and 5.4, initiation 7.7 on both. And the crack runs
+/// stably: both halves stay held, so the ramp ends at `grow_to`, not in unstable growth.
+#[test]
+fn displacement_controlled_ramp_matches_the_uniform_grid_ramp() {
+    use crate::problem::{BoundaryCondition, Layer, Selection};
+    let (mut p, tips) = plate();
+    let layer = |y0: f64, y1: f64, uy: f64, ux: Option<f64>| BoundaryCondition::Displacement {
+        on: Selection::Box {
+            min: [-1.0, y0],
+            max: [1.0, y1],
+        },
+        ux,
+        uy: Some(uy),
+        layer: Layer::Fictitious,
+    };
+    p.boundary = vec![
+        layer(HEIGHT, HEIGHT + 1.0, 2.5e-6, None),
+        layer(-1.0, 0.0, -2.5e-6, Some(0.0)),
+    ];
+    let rp = params(0.1);
+    let refined = ramp(&p, &no_refinement(), &tips, &rp).unwrap();
+    let mut m = PdModel::new(&p).unwrap();
+    let uniform = ramp_to_initiation(&mut m, &tips, &rp).unwrap();
+    let r = &refined.record;
+    eprintln!(
+        "displacement control: refined body first break {:?}, initiation {:?} (unstable {}); \
+         PdModel: {:?}, {:?}",
+        r.first_break_load,
+        r.initiation_load,
+        r.unstable,
+        uniform.first_break_load,
+        uniform.initiation_load
+    );
+    let close = |a: Option<f64>, b: Option<f64>| (a.unwrap() - b.unwrap()).abs() <= 0.1 + 1e-9;
+    assert!(refined.body.layer.iter().any(|&l| l));
+    assert!(close(r.first_break_load, uniform.first_break_load));
+    assert!(close(r.initiation_load, uniform.initiation_load));
+    assert!(!r.unstable);
+}
+
 #[test]
 fn ramp_refuses_what_it_cannot_run() {
     let (mut p, tips) = plate();

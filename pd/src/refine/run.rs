@@ -60,21 +60,9 @@ pub fn flagged(body: &Body, r: &Refinement, with_regions: bool, with_strain: boo
         .collect()
 }
 
-/// Refuses a problem with a fictitious layer: the refined quasi-static solves hold
-/// displacements on real nodes only.
-pub fn refuse_layers(p: &PdProblem) -> Result<(), PdError> {
-    let grid = crate::mixed::build_grid(p)?;
-    if grid.len() > grid.n_real {
-        return Err(PdError::invalid(
-            "boundary",
-            "the refined quasi-static solves support displacements on real nodes only (layer: Real); fictitious layers run in adaptive dynamics (refine::run_dynamic)",
-        ));
-    }
-    Ok(())
-}
-
-/// Solve `p` with adaptive refinement `r` at load factor `load` (displacements on real
-/// nodes only: a fictitious layer is refused, naming `boundary`).
+/// Solve `p` with adaptive refinement `r` at load factor `load`. A displacement
+/// condition's fictitious layer joins the body ([`Body::from_problem`]) and holds `load`
+/// times its values.
 pub fn run(p: &PdProblem, r: &Refinement, load: f64) -> Result<RefinedRun, PdError> {
     if !load.is_finite() {
         return Err(PdError::invalid(
@@ -83,7 +71,6 @@ pub fn run(p: &PdProblem, r: &Refinement, load: f64) -> Result<RefinedRun, PdErr
         ));
     }
     r.validate()?;
-    refuse_layers(p)?;
     let mut body = Body::from_problem(p)?;
     body.keep_horizon = r.keep_horizon;
     if r.strain_factor.is_some() && body.critical_stretch(0).is_none() {

@@ -84,7 +84,13 @@ impl Body {
             bonds_from_rows(&pos, &size, &volume, &delta, &rows)
         };
         let intact = self.new_flags(&bonds, &ancestor, &pos, &size);
-        let dh = DualHorizon::from_families(&pos, volume, delta, bonds, intact, self.moduli)
+        let layer: Vec<bool> = ancestor.iter().map(|&a| self.layer[a]).collect();
+        let bulk: Vec<Option<f64>> = layer
+            .iter()
+            .zip(&size)
+            .map(|(&l, &d)| l.then_some(d))
+            .collect();
+        let dh = DualHorizon::from_families(&pos, volume, delta, bonds, intact, self.moduli, &bulk)
             .ok_or_else(|| {
                 PdError::invalid(
                     "refinement",
@@ -92,6 +98,7 @@ impl Body {
                 )
             })?;
         self.fixed = ancestor.iter().map(|&a| self.fixed[a]).collect();
+        self.layer = layer;
         self.base = ancestor.iter().map(|&a| self.base[a]).collect();
         self.body = ancestor.iter().map(|&a| self.body[a]).collect();
         self.level = ancestor

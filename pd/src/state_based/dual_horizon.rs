@@ -39,7 +39,7 @@
 
 use rayon::prelude::*;
 
-use super::{deviatoric_weights, dilatation_tensor, moments};
+use super::{bulk_moments, deviatoric_weights, dilatation_tensor, moments};
 use crate::bonds::{partial_volume, Bonds};
 use crate::geometry::P2;
 use crate::problem::Plane;
@@ -89,12 +89,16 @@ impl DualHorizon {
         let bonds = families(pos, dx, &volume, &delta);
         let intact = vec![1u8; bonds.len()];
         let moduli = super::moduli(plane, youngs_modulus, nu);
-        Self::from_families(pos, volume, delta, bonds, intact, moduli)
+        let bulk = vec![None; pos.len()];
+        Self::from_families(pos, volume, delta, bonds, intact, moduli, &bulk)
     }
 
     /// The body of the given families (`bonds`, `vol_factor` = `V'_kj`) and bond flags
     /// (`intact[b] = 0`: cut by a pre-crack or broken) for the 2-D moduli
-    /// `(kappa, mu)`. The deviatoric weights are fitted on the whole family (the outline's
+    /// `(kappa, mu)`. A particle with `bulk[k] = Some(dx)` (a fictitious layer's: its
+    /// family is cut by the layer's outer edge, which is no surface of the body) takes the
+    /// constants of the full lattice family of spacing `dx` and its horizon, as the
+    /// uniform model's fictitious nodes do. The deviatoric weights are fitted on the whole family (the outline's
     /// truncation corrected, cut bonds dropping out of the energy as in
     /// [`super::StateBased`] without crack-face correction), the dilatation weights on the
     /// intact bonds (exact dilatation of every homogeneous strain over them), and
@@ -107,15 +111,30 @@ impl DualHorizon {
         bonds: Bonds,
         intact: Vec<u8>,
         (kappa, mu): (f64, f64),
+        bulk: &[Option<f64>],
     ) -> Option<Self> {
         let n = pos.len();
         let nb = bonds.len();
         let (mut omega, mut beta) = (vec![0.0; nb], vec![0.0; nb]);
         let mut a = vec![0.0; n];
         let target = [3.0 * mu, 0.0, mu, 0.0, 3.0 * mu];
+        let mut lattice: Vec<((f64, f64), super::Moments)> = Vec::new();
         for k in 0..n {
-            let mo = moments(&bonds, k, 1.0, |_| true);
-            let kept = moments(&bonds, k, 1.0, |b| intact[b] != 0);
+            let (mo, kept) = match bulk.get(k).copied().flatten() {
+                Some(dx) => {
+                    let key = (dx, delta[k]);
+                    if !lattice.iter().any(|(q, _)| *q == key) {
+                        lattice.push((key, bulk_moments(dx, delta[k], 1.0)));
+                    }
+                    let m = &lattice.iter().find(|(q, _)| *q == key).expect("cached").1;
+                    let scaled = m.scaled(volume[k]);
+                    (scaled.clone(), scaled)
+                }
+                None => (
+                    moments(&bonds, k, 1.0, |_| true),
+                    moments(&bonds, k, 1.0, |b| intact[b] != 0),
+                ),
+            };
             let c = deviatoric_weights(mo.h, target)?;
             let bt = dilatation_tensor(kept.m).or_else(|| dilatation_tensor(mo.m))?;
             a[k] = 0.5 * (kappa - 2.0 * mu) * kept.s0 / mo.s0;

@@ -151,11 +151,24 @@ pub struct StateBased {
 /// Moments of a family over the bonds `keep` selects: `s0 = sum V'`, the dilatation
 /// moments `m[p] = sum n_x^(4-p) n_y^p V'`, the deviatoric energy moments
 /// `f[p] = sum n_x^(4-p) n_y^p |xi| V'` and `h[p] = sum n_x^(8-p) n_y^p |xi| V'`.
+#[derive(Clone)]
 struct Moments {
     s0: f64,
     m: [f64; 5],
     f: [f64; 5],
     h: [f64; 9],
+}
+
+impl Moments {
+    /// Every moment times `v` (the volumes scaled).
+    fn scaled(&self, v: f64) -> Self {
+        Moments {
+            s0: self.s0 * v,
+            m: self.m.map(|x| x * v),
+            f: self.f.map(|x| x * v),
+            h: self.h.map(|x| x * v),
+        }
+    }
 }
 
 fn moments(bonds: &Bonds, k: usize, vol: f64, keep: impl Fn(usize) -> bool) -> Moments {

@@ -84,9 +84,8 @@ fn check_pd(c: &mut Checker, scene: &Scene, pd: &crate::scene::PdSettings) {
     }
 }
 
-/// `pd.refinement`: stand-alone, state-based, traction-loaded unless the solver is
-/// `Explicit` (adaptive dynamics holds a displacement condition's fictitious layer at its
-/// value), elastic unless the solver is `Explicit`
+/// `pd.refinement`: stand-alone, state-based (a displacement condition's fictitious layer
+/// joins the particles), elastic unless the solver is `Explicit`
 /// ([`check_refinement_law`]), and its numbers in range.
 fn check_refinement(
     c: &mut Checker,
@@ -107,17 +106,6 @@ fn check_refinement(
         );
     }
     check_refinement_law(c, scene, pd, r);
-    let displaced = scene.boundary.iter().any(|b| {
-        [b.x, b.y]
-            .iter()
-            .any(|v| matches!(v, crate::scene::Component::Displacement(_)))
-    });
-    if displaced && !matches!(pd.solver, PdSolver::Explicit(_)) {
-        c.fail_at(
-            "pd.refinement",
-            "the refined quasi-static solves (elastic, load ramp) take traction-loaded bodies only (prescribed displacements on refined particles run in adaptive dynamics, `solver: Explicit`)",
-        );
-    }
     if let Some(phi) = r.critical_damage {
         if c.finite("pd.refinement.critical_damage", phi) && !(phi > 0.0 && phi < 1.0) {
             c.fail(
