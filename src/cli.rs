@@ -261,6 +261,8 @@ fn parse_max_memory(text: &str) -> Result<u64, String> {
 
 fn set_budget(max_memory: Option<u64>) {
     crate::setup::estimate::set_budget(max_memory.unwrap_or(0));
+    // Sparse factors (Newton tangents, the refined ramp's preconditioner) within it too.
+    pdbem_pd::tangent::set_factor_budget(crate::setup::estimate::budget());
 }
 
 fn load(path: &Path) -> anyhow::Result<Scene> {

@@ -149,6 +149,11 @@ fn report_ramp(
             rec.extension
         ));
     }
+    if let Some(why) = &rec.plain_cg {
+        summary.notes.push(format!(
+            "the refined ramp solved by plain conjugate gradients, same results but slower: {why}; raise --max-memory to precondition"
+        ));
+    }
     let unsettled: Vec<f64> = rec
         .steps
         .iter()

@@ -70,6 +70,16 @@ pub enum PdError {
         /// Requested tolerance.
         tolerance: f64,
     },
+    /// A sparse factor would exceed the memory budget ([`crate::tangent::set_factor_budget`]).
+    #[error("{what} would need {}, over the budget of {}", size_text(*bytes), size_text(*budget))]
+    TooLarge {
+        /// What would be allocated.
+        what: String,
+        /// Its estimated size (bytes).
+        bytes: f64,
+        /// The budget (bytes).
+        budget: f64,
+    },
     /// The sparse linear solve failed (all fallbacks included).
     #[error("linear solve failed ({dofs} free DOFs): {reason}")]
     LinearSolve {
@@ -78,6 +88,18 @@ pub enum PdError {
         /// Message from the factorization.
         reason: String,
     },
+}
+
+/// `bytes` in KiB, MiB or GiB with three significant digits.
+fn size_text(bytes: f64) -> String {
+    let (v, unit) = if bytes >= (1u64 << 30) as f64 {
+        (bytes / (1u64 << 30) as f64, "GiB")
+    } else if bytes >= (1u64 << 20) as f64 {
+        (bytes / (1u64 << 20) as f64, "MiB")
+    } else {
+        (bytes / 1024.0, "KiB")
+    };
+    format!("{v:.3} {unit}")
 }
 
 impl PdError {

@@ -27,7 +27,7 @@ use super::linear::apply;
 use super::Body;
 use crate::error::PdError;
 use crate::geometry::P2;
-use crate::tangent::{Block, Tangent};
+use crate::tangent::{check_budget, Block, Tangent};
 
 /// Shift of the factored matrix relative to its mean diagonal entry.
 pub const SHIFT: f64 = 1e-9;
@@ -149,8 +149,10 @@ fn row(
 }
 
 impl Factor {
-    /// Assemble and factor `K + shift I` of `body`'s current bonds.
-    pub fn new(body: &Body) -> Result<Self, PdError> {
+    /// Assemble and factor `K + shift I` of `body`'s current bonds, within `budget`
+    /// bytes for the pattern and for the factor ([`PdError::TooLarge`] before either
+    /// is allocated).
+    pub fn new(body: &Body, budget: u64) -> Result<Self, PdError> {
         let dh = &body.dh;
         let owner = dh.owners();
         let bonds = &dh.bonds;
@@ -172,13 +174,21 @@ impl Factor {
         let diag = super::linear::diagonal(dh);
         let mean = diag.iter().map(|d| d[0] + d[1]).sum::<f64>() / (2 * body.len()).max(1) as f64;
         let shift = SHIFT * mean;
-        let mut tangent = Tangent::from_stencil(stencil(body, &owner), &body.fixed)?;
+        let st = stencil(body, &owner);
+        // Lower triangle: about two entries (row index and value, 16 bytes) per stencil
+        // node and component pair.
+        check_budget(
+            &format!("the assembled stiffness of {} particles", body.len()),
+            32.0 * st.1.len() as f64,
+            budget,
+        )?;
+        let mut tangent = Tangent::from_stencil(st, &body.fixed)?;
         tangent.allow_lu = false;
         tangent.assemble_rows(
             || (),
             |_, i, st, blocks| row(body, &owner, &g_self, shift, i, st, blocks),
         );
-        tangent.factorize()?;
+        tangent.factorize_within(budget)?;
         Ok(Factor {
             tangent,
             particles: body.len(),
@@ -219,12 +229,29 @@ pub struct Solver {
     factor: Option<Factor>,
     /// Factorisations so far.
     pub factorizations: usize,
+    /// Why the solves fell back to plain conjugate gradients ([`super::linear::solve`]):
+    /// the factor would exceed the memory budget
+    /// ([`crate::tangent::set_factor_budget`]). The results are the same, only slower.
+    pub plain: Option<String>,
+    /// Bytes the pattern and the factor may take; `None`: the process's
+    /// [`crate::tangent::factor_budget`].
+    pub budget: Option<u64>,
+}
+
+/// Plain conjugate-gradient iterations allowed per solve: `2000 + 50 sqrt(n)` for `n`
+/// unknowns. A connected plate converges in about `5 sqrt(n)`; a body the crack has
+/// parted stalls, and the cap turns that into a failed solve in seconds.
+fn cg_cap(particles: usize) -> usize {
+    2000 + (50.0 * ((2 * particles) as f64).sqrt()) as usize
 }
 
 impl Solver {
     /// Solve `K u = f` at load factor `load` as [`super::linear::solve`] does (same
     /// loads, prescribed values, tolerance and warm start); returns the iterations.
     pub fn solve(&mut self, body: &mut Body, load: f64, tol: f64) -> Result<usize, PdError> {
+        if self.plain.is_some() {
+            return super::linear::solve(body, load, tol, cg_cap(body.len()));
+        }
         if self
             .factor
             .as_ref()
@@ -234,7 +261,13 @@ impl Solver {
         }
         let fresh = self.factor.is_none();
         if fresh {
-            self.refactor(body)?;
+            match self.refactor(body) {
+                Err(e @ PdError::TooLarge { .. }) => {
+                    self.plain = Some(e.to_string());
+                    return super::linear::solve(body, load, tol, cg_cap(body.len()));
+                }
+                r => r?,
+            }
         }
         let cap = if fresh { FRESH_CAP } else { STALE };
         let saved = body.u.clone();
@@ -258,7 +291,8 @@ impl Solver {
 
     fn refactor(&mut self, body: &Body) -> Result<(), PdError> {
         self.factor = None;
-        self.factor = Some(Factor::new(body)?);
+        let budget = self.budget.unwrap_or_else(crate::tangent::factor_budget);
+        self.factor = Some(Factor::new(body, budget)?);
         self.factorizations += 1;
         Ok(())
     }

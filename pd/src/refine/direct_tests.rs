@@ -55,7 +55,7 @@ fn factor_inverts_the_operator() {
         }
     }
     let kv = linear::apply(&b.dh, &b.dh.owners(), &v);
-    let mut f = Factor::new(&b).unwrap();
+    let mut f = Factor::new(&b, u64::MAX).unwrap();
     let back = f.apply_inverse(&kv).unwrap();
     let err = back
         .iter()
@@ -128,4 +128,41 @@ fn parted_body_is_refused() {
     let mut solver = Solver::default();
     let e = solver.solve(&mut b, 1.0, 1e-10).unwrap_err().to_string();
     assert!(e.contains("conjugate gradients"), "{e}");
+}
+
+/// Over the memory budget the solver does not allocate the pattern or the factor: it
+/// says why and solves by plain conjugate gradients, with the same result.
+#[test]
+fn over_budget_falls_back_to_plain_conjugate_gradients() {
+    let b = plate();
+    let small = |bytes: u64| match Factor::new(&b, bytes) {
+        Err(e @ crate::error::PdError::TooLarge { .. }) => e.to_string(),
+        Err(e) => panic!("{e}"),
+        Ok(_) => "fits".into(),
+    };
+    let pattern = small(1 << 20);
+    let factor = small(6 << 20);
+    eprintln!("1 MiB: {pattern}\n6 MiB: {factor}");
+    assert!(
+        pattern.contains("assembled stiffness") && pattern.contains("MiB"),
+        "{pattern}"
+    );
+    assert!(factor.contains("Cholesky factor"), "{factor}");
+    let (mut a, mut c) = (b.clone(), b.clone());
+    let mut solver = Solver::default();
+    solver.budget = Some(1 << 20);
+    solver.solve(&mut a, 1.0, 1e-12).unwrap();
+    linear::solve(&mut c, 1.0, 1e-12, 200_000).unwrap();
+    assert!(solver
+        .plain
+        .as_deref()
+        .is_some_and(|w| w.contains("budget")));
+    assert_eq!(solver.factorizations, 0);
+    // The same algorithm; its parallel sums may differ in the last bits.
+    let d: Vec<P2> =
+        a.u.iter()
+            .zip(&c.u)
+            .map(|(x, y)| [x[0] - y[0], x[1] - y[1]])
+            .collect();
+    assert!(max_norm(&d) < 1e-10 * max_norm(&c.u));
 }

@@ -94,6 +94,9 @@ pub struct RampRecord {
     pub split_s: f64,
     /// Wall time of the solves (s).
     pub solve_s: f64,
+    /// Why the solves ran as plain conjugate gradients (the preconditioner's factor over
+    /// the memory budget, [`super::direct::Solver::plain`]); `None`: preconditioned.
+    pub plain_cg: Option<String>,
 }
 
 /// Ramp `p` (loads at factor 1) with brittle breaking and adaptive refinement `r` until
@@ -133,6 +136,7 @@ pub fn ramp(
         }
         lam += rp.step;
     }
+    out.plain_cg = solver.plain.clone();
     Ok(RefinedRamp { body, record: out })
 }
 

@@ -12,6 +12,8 @@ use faer::sparse::linalg::LltError;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
+use std::sync::atomic::{AtomicU64, Ordering};
+
 use crate::error::PdError;
 
 /// Free DOFs from which the numeric factorisation and solve run in
@@ -21,6 +23,34 @@ use crate::error::PdError;
 /// factorisation; 5000 DOFs equal; 10000 DOFs 13 against 19 ms per solve;
 /// 20000 DOFs 25 against 52 ms per solve.
 const PARALLEL_MIN_DOFS: usize = 8_000;
+
+/// Bytes a factor's values may take ([`set_factor_budget`]); default 8 GiB.
+static FACTOR_BUDGET: AtomicU64 = AtomicU64::new(8 << 30);
+
+/// Sets the bytes a sparse factor (or an assembled pattern) may take; the application
+/// passes its memory budget. Above it a factorisation is refused with
+/// [`PdError::TooLarge`] before it allocates.
+pub fn set_factor_budget(bytes: u64) {
+    FACTOR_BUDGET.store(bytes.max(1), Ordering::Relaxed);
+}
+
+/// The budget of [`set_factor_budget`] in bytes.
+pub fn factor_budget() -> u64 {
+    FACTOR_BUDGET.load(Ordering::Relaxed)
+}
+
+/// [`PdError::TooLarge`] when `bytes` of `what` exceed `budget` bytes.
+pub fn check_budget(what: &str, bytes: f64, budget: u64) -> Result<(), PdError> {
+    let budget = budget as f64;
+    if bytes <= budget {
+        return Ok(());
+    }
+    Err(PdError::TooLarge {
+        what: what.into(),
+        bytes,
+        budget,
+    })
+}
 
 /// Sparse $LL^T$ factor: symbolic analysis, factor values, workspace.
 pub(super) struct CholeskyFactor {
@@ -40,7 +70,10 @@ impl CholeskyFactor {
     /// columns wide) was tried instead: on the 100 x 100 and 150 x 150
     /// tangents it stored 3-4 % fewer factor entries and factored within
     /// 10 % of AMD's time, not worth its code.
-    pub(super) fn new(pattern: SymbolicSparseColMatRef<'_, usize>) -> Result<Self, PdError> {
+    pub(super) fn new(
+        pattern: SymbolicSparseColMatRef<'_, usize>,
+        budget: u64,
+    ) -> Result<Self, PdError> {
         let n = pattern.nrows();
         let symbolic = factorize_symbolic_cholesky(
             pattern,
@@ -52,6 +85,14 @@ impl CholeskyFactor {
             dofs: n,
             reason: format!("symbolic Cholesky: {e:?}"),
         })?;
+        check_budget(
+            &format!(
+                "the sparse Cholesky factor of {n} unknowns ({} entries)",
+                symbolic.len_val()
+            ),
+            8.0 * symbolic.len_val() as f64,
+            budget,
+        )?;
         let par = if n >= PARALLEL_MIN_DOFS {
             Par::rayon(0)
         } else {

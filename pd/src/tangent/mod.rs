@@ -18,6 +18,7 @@
 mod cholesky;
 mod stencil;
 
+pub use cholesky::{check_budget, factor_budget, set_factor_budget};
 pub use stencil::Block;
 
 use faer::linalg::solvers::Solve;
@@ -273,8 +274,14 @@ impl Tangent {
     /// Numeric Cholesky factorisation of the current values, kept for
     /// [`Self::solve_with_last_factor`] (no LU fallback).
     pub fn factorize(&mut self) -> Result<(), PdError> {
+        self.factorize_within(factor_budget())
+    }
+
+    /// [`Self::factorize`] with a factor of at most `budget` bytes
+    /// ([`PdError::TooLarge`] before it is allocated).
+    pub fn factorize_within(&mut self, budget: u64) -> Result<(), PdError> {
         if self.llt.is_none() {
-            self.llt = Some(CholeskyFactor::new(self.symbolic.as_ref())?);
+            self.llt = Some(CholeskyFactor::new(self.symbolic.as_ref(), budget)?);
         }
         let mat = SparseColMatRef::new(self.symbolic.as_ref(), &self.values);
         let llt = self.llt.as_mut().expect("symbolic factorisation present");
@@ -294,7 +301,10 @@ impl Tangent {
     pub fn solve(&mut self, rhs: &mut [f64]) -> Result<Factorization, PdError> {
         let n = self.n_free;
         if self.llt.is_none() {
-            self.llt = Some(CholeskyFactor::new(self.symbolic.as_ref())?);
+            self.llt = Some(CholeskyFactor::new(
+                self.symbolic.as_ref(),
+                factor_budget(),
+            )?);
         }
         let mat = SparseColMatRef::new(self.symbolic.as_ref(), &self.values);
         let llt = self.llt.as_mut().expect("symbolic factorisation present");
