@@ -23,7 +23,6 @@
 
 use rayon::prelude::*;
 
-use super::linear::apply;
 use super::Body;
 use crate::error::PdError;
 use crate::geometry::P2;
@@ -299,88 +298,13 @@ impl Solver {
 
     fn pcg(&mut self, body: &mut Body, load: f64, tol: f64, cap: usize) -> Result<usize, PdError> {
         let factor = self.factor.as_mut().expect("factored");
-        let dh = &body.dh;
-        let owner = dh.owners();
-        let n = body.len();
-        let fixed = body.fixed.clone();
-        for i in 0..n {
-            for c in 0..2 {
-                if fixed[i][c] {
-                    body.u[i][c] = load * body.base[i][c];
-                }
-            }
-        }
-        let f: Vec<P2> = (0..n)
-            .map(|i| {
-                std::array::from_fn(|c| {
-                    if fixed[i][c] {
-                        0.0
-                    } else {
-                        load * body.body[i][c] * dh.volume[i]
-                    }
-                })
-            })
-            .collect();
-        let mask = |v: &mut [P2]| {
-            for (i, vi) in v.iter_mut().enumerate() {
-                for c in 0..2 {
-                    if fixed[i][c] {
-                        vi[c] = 0.0;
-                    }
-                }
-            }
-        };
-        let dot = |a: &[P2], b: &[P2]| -> f64 {
-            a.par_iter()
-                .zip(b)
-                .map(|(x, y)| x[0] * y[0] + x[1] * y[1])
-                .sum()
-        };
-        let ku = apply(dh, &owner, &body.u);
-        let mut r: Vec<P2> = (0..n)
-            .map(|i| [f[i][0] - ku[i][0], f[i][1] - ku[i][1]])
-            .collect();
-        mask(&mut r);
-        let fnorm = dot(&f, &f)
-            .sqrt()
-            .max(dot(&r, &r).sqrt())
-            .max(f64::MIN_POSITIVE);
-        let mut z = factor.apply_inverse(&r)?;
-        let mut p = z.clone();
-        let mut rz = dot(&r, &z);
-        for it in 0..cap {
-            if dot(&r, &r).sqrt() <= tol * fnorm {
-                return Ok(it);
-            }
-            let mut kp = apply(dh, &owner, &p);
-            mask(&mut kp);
-            let pkp = dot(&p, &kp);
-            if pkp.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-                break;
-            }
-            let alpha = rz / pkp;
-            for i in 0..n {
-                for c in 0..2 {
-                    body.u[i][c] += alpha * p[i][c];
-                    r[i][c] -= alpha * kp[i][c];
-                }
-            }
-            z = factor.apply_inverse(&r)?;
-            let rz_new = dot(&r, &z);
-            let beta = rz_new / rz;
-            rz = rz_new;
-            for i in 0..n {
-                for c in 0..2 {
-                    p[i][c] = z[i][c] + beta * p[i][c];
-                }
-            }
-        }
-        Err(PdError::NoConvergence {
-            solver: "refined body (factor-preconditioned conjugate gradients)",
-            iterations: cap,
+        super::linear::pcg(
+            body,
             load,
-            measure: dot(&r, &r).sqrt() / fnorm,
-            tolerance: tol,
-        })
+            tol,
+            cap,
+            "refined body (factor-preconditioned conjugate gradients)",
+            |r| factor.apply_inverse(r),
+        )
     }
 }

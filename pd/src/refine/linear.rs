@@ -9,7 +9,8 @@
 //! [`apply`] returns $Kv$ (the bond of owner $k$ pushes $k$ by
 //! $-T V_k V'_b(2a_k\omega_b\theta_k/|\xi_b| + \beta_b s_b)\,n_b$ and $j$ by the
 //! opposite, seed 004 Eq. 13), [`diagonal`] its 2x2-block diagonals' diagonal entries.
-//! [`solve`] finds $K u = f$ on the free components with the prescribed ones held.
+//! [`solve`] finds $K u = f$ on the free components with the prescribed ones held, by
+//! [`pcg`] with the Jacobi preconditioner ([`super::direct`] passes a Cholesky factor).
 
 use rayon::prelude::*;
 
@@ -97,8 +98,38 @@ pub fn diagonal(dh: &DualHorizon) -> Vec<P2> {
 
 /// Solve `K u = f` (`f` the body forces at load factor `load` times the volumes) for the
 /// free components of `body.u`, from its current value, with the prescribed components
-/// at `load` times their base values. Returns the iterations.
+/// at `load` times their base values, by Jacobi-preconditioned conjugate gradients.
+/// Returns the iterations.
 pub fn solve(body: &mut Body, load: f64, tol: f64, max_iter: usize) -> Result<usize, PdError> {
+    let diag = diagonal(&body.dh);
+    let jacobi = |r: &[P2]| -> Result<Vec<P2>, PdError> {
+        Ok(r.iter()
+            .zip(&diag)
+            .map(|(x, d)| std::array::from_fn(|c| if d[c] > 0.0 { x[c] / d[c] } else { 0.0 }))
+            .collect())
+    };
+    pcg(
+        body,
+        load,
+        tol,
+        max_iter,
+        "refined body (conjugate gradients)",
+        jacobi,
+    )
+}
+
+/// Conjugate gradients on `K u = f` as [`solve`] sets it up, preconditioned by
+/// `precond` (zero on the prescribed components); `solver` names it in the error when
+/// `max_iter` iterations do not reach `tol` (relative to the load or, under prescribed
+/// displacements alone, the first residual).
+pub fn pcg(
+    body: &mut Body,
+    load: f64,
+    tol: f64,
+    max_iter: usize,
+    solver: &'static str,
+    mut precond: impl FnMut(&[P2]) -> Result<Vec<P2>, PdError>,
+) -> Result<usize, PdError> {
     let dh = &body.dh;
     let owner = dh.owners();
     let n = body.len();
@@ -121,7 +152,6 @@ pub fn solve(body: &mut Body, load: f64, tol: f64, max_iter: usize) -> Result<us
             })
         })
         .collect();
-    let diag = diagonal(dh);
     let mask = |v: &mut [P2]| {
         for (i, vi) in v.iter_mut().enumerate() {
             for c in 0..2 {
@@ -142,18 +172,11 @@ pub fn solve(body: &mut Body, load: f64, tol: f64, max_iter: usize) -> Result<us
         .map(|i| [f[i][0] - ku[i][0], f[i][1] - ku[i][1]])
         .collect();
     mask(&mut r);
-    // Relative to the load or, under prescribed displacements alone, the first residual.
     let fnorm = dot(&f, &f)
         .sqrt()
         .max(dot(&r, &r).sqrt())
         .max(f64::MIN_POSITIVE);
-    let precond = |r: &[P2]| -> Vec<P2> {
-        r.iter()
-            .zip(&diag)
-            .map(|(x, d)| std::array::from_fn(|c| if d[c] > 0.0 { x[c] / d[c] } else { 0.0 }))
-            .collect()
-    };
-    let mut z = precond(&r);
+    let mut z = precond(&r)?;
     let mut p = z.clone();
     let mut rz = dot(&r, &z);
     for it in 0..max_iter {
@@ -173,7 +196,7 @@ pub fn solve(body: &mut Body, load: f64, tol: f64, max_iter: usize) -> Result<us
                 r[i][c] -= alpha * kp[i][c];
             }
         }
-        z = precond(&r);
+        z = precond(&r)?;
         let rz_new = dot(&r, &z);
         let beta = rz_new / rz;
         rz = rz_new;
@@ -184,7 +207,7 @@ pub fn solve(body: &mut Body, load: f64, tol: f64, max_iter: usize) -> Result<us
         }
     }
     Err(PdError::NoConvergence {
-        solver: "refined body (conjugate gradients)",
+        solver,
         iterations: max_iter,
         load,
         measure: dot(&r, &r).sqrt() / fnorm,
