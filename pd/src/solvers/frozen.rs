@@ -255,10 +255,13 @@ impl FrozenSolver {
             }
         }
         match self.newton_alone(model, params, info) {
+            // A tangent whose factor is over the memory budget (`PdError::TooLarge`):
+            // ADR needs no factor and reaches the same equilibrium, only slower.
             Err(
                 PdError::NoConvergence { .. }
                 | PdError::Diverged { .. }
-                | PdError::NonFinite { .. },
+                | PdError::NonFinite { .. }
+                | PdError::TooLarge { .. },
             ) => equilibrate_adr(model, from, fb.adr_tol, fb.adr_max_iters, info).map(Solved::Adr),
             other => other,
         }
