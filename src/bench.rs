@@ -238,7 +238,7 @@ fn bench_coupling(out: &Path, quick: bool) -> Result<()> {
 /// `bench pd`: the PD crate's benchmark as a table on stdout, `bench.txt` and `bench.json`.
 fn bench_pd(out: &Path, quick: bool) -> Result<()> {
     eprintln!(
-        "bench pd: force kernel, factorisation, switching vs ADR, seed 004 branching plate coarse, fine, adaptive ({})",
+        "bench pd: force kernel, factorisation, switching vs ADR, seed 004 branching plate coarse, fine, adaptive, refined initiation ramp plain vs preconditioned ({})",
         if quick {
             "quick"
         } else {

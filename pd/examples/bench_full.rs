@@ -31,6 +31,7 @@ fn main() {
                 kernel: Vec::new(),
                 switching: vec![r],
                 branching: None,
+                refined_ramp: None,
             };
             print!("{}", table(&report));
         }

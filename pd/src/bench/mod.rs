@@ -34,6 +34,11 @@
 //!   `--quick`) at `dt_s` = 1e-8 s: per grid `dx`, `nodes`, `bonds`, `steps`, `wall_s`,
 //!   `bond_steps_per_s`, `branch_time_s`, `boundary_time_s`, `broken_bonds`, `error`;
 //!   `ratio` (fine / coarse wall time) and `seed_ratio` (Table 5: 5.72).
+//! - `refined_ramp` ([`crate::refine::bench::RefinedRampBench`]): the refined
+//!   crack-initiation ramp on nested tip circles (base dx 1 mm, 2 mm with `--quick`),
+//!   `plain` and `preconditioned` ([`crate::refine::bench::RampRun`]: `particles`,
+//!   `iterations`, `solve_s`, `wall_s`, `first_break`, `initiation`, `error`),
+//!   `speedup` (plain / preconditioned wall time) and `same_loads`.
 
 use std::time::Instant;
 
@@ -175,6 +180,9 @@ pub struct BenchReport {
     pub switching: Vec<SwitchBench>,
     /// Seed 004's branching plate, coarse against fine ([`crate::dynamics::bench`]).
     pub branching: Option<crate::dynamics::bench::BranchingBench>,
+    /// The refined crack-initiation ramp, plain against Cholesky-preconditioned CG
+    /// ([`crate::refine::bench`]).
+    pub refined_ramp: Option<crate::refine::bench::RefinedRampBench>,
 }
 
 /// Bytes of bond data per directed bond: the static CSR arrays and the
@@ -449,12 +457,19 @@ pub fn run_bench(opts: BenchOptions) -> BenchReport {
     } else {
         8e-5
     }));
+    // The refined ramp: base dx 2 mm when quick (about 20 s), 1 mm otherwise.
+    let refined_ramp = Some(crate::refine::bench::refined_ramp(if opts.quick {
+        2e-3
+    } else {
+        1e-3
+    }));
     BenchReport {
         threads: rayon::current_num_threads(),
         protocol: protocol(),
         kernel,
         switching,
         branching,
+        refined_ramp,
     }
 }
 

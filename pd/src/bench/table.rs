@@ -102,6 +102,9 @@ pub fn table(r: &BenchReport) -> String {
     if let Some(b) = &r.branching {
         s.push_str(&crate::dynamics::bench::table(b));
     }
+    if let Some(b) = &r.refined_ramp {
+        s.push_str(&crate::refine::bench::table(b));
+    }
     s
 }
 

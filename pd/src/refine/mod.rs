@@ -56,6 +56,7 @@
 //!
 //! [`DualHorizon::from_families`]: crate::state_based::dual_horizon::DualHorizon::from_families
 
+pub mod bench;
 mod body;
 pub mod direct;
 #[cfg(test)]
@@ -73,7 +74,7 @@ mod tests;
 
 pub use body::Body;
 pub use dynamics::{run_dynamic, AdaptiveInfo, AdaptiveObserver, SplitEvent};
-pub use ramp::{ramp, RampRecord, RampStep, RefinedRamp};
+pub use ramp::{ramp, ramp_with, RampRecord, RampStep, RefinedRamp};
 pub use run::{run, RefinedRun, Round};
 
 use serde::{Deserialize, Serialize};

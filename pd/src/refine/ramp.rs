@@ -109,6 +109,18 @@ pub fn ramp(
     tips: &[Tip],
     rp: &RampParams,
 ) -> Result<RefinedRamp, PdError> {
+    ramp_with(p, r, tips, rp, Solver::default())
+}
+
+/// [`ramp`] with the given solver (a [`Solver`] with a budget of one byte runs plain
+/// conjugate gradients: the benchmark's baseline).
+pub fn ramp_with(
+    p: &PdProblem,
+    r: &Refinement,
+    tips: &[Tip],
+    rp: &RampParams,
+    mut solver: Solver,
+) -> Result<RefinedRamp, PdError> {
     check_params(rp)?;
     r.validate()?;
     let mut body = Body::from_problem(p)?;
@@ -124,7 +136,6 @@ pub fn ramp(
         out.setup_split += body.split(&f)?;
     }
     out.split_s += t.elapsed().as_secs_f64();
-    let mut solver = Solver::default();
     let mut lam = first_load(&mut body, r, rp, &mut solver, &mut out)?;
     let ext0 = extension(&body, tips);
     out.extension = ext0;
