@@ -17,9 +17,10 @@
 //! few low-rank terms, so the old factor stays a good preconditioner) and refactors when
 //! particles split, after a solve that took more than [`REFRESH`] iterations, or when a
 //! solve on the kept factor has not converged in [`STALE`] (it then restarts on a fresh
-//! one). A body the crack has
-//! parted has no equilibrium under its loads; the solve then stalls and fails after
-//! [`FRESH_CAP`] iterations on a fresh factor, as the plain CG stalls at its cap.
+//! one). A body the crack has parted has no equilibrium under its loads; the solve then
+//! stalls and fails after [`FRESH_CAP`] iterations on a fresh factor, as the plain CG
+//! stalls at its cap. A pattern or factor over the memory budget is not allocated: the
+//! solves then run as plain CG ([`Solver::plain`]).
 
 use rayon::prelude::*;
 
@@ -44,6 +45,8 @@ pub const FRESH_CAP: usize = 300;
 /// The factored, shifted stiffness of one body state.
 pub struct Factor {
     tangent: Tangent,
+    /// Free index of component `2 i + c`, `usize::MAX` when prescribed (the tangent's).
+    dof: Vec<usize>,
     particles: usize,
 }
 
@@ -189,6 +192,7 @@ impl Factor {
         );
         tangent.factorize_within(budget)?;
         Ok(Factor {
+            dof: tangent.dof.clone(),
             tangent,
             particles: body.len(),
         })
@@ -196,7 +200,7 @@ impl Factor {
 
     /// `z = (K + shift I)^{-1} r` on the free components (prescribed ones zero).
     pub(crate) fn apply_inverse(&mut self, r: &[P2]) -> Result<Vec<P2>, PdError> {
-        let dof = self.tangent.dof.clone();
+        let dof = &self.dof;
         let mut rhs = vec![0.0; self.tangent.n_free];
         for (i, ri) in r.iter().enumerate() {
             for c in 0..2 {
