@@ -460,4 +460,4 @@ pub fn run_dynamic(
 
 #[cfg(test)]
 #[path = "dynamics_tests.rs"]
-mod tests;
+pub(super) mod tests;

@@ -302,7 +302,7 @@ fn held_region_velocity_closes_the_refined_balance() {
 /// A 20 mm x 4 mm bar (dx = 1 mm, the material of [`pulled_plate`]) fixed at its left
 /// end by a fictitious layer (ux = uy = 0) and pulled at its right end by a step traction
 /// `sigma`, with the fixed end refined once (layer particles included).
-fn fixed_bar(sigma: f64) -> (PdProblem, Refinement) {
+pub(in crate::refine) fn fixed_bar(sigma: f64) -> (PdProblem, Refinement) {
     let (l, w) = (0.02, 0.004);
     let mut p = pulled_plate(sigma);
     p.region = Region::rectangle([0.0, 0.0], [l, w]);

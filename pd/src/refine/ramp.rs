@@ -25,12 +25,11 @@
 //! angle), then stops. A solve that fails after bonds have broken is unstable growth under
 //! load control (a piece came loose: its loads have no equilibrium, and the solve stalls
 //! on a fresh factor, [`super::direct::FRESH_CAP`]): the load is the initiation load and
-//! `unstable` is set, as in the uniform
-//! ramp. The body is geometrically linear (small strains), so the stretch is the
-//! linearised one: the nonlinear stretch would count a large rigid rotation of a piece
-//! about its last bonds as stretch and break the whole piece. The uniform ramp's Newton
-//! solves the nonlinear stretch, which differs at the critical stretch by its square,
-//! about 1e-3 relative.
+//! `unstable` is set, as in the uniform ramp. The body is geometrically linear (small
+//! strains), so the stretch is the linearised one: the nonlinear stretch would count a
+//! large rigid rotation of a piece about its last bonds as stretch and break the whole
+//! piece. The uniform ramp's Newton solves the nonlinear stretch, which differs at the
+//! critical stretch by its square, about 1e-3 relative.
 
 use std::time::Instant;
 

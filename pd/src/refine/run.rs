@@ -35,8 +35,8 @@ pub struct RefinedRun {
 }
 
 /// The particles the criteria select: level below `max_level` and in a static region
-/// below the region's level (`with_regions`), damaged beyond `phi_c` (Eq. 15) or strained beyond `alpha s_c`
-/// (Eq. 16, `with_strain`).
+/// below the region's level (`with_regions`), damaged beyond `phi_c` (Eq. 15) or
+/// strained beyond `alpha s_c` (Eq. 16, `with_strain`).
 pub fn flagged(body: &Body, r: &Refinement, with_regions: bool, with_strain: bool) -> Vec<usize> {
     let phi = r.critical_damage.map(|_| body.damage());
     let eps = (with_strain && r.strain_factor.is_some()).then(|| body.accumulated_strain());

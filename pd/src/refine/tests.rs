@@ -434,38 +434,6 @@ fn nested_regions_refine_each_to_its_own_level() {
     assert!(l1 > 0 && l2 > 0, "{l1} {l2}");
 }
 
-/// A 20 x 4 mm bar (dx = 1 mm, E = 32 GPa, nu = 0.2, plane stress) held at its left end by
-/// a fictitious layer (ux = uy = 0) and pulled by `sigma` at its right end; with `refine`,
-/// the particles within 2.5 mm of the held end (layer included) split once.
-fn held_bar(sigma: f64) -> PdProblem {
-    let (l, w) = (0.02, 0.004);
-    PdProblem {
-        region: Region::rectangle([0.0, 0.0], [l, w]),
-        dx: 1e-3,
-        thickness: 1e-3,
-        youngs_modulus: 32e9,
-        plane: crate::Plane::Stress,
-        material: PdMaterial::StateBased { poisson_ratio: 0.2 },
-        boundary: vec![
-            BoundaryCondition::Displacement {
-                on: crate::Selection::Box {
-                    min: [-0.01, -0.01],
-                    max: [0.0, w + 0.01],
-                },
-                ux: Some(0.0),
-                uy: Some(0.0),
-                layer: Layer::Fictitious,
-            },
-            BoundaryCondition::Traction {
-                edge: vec![[l, 0.0], [l, w]],
-                traction: [sigma, 0.0],
-                depth: None,
-            },
-        ],
-        ..Default::default()
-    }
-}
-
 /// The quasi-static solves hold a fictitious layer: the square of [`square`] with a layer
 /// all round prescribing the homogeneous field (at load factor 2, so the layer scales with
 /// the load) solves to that field by both solvers. Unrefined: measured 4.7e-4 of the
@@ -532,27 +500,21 @@ fn fictitious_layer_holds_the_homogeneous_field() {
     }
 }
 
-/// The bar of [`held_bar`] solved by [`run`], unrefined and with the held end refined
-/// once (layer particles included): the loaded end's mean elongation within 2.5 % of
-/// sigma L / E (measured -1.0 % and -1.9 %; -2.1 % and -2.2 % with the layer particles
-/// fitted to their cut families).
+/// The 20 x 4 mm bar of adaptive dynamics' `fixed_bar` (held at its left end by a
+/// fictitious layer, pulled by sigma at its right end) solved by [`run`], unrefined and
+/// with the held end refined once (layer particles included): the loaded end's mean
+/// elongation within 2.5 % of sigma L / E (measured -1.0 % and -1.9 %; -2.1 % and -2.2 %
+/// with the layer particles fitted to their cut families).
 #[test]
 fn fictitious_layer_holds_the_refined_bar() {
     let sigma = 10e6;
-    let p = held_bar(sigma);
+    let (p, refined) = super::dynamics::tests::fixed_bar(sigma);
     let plain = Refinement {
         critical_damage: None,
         ..Default::default()
     };
     let body = run(&p, &plain, 1.0).unwrap().body;
     assert!(body.fixed.iter().any(|f| f[0]));
-    let refined = Refinement {
-        regions: vec![crate::Selection::Box {
-            min: [-0.0035, -0.001],
-            max: [0.0025, 0.005],
-        }],
-        ..plain
-    };
     let rb = run(&p, &refined, 1.0).unwrap().body;
     let end = |b: &Body| {
         let e: Vec<usize> = (0..b.len())

@@ -98,8 +98,8 @@ impl DualHorizon {
     /// `(kappa, mu)`. A particle with `bulk[k] = Some(dx)` (a fictitious layer's: its
     /// family is cut by the layer's outer edge, which is no surface of the body) takes the
     /// constants of the full lattice family of spacing `dx` and its horizon, as the
-    /// uniform model's fictitious nodes do. The deviatoric weights are fitted on the whole family (the outline's
-    /// truncation corrected, cut bonds dropping out of the energy as in
+    /// uniform model's fictitious nodes do. The deviatoric weights are fitted on the whole
+    /// family (the outline's truncation corrected, cut bonds dropping out of the energy as in
     /// [`super::StateBased`] without crack-face correction), the dilatation weights on the
     /// intact bonds (exact dilatation of every homogeneous strain over them), and
     /// $a_k = a\,S_{0,k}^{intact}/S_{0,k}$. `None` when a family does not determine its
@@ -123,11 +123,14 @@ impl DualHorizon {
             let (mo, kept) = match bulk.get(k).copied().flatten() {
                 Some(dx) => {
                     let key = (dx, delta[k]);
-                    if !lattice.iter().any(|(q, _)| *q == key) {
-                        lattice.push((key, bulk_moments(dx, delta[k], 1.0)));
-                    }
-                    let m = &lattice.iter().find(|(q, _)| *q == key).expect("cached").1;
-                    let scaled = m.scaled(volume[k]);
+                    let i = lattice
+                        .iter()
+                        .position(|(q, _)| *q == key)
+                        .unwrap_or_else(|| {
+                            lattice.push((key, bulk_moments(dx, delta[k], 1.0)));
+                            lattice.len() - 1
+                        });
+                    let scaled = lattice[i].1.scaled(volume[k]);
                     (scaled.clone(), scaled)
                 }
                 None => (
