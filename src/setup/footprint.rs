@@ -12,6 +12,7 @@ use pdbem_coupling::growth::Scenario;
 use pdbem_pd::PdModel;
 
 use crate::runner::mode::{mode_of, Mode};
+use crate::scene::pd::PdSolver;
 use crate::scene::{GrowthMode, Scene};
 
 /// The sizes of a run.
@@ -28,6 +29,9 @@ pub struct Footprint {
     pub pd_real: usize,
     /// PD bonds, directed (each pair twice), as `summary.json` counts them.
     pub pd_bonds: usize,
+    /// Entries of the tangent's sparse Cholesky factor of a stand-alone implicit or
+    /// switching run (its symbolic analysis, within the memory budget).
+    pub pd_factor: Option<usize>,
     /// What the run will note about the model before solving it (windowed tips that no
     /// interaction-integral contour fits around).
     pub notes: Vec<String>,
@@ -63,6 +67,12 @@ impl Footprint {
                 self.pd_nodes, self.pd_real, self.pd_bonds
             ));
         }
+        if let Some(n) = self.pd_factor {
+            out.push(format!(
+                "  PD tangent: sparse Cholesky factor of {n} entries ({})",
+                bytes_text(8 * n)
+            ));
+        }
         out.extend(self.notes.iter().map(|n| format!("  note: {n}")));
         out
     }
@@ -89,10 +99,9 @@ pub fn of(scene: &Scene) -> Result<Footprint> {
         Mode::Bem => bem_levels(scene, &mut f)?,
         Mode::Pd => {
             let problem = super::pd::problem_from_scene(scene)?;
-            add_pd(
-                &mut f,
-                &PdModel::new(&problem).with_context(|| pd_ctx(scene))?,
-            );
+            let model = PdModel::new(&problem).with_context(|| pd_ctx(scene))?;
+            add_pd(&mut f, &model);
+            f.pd_factor = tangent_factor(scene, &model)?;
         }
         Mode::Coupled => {
             let setup = super::coupled::prepare(scene)?;
@@ -137,6 +146,31 @@ pub fn of(scene: &Scene) -> Result<Footprint> {
         },
     }
     Ok(f)
+}
+
+/// The factor entries of the tangent a stand-alone implicit or switching run factors
+/// (`None` for other runs); its pattern and factor over the memory budget are an error
+/// naming `pd.solver`, as the run would fail with.
+fn tangent_factor(scene: &Scene, model: &PdModel) -> Result<Option<usize>> {
+    let Some(pd) = &scene.pd else {
+        return Ok(None);
+    };
+    if pd.refinement.is_some()
+        || !matches!(pd.solver, PdSolver::Implicit(_) | PdSolver::Switching(_))
+    {
+        return Ok(None);
+    }
+    let budget = pdbem_pd::tangent::factor_budget();
+    model
+        .new_tangent()
+        .and_then(|t| t.factor_entries_within(budget))
+        .map(Some)
+        .map_err(|e| {
+            anyhow::anyhow!(
+                "{}: pd.solver: {e}; use pd.solver: Adr (no factor), a larger pd.dx, or raise --max-memory",
+                scene.file_label().display()
+            )
+        })
 }
 
 fn pd_ctx(scene: &Scene) -> String {

@@ -62,9 +62,11 @@ pub struct Newton {
 }
 
 impl Newton {
-    /// Build the tangent pattern for `model`.
+    /// Build the tangent pattern for `model` and its factor's storage
+    /// ([`PdError::TooLarge`] over the memory budget, before any solve).
     pub fn new(model: &PdModel) -> Result<Self, PdError> {
-        let tangent = model.new_tangent()?;
+        let mut tangent = model.new_tangent()?;
+        tangent.reserve_factor()?;
         let nf = tangent.n_free;
         Ok(Newton {
             tangent,

@@ -52,6 +52,34 @@ pub fn check_budget(what: &str, bytes: f64, budget: u64) -> Result<(), PdError> 
     })
 }
 
+/// The symbolic analysis of the lower-triangle `pattern` (AMD ordering), refused with
+/// [`PdError::TooLarge`] when the factor's values would exceed `budget` bytes.
+pub(super) fn symbolic_within(
+    pattern: SymbolicSparseColMatRef<'_, usize>,
+    budget: u64,
+) -> Result<SymbolicCholesky<usize>, PdError> {
+    let n = pattern.nrows();
+    let symbolic = factorize_symbolic_cholesky(
+        pattern,
+        Side::Lower,
+        SymmetricOrdering::Amd,
+        Default::default(),
+    )
+    .map_err(|e| PdError::LinearSolve {
+        dofs: n,
+        reason: format!("symbolic Cholesky: {e:?}"),
+    })?;
+    check_budget(
+        &format!(
+            "the sparse Cholesky factor of {n} unknowns ({} entries)",
+            symbolic.len_val()
+        ),
+        8.0 * symbolic.len_val() as f64,
+        budget,
+    )?;
+    Ok(symbolic)
+}
+
 /// Sparse $LL^T$ factor: symbolic analysis, factor values, workspace.
 pub(super) struct CholeskyFactor {
     symbolic: SymbolicCholesky<usize>,
@@ -75,24 +103,7 @@ impl CholeskyFactor {
         budget: u64,
     ) -> Result<Self, PdError> {
         let n = pattern.nrows();
-        let symbolic = factorize_symbolic_cholesky(
-            pattern,
-            Side::Lower,
-            SymmetricOrdering::Amd,
-            Default::default(),
-        )
-        .map_err(|e| PdError::LinearSolve {
-            dofs: n,
-            reason: format!("symbolic Cholesky: {e:?}"),
-        })?;
-        check_budget(
-            &format!(
-                "the sparse Cholesky factor of {n} unknowns ({} entries)",
-                symbolic.len_val()
-            ),
-            8.0 * symbolic.len_val() as f64,
-            budget,
-        )?;
+        let symbolic = symbolic_within(pattern, budget)?;
         let par = if n >= PARALLEL_MIN_DOFS {
             Par::rayon(0)
         } else {

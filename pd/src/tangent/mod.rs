@@ -86,6 +86,8 @@ impl Tangent {
                 reason: "every DOF is prescribed".into(),
             });
         }
+        // At most 3 entries per node's diagonal block and 4 per bond pair.
+        check_pattern(n_free, 3 * n + 2 * bonds.len(), 4 * bonds.len())?;
         // Off-diagonal entries of node i's columns: the free DOFs of its
         // neighbours j > i in increasing j (CSC rows sorted). `col_off[b]`
         // is the position of bond b's first entry within that list.
@@ -291,6 +293,33 @@ impl Tangent {
         })
     }
 
+    /// The symbolic analysis and the factor's storage now, so that a factor over the
+    /// memory budget ([`factor_budget`]) is refused ([`PdError::TooLarge`]) before a
+    /// solver starts, not in its first solve.
+    pub fn reserve_factor(&mut self) -> Result<(), PdError> {
+        if self.llt.is_none() {
+            self.llt = Some(CholeskyFactor::new(
+                self.symbolic.as_ref(),
+                factor_budget(),
+            )?);
+        }
+        Ok(())
+    }
+
+    /// Entries the Cholesky factor of this pattern will store, from its symbolic analysis
+    /// alone ([`PdError::TooLarge`] over `budget` bytes); nothing numeric is allocated.
+    pub fn factor_entries_within(&self, budget: u64) -> Result<usize, PdError> {
+        match &self.llt {
+            Some(f) => check_budget(
+                "the sparse Cholesky factor",
+                8.0 * f.factor_len() as f64,
+                budget,
+            )
+            .map(|_| f.factor_len()),
+            None => cholesky::symbolic_within(self.symbolic.as_ref(), budget).map(|s| s.len_val()),
+        }
+    }
+
     /// Stored entries of the Cholesky factor (after the first solve).
     pub fn factor_nnz(&self) -> Option<usize> {
         self.llt.as_ref().map(|f| f.factor_len())
@@ -326,6 +355,11 @@ impl Tangent {
 
     fn solve_lu(&self, rhs: &mut [f64]) -> Result<(), PdError> {
         let n = self.n_free;
+        check_budget(
+            &format!("the sparse LU of the tangent of {n} unknowns"),
+            lu_bytes(self.values.len(), self.factor_nnz().unwrap_or(0)),
+            factor_budget(),
+        )?;
         let cp = self.symbolic.col_ptr();
         let ri = self.symbolic.row_idx();
         let mut trip = Vec::with_capacity(2 * self.values.len());
@@ -358,4 +392,22 @@ impl Tangent {
         }
         Ok(())
     }
+}
+
+/// [`PdError::TooLarge`] before a pattern of `n_free` unknowns with at most `entries`
+/// stored entries (row index and value, 16 bytes each) and `extra` bytes of index maps
+/// is allocated, against [`factor_budget`].
+fn check_pattern(n_free: usize, entries: usize, extra: usize) -> Result<(), PdError> {
+    check_budget(
+        &format!("the tangent pattern of {n_free} unknowns (up to {entries} entries)"),
+        16.0 * entries as f64 + extra as f64,
+        factor_budget(),
+    )
+}
+
+/// Bytes of the LU fallback: the triplets and the full matrix of both triangles (40
+/// bytes per stored entry), and L and U of twice the Cholesky factor's entries each
+/// (room for pivoting's fill).
+fn lu_bytes(entries: usize, cholesky_entries: usize) -> f64 {
+    80.0 * entries as f64 + 32.0 * cholesky_entries as f64
 }

@@ -38,6 +38,8 @@ impl Tangent {
                 reason: "every DOF is prescribed".into(),
             });
         }
+        // At most 3 entries per node's diagonal block and 2 per stencil entry.
+        super::check_pattern(n_free, 3 * n + 2 * nodes.len(), 0)?;
         let mut col_ptr = Vec::with_capacity(n_free + 1);
         let mut row_idx = Vec::new();
         let mut node_start = Vec::with_capacity(n + 1);
