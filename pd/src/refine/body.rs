@@ -74,10 +74,11 @@ impl Body {
         let mods = moduli(p.plane, p.youngs_modulus, poisson_ratio);
         let layer: Vec<bool> = (0..n).map(|i| i >= grid.n_real).collect();
         let bulk: Vec<Option<f64>> = layer.iter().map(|&l| l.then_some(grid.dx)).collect();
-        let dh = DualHorizon::from_families(&grid.pos, volume, delta, bonds, intact, mods, &bulk)
-            .ok_or_else(|| {
-            PdError::invalid("dx", "a particle family does not determine its constants")
-        })?;
+        let dh =
+            DualHorizon::from_families(&grid.pos, volume, delta, bonds, intact, mods, &bulk, None)
+                .ok_or_else(|| {
+                    PdError::invalid("dx", "a particle family does not determine its constants")
+                })?;
         let base = (0..n)
             .map(|i| {
                 let mut b = [0.0; 2];

@@ -34,7 +34,7 @@
 //! critical stretch starts broken: a bond between particles whose ancestors were not
 //! bonded (a kept particle and a child its horizon now reaches) starts intact
 //! ([`Body::split`]) and may span a crack that opened during the run. A split changes $K + U - W$ (the
-//! children's displacements follow Eq. 18, the constants are recalibrated); the jump is
+//! children's displacements follow Eq. 18, changed families' constants are recalibrated); the jump is
 //! summed apart so that the recorded fracture energy (the energy balance's dissipation,
 //! [`crate::dynamics`]) counts broken bonds only.
 //!

@@ -34,8 +34,9 @@
 //! children within its horizon (Eq. 23's dual update; the children of parents within
 //! $\delta_j + \Delta_k/\sqrt2$ are the candidates). The result equals a fresh search
 //! (tested). Bonds crossing a pre-crack are cut; a bond whose owner's and neighbour's
-//! ancestors had a broken bond stays broken. The constants of every particle are then
-//! recalibrated on its family ([`DualHorizon::from_families`]).
+//! ancestors had a broken bond stays broken. The constants of every particle whose
+//! family changed are then recalibrated on it ([`DualHorizon::from_families`]); the
+//! others keep theirs, as the uniform model keeps them while bonds break (tested).
 //!
 //! **Solve.** Elastic equilibrium of the linearised dual-horizon energy by conjugate
 //! gradients ([`linear`]); the adaptive driver ([`run`]) refines before the solve (static

@@ -8,7 +8,7 @@ use rayon::prelude::*;
 use super::Body;
 use crate::error::PdError;
 use crate::geometry::{segment_crosses_crack, P2};
-use crate::state_based::dual_horizon::{bonds_from_rows, families, DualHorizon};
+use crate::state_based::dual_horizon::{bonds_from_rows, families, DualHorizon, Reuse};
 
 /// Quadrant signs `(xi, eta)` of the four children.
 const SIGNS: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [-1.0, 1.0], [1.0, 1.0]];
@@ -22,7 +22,11 @@ enum Fate {
 impl Body {
     /// Split the particles `parents` (old indices; repeats ignored) into four children
     /// each. Kept particles come first in their old order, then the children, four per
-    /// parent in the order of `parents`. Returns the number of particles split.
+    /// parent in the order of `parents`. The children and the kept particles whose family
+    /// changed (a member split, a child within reach) get constants fitted to their new
+    /// family and its current bond flags; every other particle keeps its constants, as
+    /// the uniform model keeps them while bonds break. Returns the number of particles
+    /// split.
     pub fn split(&mut self, parents: &[usize]) -> Result<usize, PdError> {
         let n = self.len();
         let mut is_parent = vec![false; n];
@@ -77,26 +81,43 @@ impl Body {
         };
         // Children with their parent's horizon reach beyond the parent's family: a fresh
         // search then (Eqs. 20-22 hold for the halved horizon).
-        let bonds = if self.keep_horizon {
-            families(&pos, &size, &volume, &delta)
+        let (bonds, same) = if self.keep_horizon {
+            (
+                families(&pos, &size, &volume, &delta),
+                vec![None; pos.len()],
+            )
         } else {
             let rows = self.new_rows(&order, &fate, &ancestor, &pos, &delta);
-            bonds_from_rows(&pos, &size, &volume, &delta, &rows)
+            let same = self.unchanged(&rows, &ancestor, kept, &fate);
+            (bonds_from_rows(&pos, &size, &volume, &delta, &rows), same)
         };
-        let intact = self.new_flags(&bonds, &ancestor, &pos, &size);
+        let intact = self.new_flags(&bonds, &ancestor, &pos, &size, &same);
         let layer: Vec<bool> = ancestor.iter().map(|&a| self.layer[a]).collect();
         let bulk: Vec<Option<f64>> = layer
             .iter()
             .zip(&size)
             .map(|(&l, &d)| l.then_some(d))
             .collect();
-        let dh = DualHorizon::from_families(&pos, volume, delta, bonds, intact, self.moduli, &bulk)
-            .ok_or_else(|| {
-                PdError::invalid(
-                    "refinement",
-                    "a refined particle's family does not determine its constants",
-                )
-            })?;
+        let reuse = Reuse {
+            old: &self.dh,
+            same: &same,
+        };
+        let dh = DualHorizon::from_families(
+            &pos,
+            volume,
+            delta,
+            bonds,
+            intact,
+            self.moduli,
+            &bulk,
+            Some(reuse),
+        )
+        .ok_or_else(|| {
+            PdError::invalid(
+                "refinement",
+                "a refined particle's family does not determine its constants",
+            )
+        })?;
         self.fixed = ancestor.iter().map(|&a| self.fixed[a]).collect();
         self.layer = layer;
         self.base = ancestor.iter().map(|&a| self.base[a]).collect();
@@ -140,8 +161,15 @@ impl Body {
             )
         };
         let mut cells: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
+        // The split parents' box grown by the reach: only particles inside it can gain a
+        // child (the splits are local, most particles skip the cell lookups).
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         for &k in order {
             cells.entry(key(old.pos[k])).or_default().push(k);
+            for c in 0..2 {
+                lo[c] = lo[c].min(old.pos[k][c] - reach_max);
+                hi[c] = hi[c].max(old.pos[k][c] + reach_max);
+            }
         }
         (0..pos.len())
             .into_par_iter()
@@ -164,8 +192,9 @@ impl Body {
                     }
                 }
                 // Children of split parents within reach (siblings included).
+                let inside = (0..2).all(|c| lo[c] <= x[c] && x[c] <= hi[c]);
                 let (cx, cy) = key(x);
-                for gx in cx - 1..=cx + 1 {
+                for gx in (cx - 1..=cx + 1).filter(|_| inside) {
                     for gy in cy - 1..=cy + 1 {
                         for &k in cells.get(&(gx, gy)).map_or(&[][..], |v| v.as_slice()) {
                             let Fate::Split(first) = fate[k] else {
@@ -186,17 +215,50 @@ impl Body {
             .collect()
     }
 
+    /// The old particle whose family each new particle has unchanged: a kept particle
+    /// whose new row lists its old members, none split, in the same order (the first
+    /// body's rows need not be sorted by index). Its bonds, flags and constants are then
+    /// the old ones.
+    fn unchanged(
+        &self,
+        rows: &[Vec<u32>],
+        ancestor: &[usize],
+        kept: usize,
+        fate: &[Fate],
+    ) -> Vec<Option<usize>> {
+        let old = &self.dh.bonds;
+        (0..rows.len())
+            .into_par_iter()
+            .map(|i| {
+                let a = ancestor[i];
+                let same = i < kept
+                    && rows[i].len() == old.row(a).len()
+                    && old.row(a).zip(&rows[i]).all(
+                        |(b, &jn)| matches!(fate[old.nbr[b] as usize], Fate::Kept(k) if k == jn),
+                    );
+                same.then_some(a)
+            })
+            .collect()
+    }
+
     /// Flags of the new bonds: cut where a bond crosses a pre-crack or where the old bond
-    /// between the two ancestors was broken.
+    /// between the two ancestors was broken; an unchanged family's (`same`) are its old
+    /// flags.
     fn new_flags(
         &self,
         bonds: &crate::bonds::Bonds,
         anc: &[usize],
         pos: &[P2],
         size: &[f64],
+        same: &[Option<usize>],
     ) -> Vec<u8> {
         let old = &self.dh;
         let mut flags = vec![1u8; bonds.len()];
+        for (i, s) in same.iter().enumerate() {
+            if let Some(a) = *s {
+                flags[bonds.row(i)].copy_from_slice(&old.intact[old.bonds.row(a)]);
+            }
+        }
         let owner_of: Vec<usize> = {
             let mut o = vec![0usize; bonds.len()];
             for i in 0..pos.len() {
@@ -208,6 +270,9 @@ impl Body {
         };
         flags.par_iter_mut().enumerate().for_each(|(b, f)| {
             let i = owner_of[b];
+            if same[i].is_some() {
+                return;
+            }
             let j = bonds.nbr[b] as usize;
             let tol = 1e-6 * size[i].min(size[j]);
             if self

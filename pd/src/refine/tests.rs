@@ -536,3 +536,49 @@ fn fictitious_layer_holds_the_refined_bar() {
     assert!((0..rb.len()).any(|k| rb.fixed[k][0] && rb.level[k] == 1));
     assert!(e0.abs() < 0.025 && e1.abs() < 0.025, "{e0} {e1}");
 }
+
+/// A split changes the constants of the particles whose family it changes, no others: a
+/// particle far from it whose bonds broke keeps its constants (the uniform model never
+/// refits them as bonds break; rebuilding every particle at each split did, at times set
+/// by splits elsewhere), and with no bond broken the kept constants are a full rebuild's.
+#[test]
+fn a_split_keeps_the_constants_of_unchanged_families() {
+    use crate::state_based::dual_horizon::DualHorizon;
+    let refit = |b: &Body| {
+        let none = vec![None; b.len()];
+        let dh = &b.dh;
+        let (v, d) = (dh.volume.clone(), dh.delta.clone());
+        let (bonds, flags) = (dh.bonds.clone(), dh.intact.clone());
+        DualHorizon::from_families(&dh.pos, v, d, bonds, flags, b.moduli, &none, None).unwrap()
+    };
+    let mid = |b: &Body| -> Vec<usize> {
+        (0..b.len())
+            .filter(|&k| (b.dh.pos[k][0] - 14.0).abs() < 2.0 && (b.dh.pos[k][1] - 14.0).abs() < 2.0)
+            .collect()
+    };
+    // Unbroken: every constant equals a full rebuild's, bit for bit.
+    let mut b = Body::from_problem(&square(Vec::new())).unwrap();
+    b.split(&mid(&b)).unwrap();
+    let full = refit(&b);
+    assert!(b.dh.a == full.a && b.dh.omega == full.omega && b.dh.beta == full.beta);
+    // Half the bonds of a particle far from the split broken before it.
+    let mut b = Body::from_problem(&square(Vec::new())).unwrap();
+    let far = (0..b.len()).find(|&k| b.dh.pos[k] == [3.5, 3.5]).unwrap();
+    let row = b.dh.bonds.row(far);
+    let half = row.start..row.start + row.len() / 2;
+    b.dh.intact[half].fill(0);
+    let (a0, omega0) = (b.dh.a[far], b.dh.omega[row].to_vec());
+    let parents = mid(&b);
+    b.split(&parents).unwrap();
+    let k = far - parents.iter().filter(|&&p| p < far).count();
+    assert_eq!(b.dh.pos[k], [3.5, 3.5]);
+    assert_eq!(b.dh.a[k], a0);
+    assert_eq!(b.dh.omega[b.dh.bonds.row(k)], omega0[..]);
+    // A rebuild would have refitted it to its intact bonds.
+    let rebuilt = refit(&b);
+    assert!(
+        (rebuilt.a[k] / a0 - 1.0).abs() > 0.1,
+        "{} {a0}",
+        rebuilt.a[k]
+    );
+}

@@ -70,6 +70,17 @@ pub struct DualHorizon {
     pub intact: Vec<u8>,
 }
 
+/// Constants of a previous body to keep ([`DualHorizon::from_families`]): `same[k]` is
+/// the particle of `old` whose family (members in the same order, sizes, flags) particle
+/// `k` has unchanged, if any.
+#[derive(Clone, Copy)]
+pub struct Reuse<'a> {
+    /// The previous body.
+    pub old: &'a DualHorizon,
+    /// Per new particle, its unchanged counterpart in `old`.
+    pub same: &'a [Option<usize>],
+}
+
 impl DualHorizon {
     /// Particles at `pos` with spacings `dx` (m), thickness `h`, horizon factor `m`, and
     /// the moduli of `E`, `nu` in `plane`. Returns `None` when a particle's family does
@@ -90,7 +101,7 @@ impl DualHorizon {
         let intact = vec![1u8; bonds.len()];
         let moduli = super::moduli(plane, youngs_modulus, nu);
         let bulk = vec![None; pos.len()];
-        Self::from_families(pos, volume, delta, bonds, intact, moduli, &bulk)
+        Self::from_families(pos, volume, delta, bonds, intact, moduli, &bulk, None)
     }
 
     /// The body of the given families (`bonds`, `vol_factor` = `V'_kj`) and bond flags
@@ -102,8 +113,10 @@ impl DualHorizon {
     /// family (the outline's truncation corrected, cut bonds dropping out of the energy as in
     /// [`super::StateBased`] without crack-face correction), the dilatation weights on the
     /// intact bonds (exact dilatation of every homogeneous strain over them), and
-    /// $a_k = a\,S_{0,k}^{intact}/S_{0,k}$. `None` when a family does not determine its
+    /// $a_k = a\,S_{0,k}^{intact}/S_{0,k}$. Particles `reuse` maps to an unchanged family
+    /// copy their constants instead. `None` when a family does not determine its
     /// constants.
+    #[allow(clippy::too_many_arguments)]
     pub fn from_families(
         pos: &[P2],
         volume: Vec<f64>,
@@ -112,6 +125,7 @@ impl DualHorizon {
         intact: Vec<u8>,
         (kappa, mu): (f64, f64),
         bulk: &[Option<f64>],
+        reuse: Option<Reuse<'_>>,
     ) -> Option<Self> {
         let n = pos.len();
         let nb = bonds.len();
@@ -120,6 +134,15 @@ impl DualHorizon {
         let target = [3.0 * mu, 0.0, mu, 0.0, 3.0 * mu];
         let mut lattice: Vec<((f64, f64), super::Moments)> = Vec::new();
         for k in 0..n {
+            if let Some((old, o)) = reuse.and_then(|r| Some((r.old, r.same[k]?))) {
+                // The same family as particle `o` of `old`: the same constants.
+                let (row, old_row) = (bonds.row(k), old.bonds.row(o));
+                debug_assert_eq!(row.len(), old_row.len());
+                a[k] = old.a[o];
+                omega[row.clone()].copy_from_slice(&old.omega[old_row.clone()]);
+                beta[row].copy_from_slice(&old.beta[old_row]);
+                continue;
+            }
             let (mo, kept) = match bulk.get(k).copied().flatten() {
                 Some(dx) => {
                     let key = (dx, delta[k]);
@@ -334,25 +357,34 @@ pub fn bonds_from_rows(
     delta: &[f64],
     rows: &[Vec<u32>],
 ) -> Bonds {
-    let mut b = Bonds {
-        offsets: vec![0],
-        ..Default::default()
-    };
-    for (k, row) in rows.iter().enumerate() {
-        for &j in row {
-            let j = j as usize;
-            let xi = [pos[j][0] - pos[k][0], pos[j][1] - pos[k][1]];
-            let l = xi[0].hypot(xi[1]);
-            b.nbr.push(j as u32);
-            b.xi.push(xi);
-            b.inv_len.push(1.0 / l);
-            b.vol_factor
-                .push(partial_volume(l, delta[k], dx[j]) * volume[j]);
-            b.meta.push(crate::bonds::GROUP_END);
-        }
-        b.offsets.push(b.nbr.len());
+    let mut offsets = Vec::with_capacity(rows.len() + 1);
+    offsets.push(0);
+    for row in rows {
+        offsets.push(offsets.last().copied().unwrap_or(0) + row.len());
     }
-    b.surface = vec![1.0; b.nbr.len()];
-    b.k = vec![0.0; b.nbr.len()];
-    b
+    // Per bond (xi, 1 / |xi|, V'_kj), rows in parallel, in row order.
+    let per_bond: Vec<(P2, f64, f64)> = rows
+        .par_iter()
+        .enumerate()
+        .flat_map_iter(|(k, row)| {
+            row.iter().map(move |&j| {
+                let j = j as usize;
+                let xi = [pos[j][0] - pos[k][0], pos[j][1] - pos[k][1]];
+                let l = xi[0].hypot(xi[1]);
+                (xi, 1.0 / l, partial_volume(l, delta[k], dx[j]) * volume[j])
+            })
+        })
+        .collect();
+    let nb = per_bond.len();
+    Bonds {
+        offsets,
+        nbr: rows.concat(),
+        xi: per_bond.iter().map(|p| p.0).collect(),
+        inv_len: per_bond.iter().map(|p| p.1).collect(),
+        vol_factor: per_bond.iter().map(|p| p.2).collect(),
+        meta: vec![crate::bonds::GROUP_END; nb],
+        surface: vec![1.0; nb],
+        k: vec![0.0; nb],
+        ..Default::default()
+    }
 }
