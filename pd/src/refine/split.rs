@@ -8,7 +8,7 @@ use rayon::prelude::*;
 use super::Body;
 use crate::error::PdError;
 use crate::geometry::{segment_crosses_crack, P2};
-use crate::state_based::dual_horizon::{bonds_from_rows, families, DualHorizon, Reuse};
+use crate::state_based::dual_horizon::{bonds_from_rows, family_rows, DualHorizon, Reuse};
 
 /// Quadrant signs `(xi, eta)` of the four children.
 const SIGNS: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [-1.0, 1.0], [1.0, 1.0]];
@@ -81,16 +81,13 @@ impl Body {
         };
         // Children with their parent's horizon reach beyond the parent's family: a fresh
         // search then (Eqs. 20-22 hold for the halved horizon).
-        let (bonds, same) = if self.keep_horizon {
-            (
-                families(&pos, &size, &volume, &delta),
-                vec![None; pos.len()],
-            )
+        let rows = if self.keep_horizon {
+            family_rows(&pos, &delta)
         } else {
-            let rows = self.new_rows(&order, &fate, &ancestor, &pos, &delta);
-            let same = self.unchanged(&rows, &ancestor, kept, &fate);
-            (bonds_from_rows(&pos, &size, &volume, &delta, &rows), same)
+            self.new_rows(&order, &fate, &ancestor, &pos, &delta)
         };
+        let same = self.unchanged(&rows, &ancestor, kept, &fate);
+        let bonds = bonds_from_rows(&pos, &size, &volume, &delta, &rows);
         let intact = self.new_flags(&bonds, &ancestor, &pos, &size, &same);
         let layer: Vec<bool> = ancestor.iter().map(|&a| self.layer[a]).collect();
         let bulk: Vec<Option<f64>> = layer

@@ -556,29 +556,37 @@ fn a_split_keeps_the_constants_of_unchanged_families() {
             .filter(|&k| (b.dh.pos[k][0] - 14.0).abs() < 2.0 && (b.dh.pos[k][1] - 14.0).abs() < 2.0)
             .collect()
     };
-    // Unbroken: every constant equals a full rebuild's, bit for bit.
-    let mut b = Body::from_problem(&square(Vec::new())).unwrap();
-    b.split(&mid(&b)).unwrap();
-    let full = refit(&b);
-    assert!(b.dh.a == full.a && b.dh.omega == full.omega && b.dh.beta == full.beta);
-    // Half the bonds of a particle far from the split broken before it.
-    let mut b = Body::from_problem(&square(Vec::new())).unwrap();
-    let far = (0..b.len()).find(|&k| b.dh.pos[k] == [3.5, 3.5]).unwrap();
-    let row = b.dh.bonds.row(far);
-    let half = row.start..row.start + row.len() / 2;
-    b.dh.intact[half].fill(0);
-    let (a0, omega0) = (b.dh.a[far], b.dh.omega[row].to_vec());
-    let parents = mid(&b);
-    b.split(&parents).unwrap();
-    let k = far - parents.iter().filter(|&&p| p < far).count();
-    assert_eq!(b.dh.pos[k], [3.5, 3.5]);
-    assert_eq!(b.dh.a[k], a0);
-    assert_eq!(b.dh.omega[b.dh.bonds.row(k)], omega0[..]);
-    // A rebuild would have refitted it to its intact bonds.
-    let rebuilt = refit(&b);
-    assert!(
-        (rebuilt.a[k] / a0 - 1.0).abs() > 0.1,
-        "{} {a0}",
-        rebuilt.a[k]
-    );
+    // Children with halved horizons, and with their parent's (seed 004 Table 3).
+    for keep_horizon in [false, true] {
+        let body = || {
+            let mut b = Body::from_problem(&square(Vec::new())).unwrap();
+            b.keep_horizon = keep_horizon;
+            b
+        };
+        // Unbroken: every constant equals a full rebuild's, bit for bit.
+        let mut b = body();
+        b.split(&mid(&b)).unwrap();
+        let full = refit(&b);
+        assert!(b.dh.a == full.a && b.dh.omega == full.omega && b.dh.beta == full.beta);
+        // Half the bonds of a particle far from the split broken before it.
+        let mut b = body();
+        let far = (0..b.len()).find(|&k| b.dh.pos[k] == [3.5, 3.5]).unwrap();
+        let row = b.dh.bonds.row(far);
+        let half = row.start..row.start + row.len() / 2;
+        b.dh.intact[half].fill(0);
+        let (a0, omega0) = (b.dh.a[far], b.dh.omega[row].to_vec());
+        let parents = mid(&b);
+        b.split(&parents).unwrap();
+        let k = far - parents.iter().filter(|&&p| p < far).count();
+        assert_eq!(b.dh.pos[k], [3.5, 3.5]);
+        assert_eq!(b.dh.a[k], a0);
+        assert_eq!(b.dh.omega[b.dh.bonds.row(k)], omega0[..]);
+        // A rebuild would have refitted it to its intact bonds.
+        let rebuilt = refit(&b);
+        assert!(
+            (rebuilt.a[k] / a0 - 1.0).abs() > 0.1,
+            "{} {a0}",
+            rebuilt.a[k]
+        );
+    }
 }

@@ -315,6 +315,11 @@ impl DualHorizon {
 /// with `vol_factor = v_kj V_j` (partial volume of `j`'s cell of side `dx_j`, seed 002
 /// Eq. 16 with `j`'s spacing and `k`'s horizon).
 pub fn families(pos: &[P2], dx: &[f64], volume: &[f64], delta: &[f64]) -> Bonds {
+    bonds_from_rows(pos, dx, volume, delta, &family_rows(pos, delta))
+}
+
+/// The neighbour lists of [`families`] (sorted): every particle within `delta[k]` of `k`.
+pub fn family_rows(pos: &[P2], delta: &[f64]) -> Vec<Vec<u32>> {
     use std::collections::HashMap;
     let cell = delta.iter().fold(0.0f64, |a, &b| a.max(b));
     let key = |p: P2| ((p[0] / cell).floor() as i64, (p[1] / cell).floor() as i64);
@@ -322,7 +327,7 @@ pub fn families(pos: &[P2], dx: &[f64], volume: &[f64], delta: &[f64]) -> Bonds 
     for (i, &p) in pos.iter().enumerate() {
         grid.entry(key(p)).or_default().push(i as u32);
     }
-    let rows: Vec<Vec<u32>> = (0..pos.len())
+    (0..pos.len())
         .into_par_iter()
         .map(|k| {
             let (cx, cy) = key(pos[k]);
@@ -344,8 +349,7 @@ pub fn families(pos: &[P2], dx: &[f64], volume: &[f64], delta: &[f64]) -> Bonds 
             row.sort_unstable();
             row
         })
-        .collect();
-    bonds_from_rows(pos, dx, volume, delta, &rows)
+        .collect()
 }
 
 /// The CSR families of the neighbour lists `rows` (sorted), with `vol_factor = v_kj V_j`
