@@ -158,15 +158,8 @@ impl Body {
             )
         };
         let mut cells: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
-        // The split parents' box grown by the reach: only particles inside it can gain a
-        // child (the splits are local, most particles skip the cell lookups).
-        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         for &k in order {
             cells.entry(key(old.pos[k])).or_default().push(k);
-            for c in 0..2 {
-                lo[c] = lo[c].min(old.pos[k][c] - reach_max);
-                hi[c] = hi[c].max(old.pos[k][c] + reach_max);
-            }
         }
         (0..pos.len())
             .into_par_iter()
@@ -189,9 +182,8 @@ impl Body {
                     }
                 }
                 // Children of split parents within reach (siblings included).
-                let inside = (0..2).all(|c| lo[c] <= x[c] && x[c] <= hi[c]);
                 let (cx, cy) = key(x);
-                for gx in (cx - 1..=cx + 1).filter(|_| inside) {
+                for gx in cx - 1..=cx + 1 {
                     for gy in cy - 1..=cy + 1 {
                         for &k in cells.get(&(gx, gy)).map_or(&[][..], |v| v.as_slice()) {
                             let Fate::Split(first) = fate[k] else {

@@ -297,14 +297,11 @@ impl FrozenSolver {
         info: &mut SolveInfo,
     ) -> Result<Solved, PdError> {
         let Some(newton) = self.newton.as_mut() else {
-            return equilibrate_adr(
-                model,
-                model.displacements().to_vec().as_slice(),
-                self.fallbacks.adr_tol,
-                self.fallbacks.adr_max_iters,
-                info,
-            )
-            .map(Solved::Adr);
+            // `equilibrate` gives a solver without Newton to ADR before it gets here.
+            return Err(PdError::LinearSolve {
+                dofs: 0,
+                reason: "no tangent: its pattern or factor is over the memory budget".into(),
+            });
         };
         match newton.equilibrate(model, params, info) {
             Ok((iters, _)) => Ok(Solved::Newton(iters)),

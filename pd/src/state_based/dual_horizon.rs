@@ -361,34 +361,25 @@ pub fn bonds_from_rows(
     delta: &[f64],
     rows: &[Vec<u32>],
 ) -> Bonds {
-    let mut offsets = Vec::with_capacity(rows.len() + 1);
-    offsets.push(0);
-    for row in rows {
-        offsets.push(offsets.last().copied().unwrap_or(0) + row.len());
-    }
-    // Per bond (xi, 1 / |xi|, V'_kj), rows in parallel, in row order.
-    let per_bond: Vec<(P2, f64, f64)> = rows
-        .par_iter()
-        .enumerate()
-        .flat_map_iter(|(k, row)| {
-            row.iter().map(move |&j| {
-                let j = j as usize;
-                let xi = [pos[j][0] - pos[k][0], pos[j][1] - pos[k][1]];
-                let l = xi[0].hypot(xi[1]);
-                (xi, 1.0 / l, partial_volume(l, delta[k], dx[j]) * volume[j])
-            })
-        })
-        .collect();
-    let nb = per_bond.len();
-    Bonds {
-        offsets,
-        nbr: rows.concat(),
-        xi: per_bond.iter().map(|p| p.0).collect(),
-        inv_len: per_bond.iter().map(|p| p.1).collect(),
-        vol_factor: per_bond.iter().map(|p| p.2).collect(),
-        meta: vec![crate::bonds::GROUP_END; nb],
-        surface: vec![1.0; nb],
-        k: vec![0.0; nb],
+    let mut b = Bonds {
+        offsets: vec![0],
         ..Default::default()
+    };
+    for (k, row) in rows.iter().enumerate() {
+        for &j in row {
+            let j = j as usize;
+            let xi = [pos[j][0] - pos[k][0], pos[j][1] - pos[k][1]];
+            let l = xi[0].hypot(xi[1]);
+            b.nbr.push(j as u32);
+            b.xi.push(xi);
+            b.inv_len.push(1.0 / l);
+            b.vol_factor
+                .push(partial_volume(l, delta[k], dx[j]) * volume[j]);
+            b.meta.push(crate::bonds::GROUP_END);
+        }
+        b.offsets.push(b.nbr.len());
     }
+    b.surface = vec![1.0; b.nbr.len()];
+    b.k = vec![0.0; b.nbr.len()];
+    b
 }

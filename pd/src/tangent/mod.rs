@@ -309,15 +309,7 @@ impl Tangent {
     /// Entries the Cholesky factor of this pattern will store, from its symbolic analysis
     /// alone ([`PdError::TooLarge`] over `budget` bytes); nothing numeric is allocated.
     pub fn factor_entries_within(&self, budget: u64) -> Result<usize, PdError> {
-        match &self.llt {
-            Some(f) => check_budget(
-                "the sparse Cholesky factor",
-                8.0 * f.factor_len() as f64,
-                budget,
-            )
-            .map(|_| f.factor_len()),
-            None => cholesky::symbolic_within(self.symbolic.as_ref(), budget).map(|s| s.len_val()),
-        }
+        cholesky::symbolic_within(self.symbolic.as_ref(), budget).map(|s| s.len_val())
     }
 
     /// Stored entries of the Cholesky factor (after the first solve).
