@@ -163,53 +163,60 @@ impl Body {
 
     /// Damage of every particle over its horizon and dual horizon (seed 004 Eq. 14).
     pub fn damage(&self) -> Vec<f64> {
-        let dh = &self.dh;
-        let vol = &dh.volume;
-        let owner = dh.owners();
         (0..self.len())
             .into_par_iter()
-            .map(|k| {
-                let (mut kept, mut all) = (0.0, 0.0);
-                for b in dh.bonds.row(k) {
-                    let v = vol[dh.bonds.nbr[b] as usize];
-                    all += v;
-                    kept += f64::from(dh.intact[b]) * v;
-                }
-                for &b in &dh.dual[dh.dual_offsets[k]..dh.dual_offsets[k + 1]] {
-                    let v = vol[owner[b as usize] as usize];
-                    all += v;
-                    kept += f64::from(dh.intact[b as usize]) * v;
-                }
-                if all > 0.0 {
-                    1.0 - kept / all
-                } else {
-                    0.0
-                }
-            })
+            .map(|k| self.damage_of(k))
             .collect()
+    }
+
+    /// Damage of particle `k` ([`Self::damage`]): the broken share of the volume of its
+    /// horizon and dual horizon.
+    pub fn damage_of(&self, k: usize) -> f64 {
+        let dh = &self.dh;
+        let vol = &dh.volume;
+        let (mut kept, mut all) = (0.0, 0.0);
+        for b in dh.bonds.row(k) {
+            let v = vol[dh.bonds.nbr[b] as usize];
+            all += v;
+            kept += f64::from(dh.intact[b]) * v;
+        }
+        let duals = dh.dual_offsets[k]..dh.dual_offsets[k + 1];
+        for (&b, &o) in dh.dual[duals.clone()].iter().zip(&dh.dual_owner[duals]) {
+            let v = vol[o as usize];
+            all += v;
+            kept += f64::from(dh.intact[b as usize]) * v;
+        }
+        if all > 0.0 {
+            1.0 - kept / all
+        } else {
+            0.0
+        }
     }
 
     /// Accumulated strains `(eps_xx, eps_yy)` of every particle (seed 004 Eq. 17 in the
     /// bond-projected reading of the module docs).
     pub fn accumulated_strain(&self) -> Vec<P2> {
-        let dh = &self.dh;
-        let u = &self.u;
         (0..self.len())
             .into_par_iter()
-            .map(|k| {
-                let (mut num, mut den) = ([0.0; 2], [0.0; 2]);
-                for b in dh.bonds.row(k).filter(|&b| dh.intact[b] != 0) {
-                    let j = dh.bonds.nbr[b] as usize;
-                    let xi = dh.bonds.xi[b];
-                    let w = dh.volume[j] * dh.bonds.inv_len[b] * dh.bonds.inv_len[b];
-                    for c in 0..2 {
-                        num[c] += w * (u[j][c] - u[k][c]) * xi[c];
-                        den[c] += w * xi[c] * xi[c];
-                    }
-                }
-                std::array::from_fn(|c| if den[c] > 0.0 { num[c] / den[c] } else { 0.0 })
-            })
+            .map(|k| self.accumulated_strain_of(k))
             .collect()
+    }
+
+    /// Accumulated strains of particle `k` ([`Self::accumulated_strain`]).
+    pub fn accumulated_strain_of(&self, k: usize) -> P2 {
+        let dh = &self.dh;
+        let u = &self.u;
+        let (mut num, mut den) = ([0.0; 2], [0.0; 2]);
+        for b in dh.bonds.row(k).filter(|&b| dh.intact[b] != 0) {
+            let j = dh.bonds.nbr[b] as usize;
+            let xi = dh.bonds.xi[b];
+            let w = dh.volume[j] * dh.bonds.inv_len[b] * dh.bonds.inv_len[b];
+            for c in 0..2 {
+                num[c] += w * (u[j][c] - u[k][c]) * xi[c];
+                den[c] += w * xi[c] * xi[c];
+            }
+        }
+        std::array::from_fn(|c| if den[c] > 0.0 { num[c] / den[c] } else { 0.0 })
     }
 }
 

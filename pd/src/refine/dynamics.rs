@@ -52,6 +52,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 pub use super::pass::{critical_time_step, forces_breaking};
+use super::pass::{forces_breaking_into, PassBuffers};
 use super::run::flagged;
 use super::{Body, Refinement};
 use crate::dynamics::crack::CrackTracker;
@@ -125,21 +126,30 @@ struct State {
     held_work: f64,
     /// Forces (N) at the current state.
     f: Vec<P2>,
-    owner: Vec<u32>,
+    /// The force pass's buffers.
+    buf: PassBuffers,
     sc: Option<Vec<f64>>,
     rho: f64,
     load: f64,
 }
 
 impl State {
-    fn caches(body: &Body) -> (Vec<u32>, Option<Vec<f64>>) {
-        let sc = (0..body.len())
+    fn critical_stretches(body: &Body) -> Option<Vec<f64>> {
+        (0..body.len())
             .map(|k| body.critical_stretch(k))
-            .collect::<Option<Vec<f64>>>();
-        (body.dh.owners(), sc)
+            .collect::<Option<Vec<f64>>>()
     }
 
-    fn accelerate(&mut self, body: &Body, f: &[P2]) {
+    /// Forces at `body.u` into `self.f` after breaking (`breaking`) the bonds past their
+    /// owners' critical stretches; returns the directed bonds broken.
+    fn update_forces(&mut self, body: &mut Body, breaking: bool) -> usize {
+        let sc = if breaking { self.sc.as_deref() } else { None };
+        forces_breaking_into(&mut body.dh, &body.u, sc, &mut self.buf, &mut self.f)
+    }
+
+    /// Accelerations at the forces `self.f`.
+    fn accelerate(&mut self, body: &Body) {
+        let f = &self.f;
         for (k, a) in self.a.iter_mut().enumerate() {
             let m = self.rho * body.dh.volume[k];
             for c in 0..2 {
@@ -167,11 +177,10 @@ impl State {
             u[0] += dt * v[0];
             u[1] += dt * v[1];
         }
-        let (f, broken) = forces_breaking(&mut body.dh, &self.owner, &body.u, self.sc.as_deref());
-        self.accelerate(body, &f);
+        let broken = self.update_forces(body, true);
+        self.accelerate(body);
         self.half_kick(dt);
-        self.held_work += 0.5 * dt * (p0 + self.held_power(body, &f));
-        self.f = f;
+        self.held_work += 0.5 * dt * (p0 + self.held_power(body, &self.f));
         broken
     }
 
@@ -205,17 +214,13 @@ impl State {
         for &k in parents {
             is_parent[k] = true;
         }
-        let mut v: Vec<P2> = (0..body.len())
-            .filter(|&k| !is_parent[k])
-            .map(|k| self.v[k])
-            .collect();
-        let mut held: Vec<[bool; 2]> = (0..body.len())
-            .filter(|&k| !is_parent[k])
-            .map(|k| self.held[k])
-            .collect();
-        for &k in parents {
-            v.extend([self.v[k]; 4]);
-            held.extend([self.held[k]; 4]);
+        // As `Body::split` orders them: a parent's four children in its place.
+        let mut v: Vec<P2> = Vec::with_capacity(body.len() + 3 * parents.len());
+        let mut held: Vec<[bool; 2]> = Vec::with_capacity(v.capacity());
+        for k in 0..body.len() {
+            let copies = if is_parent[k] { 4 } else { 1 };
+            v.extend(std::iter::repeat_n(self.v[k], copies));
+            held.extend(std::iter::repeat_n(self.held[k], copies));
         }
         let split = body.split(parents)?;
         for (u, (f, b)) in body.u.iter_mut().zip(body.fixed.iter().zip(&body.base)) {
@@ -228,11 +233,10 @@ impl State {
         self.v = v;
         self.held = held;
         self.a = vec![[0.0; 2]; body.len()];
-        (self.owner, self.sc) = Self::caches(body);
+        self.sc = Self::critical_stretches(body);
         // Bonds born past their critical stretch start broken (part of the split).
-        let (f, _) = forces_breaking(&mut body.dh, &self.owner, &body.u, self.sc.as_deref());
-        self.accelerate(body, &f);
-        self.f = f;
+        self.update_forces(body, true);
+        self.accelerate(body);
         Ok(split)
     }
 }
@@ -327,7 +331,7 @@ pub fn run_dynamic(
             };
         }
     }
-    let (owner, sc) = State::caches(&body);
+    let sc = State::critical_stretches(&body);
     let fixed = body.fixed.clone();
     let delta_max = body.dh.delta.iter().fold(0.0f64, |a, &b| a.max(b));
     let (v, held) = region_velocities(&ex.velocities, body.positions(), &fixed, delta_max)?;
@@ -337,14 +341,13 @@ pub fn run_dynamic(
         held,
         held_work: 0.0,
         f: Vec::new(),
-        owner,
+        buf: PassBuffers::default(),
         sc,
         rho: ex.density,
         load: ex.load,
     };
-    let (f, _) = forces_breaking(&mut body.dh, &st.owner, &body.u, None);
-    st.accelerate(&body, &f);
-    st.f = f;
+    st.update_forces(&mut body, false);
+    st.accelerate(&body);
     let (dx0, delta0) = (
         body.size.iter().fold(0.0f64, |a, &b| a.max(b)),
         body.dh.delta.iter().fold(0.0f64, |a, &b| a.max(b)),

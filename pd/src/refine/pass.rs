@@ -5,8 +5,12 @@
 use rayon::prelude::*;
 
 use super::Body;
+use crate::forces::RowPtr;
 use crate::geometry::P2;
 use crate::state_based::dual_horizon::DualHorizon;
+
+/// Particles per parallel task of the force pass.
+const PAR_MIN_PARTICLES: usize = 512;
 
 /// The Gershgorin stable step $\min_k\sqrt{4\rho V_k/R_k}$ of `body` (module docs) over
 /// the particles with a free component (s); infinite when none moves.
@@ -63,84 +67,104 @@ pub fn critical_time_step(body: &Body, density: f64) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
+/// Reusable per-bond buffers of [`forces_breaking_into`] (no allocation per step).
+#[derive(Clone, Debug, Default)]
+pub struct PassBuffers {
+    /// Stretch of every directed bond.
+    stretch: Vec<f64>,
+    /// Deformed bond vector, then the force of the bond on its owner (N).
+    fb: Vec<P2>,
+}
+
 /// Forces (N) of seed 004 Eq. 13 at `u` after breaking every intact bond whose stretch
 /// passes its owner's critical stretch `sc` (`None`: no breaking); returns the forces and
 /// the directed bonds broken. Equals [`DualHorizon::forces`] of the updated flags.
-pub fn forces_breaking(
+pub fn forces_breaking(dh: &mut DualHorizon, u: &[P2], sc: Option<&[f64]>) -> (Vec<P2>, usize) {
+    let mut f = Vec::new();
+    let broken = forces_breaking_into(dh, u, sc, &mut PassBuffers::default(), &mut f);
+    (f, broken)
+}
+
+/// [`forces_breaking`] into `f` with the buffers `buf`, in two sweeps over the particles.
+///
+/// Sweep 1, particle $k$ alone (its own row of directed bonds): the stretch of each
+/// bond, the breaking against $s_c(\delta_k)$, the dilatation $\theta_k$, then the force
+/// of each bond on its owner, $\tau_b V_k V'_b\,y_b/|y_b|$. Sweep 2: the force on $n$ is
+/// its own bonds' sum minus the sum over the bonds of its dual horizon (Eq. 13).
+pub fn forces_breaking_into(
     dh: &mut DualHorizon,
-    owner: &[u32],
     u: &[P2],
     sc: Option<&[f64]>,
-) -> (Vec<P2>, usize) {
-    let bonds = &dh.bonds;
-    let y = |b: usize| {
-        let (k, j) = (owner[b] as usize, bonds.nbr[b] as usize);
-        [
-            bonds.xi[b][0] + u[j][0] - u[k][0],
-            bonds.xi[b][1] + u[j][1] - u[k][1],
-        ]
-    };
-    let stretch: Vec<f64> = (0..bonds.len())
-        .into_par_iter()
-        .map(|b| {
-            let yb = y(b);
-            yb[0].hypot(yb[1]) * bonds.inv_len[b] - 1.0
-        })
-        .collect();
-    let broken = match sc {
-        Some(sc) => dh
-            .intact
-            .par_iter_mut()
-            .enumerate()
-            .map(|(b, f)| {
-                if *f != 0 && stretch[b] > sc[owner[b] as usize] {
-                    *f = 0;
-                    1
-                } else {
-                    0
-                }
-            })
-            .sum(),
-        None => 0,
-    };
+    buf: &mut PassBuffers,
+    f: &mut Vec<P2>,
+) -> usize {
+    let nb = dh.bonds.len();
+    buf.stretch.resize(nb, 0.0);
+    buf.fb.resize(nb, [0.0; 2]);
+    let intact = RowPtr(dh.intact.as_mut_ptr());
+    let stretch = RowPtr(buf.stretch.as_mut_ptr());
+    let fb = RowPtr(buf.fb.as_mut_ptr());
     let dh = &*dh;
-    let theta: Vec<f64> = (0..dh.pos.len())
+    let bonds = &dh.bonds;
+    let broken: usize = (0..dh.pos.len())
         .into_par_iter()
+        .with_min_len(PAR_MIN_PARTICLES)
         .map(|k| {
-            bonds
-                .row(k)
-                .map(|b| f64::from(dh.intact[b]) * dh.omega[b] * stretch[b] * bonds.vol_factor[b])
-                .sum()
+            let (ip, sp, fp) = (&intact, &stretch, &fb);
+            let row = bonds.row(k);
+            // SAFETY: particle k touches only the slots of its own row of bonds, and rows
+            // are disjoint.
+            let (flags, s, yb) = unsafe {
+                (
+                    std::slice::from_raw_parts_mut(ip.0.add(row.start), row.len()),
+                    std::slice::from_raw_parts_mut(sp.0.add(row.start), row.len()),
+                    std::slice::from_raw_parts_mut(fp.0.add(row.start), row.len()),
+                )
+            };
+            let limit = sc.map_or(f64::INFINITY, |sc| sc[k]);
+            let mut broken = 0;
+            let mut theta = 0.0;
+            for (i, b) in row.clone().enumerate() {
+                let j = bonds.nbr[b] as usize;
+                let y = [
+                    bonds.xi[b][0] + u[j][0] - u[k][0],
+                    bonds.xi[b][1] + u[j][1] - u[k][1],
+                ];
+                let sb = (y[0] * y[0] + y[1] * y[1]).sqrt() * bonds.inv_len[b] - 1.0;
+                if flags[i] != 0 && sb > limit {
+                    flags[i] = 0;
+                    broken += 1;
+                }
+                theta += f64::from(flags[i]) * dh.omega[b] * sb * bonds.vol_factor[b];
+                s[i] = sb;
+                yb[i] = y;
+            }
+            for (i, b) in row.enumerate() {
+                let l = (1.0 + s[i]) / bonds.inv_len[b];
+                let tau = f64::from(flags[i])
+                    * (2.0 * dh.a[k] * dh.omega[b] * theta * bonds.inv_len[b] + dh.beta[b] * s[i]);
+                let c = tau * dh.volume[k] * bonds.vol_factor[b] / l;
+                yb[i] = [c * yb[i][0], c * yb[i][1]];
+            }
+            broken
         })
-        .collect();
-    let coef: Vec<f64> = (0..bonds.len())
-        .into_par_iter()
-        .map(|b| {
-            let k = owner[b] as usize;
-            let l = (1.0 + stretch[b]) / bonds.inv_len[b];
-            let tau = f64::from(dh.intact[b])
-                * (2.0 * dh.a[k] * dh.omega[b] * theta[k] * bonds.inv_len[b]
-                    + dh.beta[b] * stretch[b]);
-            tau * dh.volume[k] * bonds.vol_factor[b] / l
-        })
-        .collect();
-    let f = (0..dh.pos.len())
-        .into_par_iter()
-        .map(|n| {
-            let mut f = [0.0; 2];
+        .sum();
+    let fb = &buf.fb;
+    f.resize(dh.pos.len(), [0.0; 2]);
+    f.par_iter_mut()
+        .enumerate()
+        .with_min_len(PAR_MIN_PARTICLES)
+        .for_each(|(n, fn_)| {
+            let mut s = [0.0; 2];
             for b in bonds.row(n) {
-                let yb = y(b);
-                f[0] += coef[b] * yb[0];
-                f[1] += coef[b] * yb[1];
+                s[0] += fb[b][0];
+                s[1] += fb[b][1];
             }
             for &b in &dh.dual[dh.dual_offsets[n]..dh.dual_offsets[n + 1]] {
-                let b = b as usize;
-                let yb = y(b);
-                f[0] -= coef[b] * yb[0];
-                f[1] -= coef[b] * yb[1];
+                s[0] -= fb[b as usize][0];
+                s[1] -= fb[b as usize][1];
             }
-            f
-        })
-        .collect();
-    (f, broken)
+            *fn_ = s;
+        });
+    broken
 }

@@ -3,6 +3,8 @@
 
 use std::time::Instant;
 
+use rayon::prelude::*;
+
 use super::{linear, Body, Refinement};
 use crate::error::PdError;
 use crate::problem::PdProblem;
@@ -36,27 +38,34 @@ pub struct RefinedRun {
 
 /// The particles the criteria select: level below `max_level` and in a static region
 /// below the region's level (`with_regions`), damaged beyond `phi_c` (Eq. 15) or
-/// strained beyond `alpha s_c` (Eq. 16, `with_strain`).
+/// strained beyond `alpha s_c` (Eq. 16, `with_strain`). Each particle is tested on its
+/// own, cheapest test first (a particle at `max_level` costs nothing).
 pub fn flagged(body: &Body, r: &Refinement, with_regions: bool, with_strain: bool) -> Vec<usize> {
-    let phi = r.critical_damage.map(|_| body.damage());
-    let eps = (with_strain && r.strain_factor.is_some()).then(|| body.accumulated_strain());
     let delta_ref = body.dh.delta.iter().fold(0.0f64, |a, &b| a.max(b));
-    (0..body.len())
-        .filter(|&k| body.level[k] < r.max_level)
-        .filter(|&k| {
-            let x = body.dh.pos[k];
-            let region = with_regions
-                && r.regions
-                    .iter()
-                    .enumerate()
-                    .any(|(i, s)| body.level[k] < r.region_level(i) && s.contains(x, delta_ref));
-            let damaged = matches!((&phi, r.critical_damage), (Some(p), Some(c)) if p[k] > c);
-            let strained = match (&eps, r.strain_factor, body.critical_stretch(k)) {
-                (Some(e), Some(a), Some(sc)) => e[k][0].min(e[k][1]) > a * sc,
+    let strain = if with_strain { r.strain_factor } else { None };
+    let selected = |k: usize| {
+        if body.level[k] >= r.max_level {
+            return false;
+        }
+        let x = body.dh.pos[k];
+        let region = with_regions
+            && r.regions
+                .iter()
+                .enumerate()
+                .any(|(i, s)| body.level[k] < r.region_level(i) && s.contains(x, delta_ref));
+        region
+            || r.critical_damage.is_some_and(|c| body.damage_of(k) > c)
+            || match (strain, body.critical_stretch(k)) {
+                (Some(a), Some(sc)) => {
+                    let e = body.accumulated_strain_of(k);
+                    e[0].min(e[1]) > a * sc
+                }
                 _ => false,
-            };
-            region || damaged || strained
-        })
+            }
+    };
+    (0..body.len())
+        .into_par_iter()
+        .filter(|&k| selected(k))
         .collect()
 }
 

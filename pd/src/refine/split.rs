@@ -1,14 +1,15 @@
 //! Splitting parents into four children (seed 004 Eqs. 18-19, 30) and the neighbour
 //! lists of the refined body from the old ones (Eqs. 20-23), see [`super`].
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use rayon::prelude::*;
 
 use super::Body;
+use crate::bonds::Bonds;
 use crate::error::PdError;
 use crate::geometry::{segment_crosses_crack, P2};
-use crate::state_based::dual_horizon::{bonds_from_rows, family_rows, DualHorizon, Reuse};
+use crate::state_based::dual_horizon::{family_rows, finish_bonds, push_bond, DualHorizon, Reuse};
 
 /// Quadrant signs `(xi, eta)` of the four children.
 const SIGNS: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [-1.0, 1.0], [1.0, 1.0]];
@@ -21,8 +22,9 @@ enum Fate {
 
 impl Body {
     /// Split the particles `parents` (old indices; repeats ignored) into four children
-    /// each. Kept particles come first in their old order, then the children, four per
-    /// parent in the order of `parents`. The children and the kept particles whose family
+    /// each. The particles keep their old order, each parent's four children taking its
+    /// place (quadrants in the order of `SIGNS`), so that a particle's neighbours stay
+    /// near it in the arrays (the force pass's memory locality). The children and the kept particles whose family
     /// changed (a member split, a child within reach) get constants fitted to their new
     /// family and its current bond flags; every other particle keeps its constants, as
     /// the uniform model keeps them while bonds break. Returns the number of particles
@@ -41,26 +43,25 @@ impl Body {
             return Ok(0);
         }
         let eps = self.accumulated_strain();
-        let kept = n - order.len();
+        // New indices in the old order, a parent's four children in its place (memory
+        // locality: a particle's neighbours stay near it in the arrays).
+        let n_new = n + 3 * order.len();
         let mut fate: Vec<Fate> = Vec::with_capacity(n);
-        let mut next = 0u32;
-        for &p in &is_parent {
-            fate.push(if p {
-                Fate::Split(0)
-            } else {
-                next += 1;
-                Fate::Kept(next - 1)
-            });
-        }
-        for (c, &k) in order.iter().enumerate() {
-            fate[k] = Fate::Split((kept + 4 * c) as u32);
-        }
-        // Old index of every new particle's ancestor (itself when kept).
-        let mut ancestor: Vec<usize> = (0..n).filter(|&i| !is_parent[i]).collect();
-        let mut pos: Vec<P2> = ancestor.iter().map(|&i| self.dh.pos[i]).collect();
-        let mut size: Vec<f64> = ancestor.iter().map(|&i| self.size[i]).collect();
-        let mut u: Vec<P2> = ancestor.iter().map(|&i| self.u[i]).collect();
-        for &k in &order {
+        let mut ancestor: Vec<usize> = Vec::with_capacity(n_new);
+        let mut pos: Vec<P2> = Vec::with_capacity(n_new);
+        let mut size: Vec<f64> = Vec::with_capacity(n_new);
+        let mut u: Vec<P2> = Vec::with_capacity(n_new);
+        for k in 0..n {
+            let next = ancestor.len() as u32;
+            if !is_parent[k] {
+                fate.push(Fate::Kept(next));
+                ancestor.push(k);
+                pos.push(self.dh.pos[k]);
+                size.push(self.size[k]);
+                u.push(self.u[k]);
+                continue;
+            }
+            fate.push(Fate::Split(next));
             let (x, d, e) = (self.dh.pos[k], self.size[k], eps[k]);
             for s in SIGNS {
                 ancestor.push(k);
@@ -73,6 +74,8 @@ impl Body {
                 ]);
             }
         }
+        // Whether each new particle is a child.
+        let child: Vec<bool> = ancestor.iter().map(|&a| is_parent[a]).collect();
         let volume: Vec<f64> = size.iter().map(|d| d * d * self.thickness).collect();
         let delta: Vec<f64> = if self.keep_horizon {
             ancestor.iter().map(|&a| self.dh.delta[a]).collect()
@@ -81,13 +84,13 @@ impl Body {
         };
         // Children with their parent's horizon reach beyond the parent's family: a fresh
         // search then (Eqs. 20-22 hold for the halved horizon).
-        let rows = if self.keep_horizon {
-            family_rows(&pos, &delta)
+        let rows: Vec<Option<Vec<u32>>> = if self.keep_horizon {
+            family_rows(&pos, &delta).into_iter().map(Some).collect()
         } else {
-            self.new_rows(&order, &fate, &ancestor, &pos, &delta)
+            self.new_rows(&child, &order, &fate, &ancestor, &pos, &delta)
         };
-        let same = self.unchanged(&rows, &ancestor, kept, &fate);
-        let bonds = bonds_from_rows(&pos, &size, &volume, &delta, &rows);
+        let same = self.unchanged(&rows, &ancestor, &child, &fate);
+        let bonds = self.splice_bonds(&rows, &ancestor, &fate, (&pos, &size, &volume, &delta));
         let intact = self.new_flags(&bonds, &ancestor, &pos, &size, &same);
         let layer: Vec<bool> = ancestor.iter().map(|&a| self.layer[a]).collect();
         let bulk: Vec<Option<f64>> = layer
@@ -122,7 +125,7 @@ impl Body {
         self.level = ancestor
             .iter()
             .enumerate()
-            .map(|(i, &a)| self.level[a] + u8::from(i >= kept))
+            .map(|(i, &a)| self.level[a] + u8::from(child[i]))
             .collect();
         for (i, ui) in u.iter_mut().enumerate() {
             for c in 0..2 {
@@ -137,16 +140,74 @@ impl Body {
         Ok(order.len())
     }
 
+    /// The CSR families of the refined body's `rows`: a row `None` (an unchanged family)
+    /// is its ancestor's old row at the new indices with its old bond data; the others are
+    /// built as [`crate::state_based::dual_horizon::bonds_from_rows`] builds them. `geo`
+    /// is (positions, spacings, volumes, horizons) of the new particles.
+    fn splice_bonds(
+        &self,
+        rows: &[Option<Vec<u32>>],
+        ancestor: &[usize],
+        fate: &[Fate],
+        geo: (&[P2], &[f64], &[f64], &[f64]),
+    ) -> Bonds {
+        let (pos, size, volume, delta) = geo;
+        let old = &self.dh.bonds;
+        let n: usize = rows
+            .iter()
+            .zip(ancestor)
+            .map(|(r, &a)| r.as_ref().map_or(old.row(a).len(), Vec::len))
+            .sum();
+        let mut b = Bonds {
+            offsets: Vec::with_capacity(rows.len() + 1),
+            nbr: Vec::with_capacity(n),
+            xi: Vec::with_capacity(n),
+            inv_len: Vec::with_capacity(n),
+            vol_factor: Vec::with_capacity(n),
+            meta: Vec::with_capacity(n),
+            ..Default::default()
+        };
+        b.offsets.push(0);
+        for (i, row) in rows.iter().enumerate() {
+            match row {
+                Some(row) => {
+                    for &j in row {
+                        push_bond(&mut b, pos, size, volume, delta, i, j as usize);
+                    }
+                }
+                None => {
+                    let r = old.row(ancestor[i]);
+                    b.nbr
+                        .extend(old.nbr[r.clone()].iter().map(|&j| match fate[j as usize] {
+                            Fate::Kept(jn) => jn,
+                            Fate::Split(_) => {
+                                unreachable!("an unchanged family has no split member")
+                            }
+                        }));
+                    b.xi.extend_from_slice(&old.xi[r.clone()]);
+                    b.inv_len.extend_from_slice(&old.inv_len[r.clone()]);
+                    b.vol_factor.extend_from_slice(&old.vol_factor[r.clone()]);
+                    b.meta.extend_from_slice(&old.meta[r]);
+                }
+            }
+            b.offsets.push(b.nbr.len());
+        }
+        finish_bonds(&mut b);
+        b
+    }
+
     /// Neighbour lists of the refined body (new indices, sorted), from the old families
-    /// (Eqs. 20-23, module docs of [`super`]).
+    /// (Eqs. 20-23, module docs of [`super`]); `None` for a kept particle no child can
+    /// reach and whose family lost no member: its family is unchanged.
     fn new_rows(
         &self,
+        child: &[bool],
         order: &[usize],
         fate: &[Fate],
         ancestor: &[usize],
         pos: &[P2],
         delta: &[f64],
-    ) -> Vec<Vec<u32>> {
+    ) -> Vec<Option<Vec<u32>>> {
         let old = &self.dh;
         // Split parents by cell, cell size the largest reach delta + Delta / sqrt 2.
         let reach_max = delta.iter().fold(0.0f64, |a, &b| a.max(b))
@@ -161,11 +222,30 @@ impl Body {
         for &k in order {
             cells.entry(key(old.pos[k])).or_default().push(k);
         }
+        // Cells with a split parent in their 3 x 3 block: only their particles can reach
+        // a child.
+        let near_split: HashSet<(i64, i64)> = cells
+            .keys()
+            .flat_map(|&(cx, cy)| {
+                (cx - 1..=cx + 1).flat_map(move |gx| (cy - 1..=cy + 1).map(move |gy| (gx, gy)))
+            })
+            .collect();
         (0..pos.len())
             .into_par_iter()
             .map(|i| {
                 let a = ancestor[i];
                 let x = pos[i];
+                // A kept particle no child can reach and whose family lost no member
+                // keeps its family (its members keep their positions and horizons).
+                if !child[i]
+                    && !near_split.contains(&key(x))
+                    && old
+                        .bonds
+                        .row(a)
+                        .all(|b| matches!(fate[old.bonds.nbr[b] as usize], Fate::Kept(_)))
+                {
+                    return None;
+                }
                 let r2 = (delta[i] * (1.0 + 1e-9)).powi(2);
                 let near = |q: P2| {
                     let d = [q[0] - x[0], q[1] - x[1]];
@@ -199,7 +279,7 @@ impl Body {
                 }
                 row.sort_unstable();
                 row.dedup();
-                row
+                Some(row)
             })
             .collect()
     }
@@ -210,9 +290,9 @@ impl Body {
     /// the old ones.
     fn unchanged(
         &self,
-        rows: &[Vec<u32>],
+        rows: &[Option<Vec<u32>>],
         ancestor: &[usize],
-        kept: usize,
+        child: &[bool],
         fate: &[Fate],
     ) -> Vec<Option<usize>> {
         let old = &self.dh.bonds;
@@ -220,11 +300,13 @@ impl Body {
             .into_par_iter()
             .map(|i| {
                 let a = ancestor[i];
-                let same = i < kept
-                    && rows[i].len() == old.row(a).len()
-                    && old.row(a).zip(&rows[i]).all(
-                        |(b, &jn)| matches!(fate[old.nbr[b] as usize], Fate::Kept(k) if k == jn),
-                    );
+                let same = !child[i]
+                    && rows[i].as_ref().is_none_or(|row| {
+                        row.len() == old.row(a).len()
+                            && old.row(a).zip(row).all(|(b, &jn)| {
+                                matches!(fate[old.nbr[b] as usize], Fate::Kept(k) if k == jn)
+                            })
+                    });
                 same.then_some(a)
             })
             .collect()

@@ -97,8 +97,8 @@ fn split_conserves_volume_and_load_and_tiles_the_parent() {
             "{f1:?} {f0:?}"
         );
     }
-    // The first parent's children: the centres of its cell's quadrants.
-    let kids = &b.dh.pos[n0 - top.len()..n0 - top.len() + 4];
+    // The first parent's children, in its place: the centres of its cell's quadrants.
+    let kids = &b.dh.pos[top[0]..top[0] + 4];
     let mut c = [0.0; 2];
     for k in kids {
         assert!((k[0] - parent[0]).abs() == 0.25 && (k[1] - parent[1]).abs() == 0.25);
@@ -116,9 +116,10 @@ fn children_take_the_parents_homogeneous_strain() {
     let mid: Vec<usize> = (0..b.len())
         .filter(|&k| (b.dh.pos[k][0] - 12.0).abs() < 2.0 && (b.dh.pos[k][1] - 12.0).abs() < 2.0)
         .collect();
-    let n0 = b.len() - mid.len();
     b.split(&mid).unwrap();
-    for k in n0..b.len() {
+    let children: Vec<usize> = (0..b.len()).filter(|&k| b.level[k] == 1).collect();
+    assert_eq!(children.len(), 4 * mid.len());
+    for k in children {
         let e = exact(b.dh.pos[k]);
         // Only the normal strains enter Eq. 18: the shear part of the children's offset is
         // EPS[2] * Delta / 4.
@@ -360,9 +361,10 @@ fn critical_stretch_scales_with_the_horizon_at_a_fixed_fracture_energy() {
         let mut b = Body::from_problem(&p).unwrap();
         b.keep_horizon = keep;
         b.split(&[0]).unwrap();
-        let child = b.len() - 1;
-        assert_eq!(b.level[child], 1);
-        assert!((b.critical_stretch(0).unwrap() - 1e-3).abs() < 1e-15);
+        // The children take particle 0's place; the old particle 1 is now 4.
+        let (child, base) = (3, 4);
+        assert_eq!((b.level[child], b.level[base]), (1, 0));
+        assert!((b.critical_stretch(base).unwrap() - 1e-3).abs() < 1e-15);
         let expected = if keep { 1e-3 } else { 1e-3 * 2f64.sqrt() };
         let got = b.critical_stretch(child).unwrap();
         assert!(
@@ -371,7 +373,7 @@ fn critical_stretch_scales_with_the_horizon_at_a_fixed_fracture_energy() {
         );
         // The fracture-energy law scales the same way between the two sizes.
         b.failure = crate::Failure::FractureEnergy { g_c: 10.0 };
-        let ratio = b.critical_stretch(child).unwrap() / b.critical_stretch(0).unwrap();
+        let ratio = b.critical_stretch(child).unwrap() / b.critical_stretch(base).unwrap();
         assert!(
             (ratio - expected / 1e-3).abs() < 1e-12,
             "keep {keep}: {ratio}"

@@ -59,6 +59,8 @@ pub struct DualHorizon {
     pub dual_offsets: Vec<usize>,
     /// Bond indices of the dual horizons.
     pub dual: Vec<u32>,
+    /// Owner of each bond of `dual` (the `k` of `dual[i] = k -> n`).
+    pub dual_owner: Vec<u32>,
     /// Dilatation weights `omega_b`.
     pub omega: Vec<f64>,
     /// Deviatoric weights `beta_b`.
@@ -193,9 +195,14 @@ impl DualHorizon {
         }
         let mut fill = count.clone();
         let mut dual = vec![0u32; nb];
-        for (b, &j) in bonds.nbr.iter().enumerate() {
-            dual[fill[j as usize]] = b as u32;
-            fill[j as usize] += 1;
+        let mut dual_owner = vec![0u32; nb];
+        for k in 0..n {
+            for b in bonds.row(k) {
+                let j = bonds.nbr[b] as usize;
+                dual[fill[j]] = b as u32;
+                dual_owner[fill[j]] = k as u32;
+                fill[j] += 1;
+            }
         }
         Some(DualHorizon {
             pos: pos.to_vec(),
@@ -204,6 +211,7 @@ impl DualHorizon {
             bonds,
             dual_offsets: count,
             dual,
+            dual_owner,
             omega,
             beta,
             a,
@@ -228,14 +236,17 @@ impl DualHorizon {
         o
     }
 
-    /// Stretch, current length and deformed vector of bond `b` of owner `k`.
+    /// Stretch, current length and deformed vector of bond `b` of owner `k`. The length
+    /// is $\sqrt{y_x^2 + y_y^2}$, not `hypot` (a library call that guards against an
+    /// overflow a bond vector cannot reach, and the largest cost of the explicit force
+    /// pass); [`crate::refine::dynamics::forces_breaking`] computes it the same way.
     fn stretch(&self, u: &[P2], k: usize, b: usize) -> (f64, f64, P2) {
         let j = self.bonds.nbr[b] as usize;
         let y = [
             self.bonds.xi[b][0] + u[j][0] - u[k][0],
             self.bonds.xi[b][1] + u[j][1] - u[k][1],
         ];
-        let l = y[0].hypot(y[1]);
+        let l = (y[0] * y[0] + y[1] * y[1]).sqrt();
         (l * self.bonds.inv_len[b] - 1.0, l, y)
     }
 
@@ -361,25 +372,50 @@ pub fn bonds_from_rows(
     delta: &[f64],
     rows: &[Vec<u32>],
 ) -> Bonds {
+    let n = rows.iter().map(Vec::len).sum();
     let mut b = Bonds {
-        offsets: vec![0],
+        offsets: Vec::with_capacity(rows.len() + 1),
+        nbr: Vec::with_capacity(n),
+        xi: Vec::with_capacity(n),
+        inv_len: Vec::with_capacity(n),
+        vol_factor: Vec::with_capacity(n),
+        meta: Vec::with_capacity(n),
         ..Default::default()
     };
+    b.offsets.push(0);
     for (k, row) in rows.iter().enumerate() {
         for &j in row {
-            let j = j as usize;
-            let xi = [pos[j][0] - pos[k][0], pos[j][1] - pos[k][1]];
-            let l = xi[0].hypot(xi[1]);
-            b.nbr.push(j as u32);
-            b.xi.push(xi);
-            b.inv_len.push(1.0 / l);
-            b.vol_factor
-                .push(partial_volume(l, delta[k], dx[j]) * volume[j]);
-            b.meta.push(crate::bonds::GROUP_END);
+            push_bond(&mut b, pos, dx, volume, delta, k, j as usize);
         }
         b.offsets.push(b.nbr.len());
     }
+    finish_bonds(&mut b);
+    b
+}
+
+/// Append the bond of owner `k` to `j` to the open row of `b` ([`bonds_from_rows`]).
+pub(crate) fn push_bond(
+    b: &mut Bonds,
+    pos: &[P2],
+    dx: &[f64],
+    volume: &[f64],
+    delta: &[f64],
+    k: usize,
+    j: usize,
+) {
+    let xi = [pos[j][0] - pos[k][0], pos[j][1] - pos[k][1]];
+    let l = xi[0].hypot(xi[1]);
+    b.nbr.push(j as u32);
+    b.xi.push(xi);
+    b.inv_len.push(1.0 / l);
+    b.vol_factor
+        .push(partial_volume(l, delta[k], dx[j]) * volume[j]);
+    b.meta.push(crate::bonds::GROUP_END);
+}
+
+/// The per-bond arrays a dual-horizon body does not use: unit surface factors, no
+/// bond constants.
+pub(crate) fn finish_bonds(b: &mut Bonds) {
     b.surface = vec![1.0; b.nbr.len()];
     b.k = vec![0.0; b.nbr.len()];
-    b
 }
