@@ -36,10 +36,17 @@ pub struct RefinedRun {
     pub rounds: Vec<Round>,
 }
 
+/// How far past `phi_c` a damage must be to pass Eq. 15. A damage is a ratio of lattice
+/// volumes, so it can equal `phi_c` exactly: after the first set-up split of the
+/// Kalthoff-Winkler plate four particles by its pre-cracks have damage 0.4 to within
+/// 4.4e-16, on either side of it as the order of the sums falls. A tie is not past
+/// `phi_c`, and this margin makes it so whatever the round-off.
+pub const DAMAGE_TIE: f64 = 1e-12;
+
 /// The particles the criteria select: level below `max_level` and in a static region
-/// below the region's level (`with_regions`), damaged beyond `phi_c` (Eq. 15) or
-/// strained beyond `alpha s_c` (Eq. 16, `with_strain`). Each particle is tested on its
-/// own, cheapest test first (a particle at `max_level` costs nothing).
+/// below the region's level (`with_regions`), damaged beyond `phi_c` (Eq. 15, by more than
+/// [`DAMAGE_TIE`]) or strained beyond `alpha s_c` (Eq. 16, `with_strain`). Each particle
+/// is tested on its own, cheapest test first (a particle at `max_level` costs nothing).
 pub fn flagged(body: &Body, r: &Refinement, with_regions: bool, with_strain: bool) -> Vec<usize> {
     let delta_ref = body.dh.delta.iter().fold(0.0f64, |a, &b| a.max(b));
     let strain = if with_strain { r.strain_factor } else { None };
@@ -54,7 +61,8 @@ pub fn flagged(body: &Body, r: &Refinement, with_regions: bool, with_strain: boo
                 .enumerate()
                 .any(|(i, s)| body.level[k] < r.region_level(i) && s.contains(x, delta_ref));
         region
-            || r.critical_damage.is_some_and(|c| body.damage_of(k) > c)
+            || r.critical_damage
+                .is_some_and(|c| body.damage_of(k) > c + DAMAGE_TIE)
             || match (strain, body.critical_stretch(k)) {
                 (Some(a), Some(sc)) => {
                     let e = body.accumulated_strain_of(k);
