@@ -32,8 +32,8 @@ fn coarse_grid_opening_is_within_the_seeds_coarse_error_of_irwin() {
 /// The adaptive column with the seed's procedure (`pdbem_pd::refine`): dual-horizon
 /// particles of dx = 1 mm, the particles whose damage exceeds phi_c = 0.4 at the
 /// pre-crack (Eq. 15) split into four (Eqs. 18-23) before the solve. The seed's adaptive
-/// errors are 1.06 % to 2.41 %; measured here: -0.28 % (a/L = 0.1, 5024 particles),
-/// +2.24 % (0.3, 5084), +1.74 % (0.5, 5144). Tolerance: the seed's worst adaptive error;
+/// errors are 1.06 % to 2.41 %; measured here: -0.04 % (a/L = 0.1, 5018 particles),
+/// +2.17 % (0.3, 5060), +1.71 % (0.5, 5102). Tolerance: the seed's worst adaptive error;
 /// and fewer particles than the fine grid's 20 000.
 #[test]
 fn adaptive_opening_is_within_the_seeds_adaptive_error_of_irwin() {
