@@ -9,7 +9,9 @@ use super::Body;
 use crate::bonds::Bonds;
 use crate::error::PdError;
 use crate::geometry::{segment_crosses_crack, P2};
-use crate::state_based::dual_horizon::{family_rows, finish_bonds, push_bond, DualHorizon, Reuse};
+use crate::state_based::dual_horizon::{
+    family_rows, finish_bonds, open_bonds, push_bond, DualHorizon, Reuse,
+};
 
 /// Quadrant signs `(xi, eta)` of the four children.
 const SIGNS: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [-1.0, 1.0], [1.0, 1.0]];
@@ -158,16 +160,7 @@ impl Body {
             .zip(ancestor)
             .map(|(r, &a)| r.as_ref().map_or(old.row(a).len(), Vec::len))
             .sum();
-        let mut b = Bonds {
-            offsets: Vec::with_capacity(rows.len() + 1),
-            nbr: Vec::with_capacity(n),
-            xi: Vec::with_capacity(n),
-            inv_len: Vec::with_capacity(n),
-            vol_factor: Vec::with_capacity(n),
-            meta: Vec::with_capacity(n),
-            ..Default::default()
-        };
-        b.offsets.push(0);
+        let mut b = open_bonds(rows.len(), n);
         for (i, row) in rows.iter().enumerate() {
             match row {
                 Some(row) => {

@@ -372,9 +372,22 @@ pub fn bonds_from_rows(
     delta: &[f64],
     rows: &[Vec<u32>],
 ) -> Bonds {
-    let n = rows.iter().map(Vec::len).sum();
+    let mut b = open_bonds(rows.len(), rows.iter().map(Vec::len).sum());
+    for (k, row) in rows.iter().enumerate() {
+        for &j in row {
+            push_bond(&mut b, pos, dx, volume, delta, k, j as usize);
+        }
+        b.offsets.push(b.nbr.len());
+    }
+    finish_bonds(&mut b);
+    b
+}
+
+/// Empty families for `rows` rows and `n` bonds, the first row open: fill each row with
+/// [`push_bond`], push its end to `offsets`, then [`finish_bonds`].
+pub(crate) fn open_bonds(rows: usize, n: usize) -> Bonds {
     let mut b = Bonds {
-        offsets: Vec::with_capacity(rows.len() + 1),
+        offsets: Vec::with_capacity(rows + 1),
         nbr: Vec::with_capacity(n),
         xi: Vec::with_capacity(n),
         inv_len: Vec::with_capacity(n),
@@ -383,13 +396,6 @@ pub fn bonds_from_rows(
         ..Default::default()
     };
     b.offsets.push(0);
-    for (k, row) in rows.iter().enumerate() {
-        for &j in row {
-            push_bond(&mut b, pos, dx, volume, delta, k, j as usize);
-        }
-        b.offsets.push(b.nbr.len());
-    }
-    finish_bonds(&mut b);
     b
 }
 
