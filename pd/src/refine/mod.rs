@@ -59,6 +59,8 @@
 
 pub mod bench;
 mod body;
+#[cfg(test)]
+mod criteria_tests;
 pub mod direct;
 #[cfg(test)]
 mod direct_tests;
