@@ -26,11 +26,11 @@ impl Body {
     /// Split the particles `parents` (old indices; repeats ignored) into four children
     /// each. The particles keep their old order, each parent's four children taking its
     /// place (quadrants in the order of `SIGNS`), so that a particle's neighbours stay
-    /// near it in the arrays (the force pass's memory locality). The children and the kept particles whose family
-    /// changed (a member split, a child within reach) get constants fitted to their new
-    /// family and its current bond flags; every other particle keeps its constants, as
-    /// the uniform model keeps them while bonds break. Returns the number of particles
-    /// split.
+    /// near it in the arrays (the force pass's memory locality). The children and the
+    /// kept particles whose family changed (a member split, a child within reach) get
+    /// constants fitted to their new family and its current bond flags; every other
+    /// particle keeps its constants, as the uniform model keeps them while bonds break.
+    /// Returns the number of particles split.
     pub fn split(&mut self, parents: &[usize]) -> Result<usize, PdError> {
         let n = self.len();
         let mut is_parent = vec![false; n];
