@@ -216,7 +216,7 @@ impl Body {
                 den[c] += w * xi[c] * xi[c];
             }
         }
-        std::array::from_fn(|c| if den[c] > 0.0 { num[c] / den[c] } else { 0.0 })
+        super::pass::strain_of(num, den)
     }
 }
 

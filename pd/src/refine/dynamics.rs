@@ -28,7 +28,11 @@
 //! **Refinement** every `check_every` steps (at a full step, after the velocity update):
 //! the particles the adaptive driver's criteria select (Eq. 15, $\varphi_k > \varphi_c$, and Eq. 16
 //! when [`Refinement::strain_factor`] is set; level below [`Refinement::max_level`]) split
-//! by [`Body::split`] (Eq. 18 placement, Eq. 30 masses $\rho V_k/4$); every child takes
+//! by [`Body::split`] (Eq. 18 placement, Eq. 30 masses $\rho V_k/4$). The damage and
+//! strains the criteria read are measured by the check step's own force pass
+//! ([`forces_measuring_into`], the numbers of [`Body::damage_of`] and
+//! [`Body::accumulated_strain_of`] to the last bit), so a check costs no pass of its own;
+//! a run without Eqs. 15-16 makes no checks. Every child takes
 //! its parent's velocity, so mass and momentum are conserved exactly. The accelerations are
 //! recomputed at the new state, and a bond of the refined body already past its owner's
 //! critical stretch starts broken: a bond between particles whose ancestors were not
@@ -51,9 +55,11 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-pub use super::pass::{critical_time_step, forces_breaking};
-use super::pass::{forces_breaking_into, PassBuffers};
-use super::run::flagged;
+pub use super::pass::{
+    critical_time_step, forces_breaking, forces_breaking_into, forces_measuring_into, Measures,
+    PassBuffers,
+};
+use super::run::{flagged, flagged_measured};
 use super::{Body, Refinement};
 use crate::dynamics::crack::CrackTracker;
 use crate::dynamics::{region_velocities, DynamicRecord, DynamicsInfo, ExplicitParams};
@@ -112,7 +118,8 @@ pub struct AdaptiveInfo {
     pub bonds: usize,
     /// Refinements (split events).
     pub refinements: usize,
-    /// Wall time of the criterion checks and splits (s).
+    /// Wall time of the criterion checks and splits (s); the measuring of the criteria's
+    /// inputs is part of the check steps' force passes, counted in the stepping.
     pub refine_s: f64,
 }
 
@@ -128,6 +135,8 @@ struct State {
     f: Vec<P2>,
     /// The force pass's buffers.
     buf: PassBuffers,
+    /// The criteria's inputs of the last measuring pass ([`Self::step`]).
+    measures: Measures,
     sc: Option<Vec<f64>>,
     rho: f64,
     load: f64,
@@ -141,10 +150,16 @@ impl State {
     }
 
     /// Forces at `body.u` into `self.f` after breaking (`breaking`) the bonds past their
-    /// owners' critical stretches; returns the directed bonds broken.
-    fn update_forces(&mut self, body: &mut Body, breaking: bool) -> usize {
+    /// owners' critical stretches, and the criteria's inputs into `self.measures` when
+    /// `measure`; returns the directed bonds broken.
+    fn update_forces(&mut self, body: &mut Body, breaking: bool, measure: bool) -> usize {
         let sc = if breaking { self.sc.as_deref() } else { None };
-        forces_breaking_into(&mut body.dh, &body.u, sc, &mut self.buf, &mut self.f)
+        let (dh, u, buf, f) = (&mut body.dh, &body.u, &mut self.buf, &mut self.f);
+        if measure {
+            forces_measuring_into(dh, u, sc, buf, f, &mut self.measures)
+        } else {
+            forces_breaking_into(dh, u, sc, buf, f)
+        }
     }
 
     /// Accelerations at the forces `self.f`.
@@ -169,15 +184,16 @@ impl State {
         }
     }
 
-    /// One velocity-Verlet step with bond breaking; returns the directed bonds broken.
-    fn step(&mut self, body: &mut Body, dt: f64) -> usize {
+    /// One velocity-Verlet step with bond breaking, measuring the criteria's inputs at
+    /// its end when `measure`; returns the directed bonds broken.
+    fn step(&mut self, body: &mut Body, dt: f64, measure: bool) -> usize {
         let p0 = self.held_power(body, &self.f);
         self.half_kick(dt);
         for (u, v) in body.u.iter_mut().zip(&self.v) {
             u[0] += dt * v[0];
             u[1] += dt * v[1];
         }
-        let broken = self.update_forces(body, true);
+        let broken = self.update_forces(body, true, measure);
         self.accelerate(body);
         self.half_kick(dt);
         self.held_work += 0.5 * dt * (p0 + self.held_power(body, &self.f));
@@ -235,7 +251,7 @@ impl State {
         self.a = vec![[0.0; 2]; body.len()];
         self.sc = Self::critical_stretches(body);
         // Bonds born past their critical stretch start broken (part of the split).
-        self.update_forces(body, true);
+        self.update_forces(body, true, false);
         self.accelerate(body);
         Ok(split)
     }
@@ -342,11 +358,12 @@ pub fn run_dynamic(
         held_work: 0.0,
         f: Vec::new(),
         buf: PassBuffers::default(),
+        measures: Measures::default(),
         sc,
         rho: ex.density,
         load: ex.load,
     };
-    st.update_forces(&mut body, false);
+    st.update_forces(&mut body, false, false);
     st.accelerate(&body);
     let (dx0, delta0) = (
         body.size.iter().fold(0.0f64, |a, &b| a.max(b)),
@@ -377,14 +394,17 @@ pub fn run_dynamic(
         .collect();
     snaps.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
     let mut next_snap = 0;
+    // Without Eq. 15 or 16 nothing splits during the run: no checks.
+    let criteria = r.critical_damage.is_some() || r.strain_factor.is_some();
     for step in 0..=steps {
+        let check = criteria && step > 0 && step % check_every == 0 && step != steps;
         if step > 0 {
-            st.step(&mut body, dt);
+            st.step(&mut body, dt, check);
         }
         let time = step as f64 * dt;
-        if step > 0 && step % check_every == 0 && step != steps {
+        if check {
             let t = Instant::now();
-            let parents = flagged(&body, r, false, true);
+            let parents = flagged_measured(&body, r, &st.measures);
             if !parents.is_empty() {
                 let before =
                     st.kinetic(&body) + body.dh.energy(&body.u) - external_work(&body, ex.load);

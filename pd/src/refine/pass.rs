@@ -74,6 +74,19 @@ pub struct PassBuffers {
     stretch: Vec<f64>,
     /// Deformed bond vector, then the force of the bond on its owner (N).
     fb: Vec<P2>,
+    /// Per particle, kept and total volume of its horizon (the first part of Eq. 14).
+    horizon: Vec<[f64; 2]>,
+}
+
+/// The refinement criteria's inputs at the state of a pass ([`forces_measuring_into`]):
+/// each particle's damage (seed 004 Eq. 14, as [`Body::damage_of`]) and accumulated
+/// strains (Eq. 17, as [`Body::accumulated_strain_of`]), to the last bit.
+#[derive(Clone, Debug, Default)]
+pub struct Measures {
+    /// Damage of every particle.
+    pub damage: Vec<f64>,
+    /// Accumulated strains `(eps_xx, eps_yy)` of every particle.
+    pub strain: Vec<P2>,
 }
 
 /// Forces (N) of seed 004 Eq. 13 at `u` after breaking every intact bond whose stretch
@@ -98,73 +111,162 @@ pub fn forces_breaking_into(
     buf: &mut PassBuffers,
     f: &mut Vec<P2>,
 ) -> usize {
+    pass::<false>(dh, u, sc, buf, f, &mut Measures::default())
+}
+
+/// [`forces_breaking_into`] that also measures the criteria's inputs after the breaking
+/// into `m`: the horizon's sums of Eqs. 14 and 17 in sweep 1, the dual horizon's share
+/// of Eq. 14 in sweep 2 (the refinement checks then cost no pass of their own).
+pub fn forces_measuring_into(
+    dh: &mut DualHorizon,
+    u: &[P2],
+    sc: Option<&[f64]>,
+    buf: &mut PassBuffers,
+    f: &mut Vec<P2>,
+    m: &mut Measures,
+) -> usize {
+    pass::<true>(dh, u, sc, buf, f, m)
+}
+
+/// Eq. 17 from a particle's bond sums: `num[c] / den[c]`, 0 where `den` is 0.
+pub(super) fn strain_of(num: P2, den: P2) -> P2 {
+    std::array::from_fn(|c| if den[c] > 0.0 { num[c] / den[c] } else { 0.0 })
+}
+
+/// The force pass, measuring ([`forces_measuring_into`]) when `MEASURE`.
+fn pass<const MEASURE: bool>(
+    dh: &mut DualHorizon,
+    u: &[P2],
+    sc: Option<&[f64]>,
+    buf: &mut PassBuffers,
+    f: &mut Vec<P2>,
+    m: &mut Measures,
+) -> usize {
     let nb = dh.bonds.len();
+    let n = dh.pos.len();
     buf.stretch.resize(nb, 0.0);
     buf.fb.resize(nb, [0.0; 2]);
+    if MEASURE {
+        buf.horizon.resize(n, [0.0; 2]);
+        m.strain.resize(n, [0.0; 2]);
+        m.damage.resize(n, 0.0);
+    }
     let intact = RowPtr(dh.intact.as_mut_ptr());
     let stretch = RowPtr(buf.stretch.as_mut_ptr());
     let fb = RowPtr(buf.fb.as_mut_ptr());
     let dh = &*dh;
     let bonds = &dh.bonds;
-    let broken: usize = (0..dh.pos.len())
-        .into_par_iter()
-        .with_min_len(PAR_MIN_PARTICLES)
-        .map(|k| {
-            let (ip, sp, fp) = (&intact, &stretch, &fb);
-            let row = bonds.row(k);
-            // SAFETY: particle k touches only the slots of its own row of bonds, and rows
-            // are disjoint.
-            let (flags, s, yb) = unsafe {
-                (
-                    std::slice::from_raw_parts_mut(ip.0.add(row.start), row.len()),
-                    std::slice::from_raw_parts_mut(sp.0.add(row.start), row.len()),
-                    std::slice::from_raw_parts_mut(fp.0.add(row.start), row.len()),
-                )
-            };
-            let limit = sc.map_or(f64::INFINITY, |sc| sc[k]);
-            let mut broken = 0;
-            let mut theta = 0.0;
-            for (i, b) in row.clone().enumerate() {
-                let j = bonds.nbr[b] as usize;
-                let y = [
-                    bonds.xi[b][0] + u[j][0] - u[k][0],
-                    bonds.xi[b][1] + u[j][1] - u[k][1],
-                ];
-                let sb = (y[0] * y[0] + y[1] * y[1]).sqrt() * bonds.inv_len[b] - 1.0;
-                if flags[i] != 0 && sb > limit {
-                    flags[i] = 0;
-                    broken += 1;
+    let vol = &dh.volume;
+    let sweep = |k: usize, out: Option<(&mut [f64; 2], &mut P2)>| -> usize {
+        let (ip, sp, fp) = (&intact, &stretch, &fb);
+        let row = bonds.row(k);
+        // SAFETY: particle k touches only the slots of its own row of bonds, and rows
+        // are disjoint.
+        let (flags, s, yb) = unsafe {
+            (
+                std::slice::from_raw_parts_mut(ip.0.add(row.start), row.len()),
+                std::slice::from_raw_parts_mut(sp.0.add(row.start), row.len()),
+                std::slice::from_raw_parts_mut(fp.0.add(row.start), row.len()),
+            )
+        };
+        let limit = sc.map_or(f64::INFINITY, |sc| sc[k]);
+        let mut broken = 0;
+        let mut theta = 0.0;
+        // Eq. 14 (kept, all) over the horizon and Eq. 17's sums, as `Body` forms them.
+        let (mut kept, mut all) = (0.0, 0.0);
+        let (mut num, mut den) = ([0.0; 2], [0.0; 2]);
+        for (i, b) in row.clone().enumerate() {
+            let j = bonds.nbr[b] as usize;
+            let y = [
+                bonds.xi[b][0] + u[j][0] - u[k][0],
+                bonds.xi[b][1] + u[j][1] - u[k][1],
+            ];
+            let sb = (y[0] * y[0] + y[1] * y[1]).sqrt() * bonds.inv_len[b] - 1.0;
+            if flags[i] != 0 && sb > limit {
+                flags[i] = 0;
+                broken += 1;
+            }
+            theta += f64::from(flags[i]) * dh.omega[b] * sb * bonds.vol_factor[b];
+            s[i] = sb;
+            yb[i] = y;
+            if MEASURE {
+                let v = vol[j];
+                all += v;
+                kept += f64::from(flags[i]) * v;
+                if flags[i] != 0 {
+                    let xi = bonds.xi[b];
+                    let w = v * bonds.inv_len[b] * bonds.inv_len[b];
+                    for c in 0..2 {
+                        num[c] += w * (u[j][c] - u[k][c]) * xi[c];
+                        den[c] += w * xi[c] * xi[c];
+                    }
                 }
-                theta += f64::from(flags[i]) * dh.omega[b] * sb * bonds.vol_factor[b];
-                s[i] = sb;
-                yb[i] = y;
             }
-            for (i, b) in row.enumerate() {
-                let l = (1.0 + s[i]) / bonds.inv_len[b];
-                let tau = f64::from(flags[i])
-                    * (2.0 * dh.a[k] * dh.omega[b] * theta * bonds.inv_len[b] + dh.beta[b] * s[i]);
-                let c = tau * dh.volume[k] * bonds.vol_factor[b] / l;
-                yb[i] = [c * yb[i][0], c * yb[i][1]];
-            }
-            broken
-        })
-        .sum();
+        }
+        for (i, b) in row.enumerate() {
+            let l = (1.0 + s[i]) / bonds.inv_len[b];
+            let tau = f64::from(flags[i])
+                * (2.0 * dh.a[k] * dh.omega[b] * theta * bonds.inv_len[b] + dh.beta[b] * s[i]);
+            let c = tau * dh.volume[k] * bonds.vol_factor[b] / l;
+            yb[i] = [c * yb[i][0], c * yb[i][1]];
+        }
+        if let Some((h, e)) = out {
+            *h = [kept, all];
+            *e = strain_of(num, den);
+        }
+        broken
+    };
+    let broken: usize = if MEASURE {
+        buf.horizon
+            .par_iter_mut()
+            .zip(m.strain.par_iter_mut())
+            .enumerate()
+            .with_min_len(PAR_MIN_PARTICLES)
+            .map(|(k, (h, e))| sweep(k, Some((h, e))))
+            .sum()
+    } else {
+        (0..n)
+            .into_par_iter()
+            .with_min_len(PAR_MIN_PARTICLES)
+            .map(|k| sweep(k, None))
+            .sum()
+    };
     let fb = &buf.fb;
-    f.resize(dh.pos.len(), [0.0; 2]);
-    f.par_iter_mut()
-        .enumerate()
-        .with_min_len(PAR_MIN_PARTICLES)
-        .for_each(|(n, fn_)| {
-            let mut s = [0.0; 2];
-            for b in bonds.row(n) {
-                s[0] += fb[b][0];
-                s[1] += fb[b][1];
-            }
-            for &b in &dh.dual[dh.dual_offsets[n]..dh.dual_offsets[n + 1]] {
-                s[0] -= fb[b as usize][0];
-                s[1] -= fb[b as usize][1];
-            }
-            *fn_ = s;
-        });
+    let gather = |n: usize| -> P2 {
+        let mut s = [0.0; 2];
+        for b in bonds.row(n) {
+            s[0] += fb[b][0];
+            s[1] += fb[b][1];
+        }
+        for &b in &dh.dual[dh.dual_offsets[n]..dh.dual_offsets[n + 1]] {
+            s[0] -= fb[b as usize][0];
+            s[1] -= fb[b as usize][1];
+        }
+        s
+    };
+    f.resize(n, [0.0; 2]);
+    if MEASURE {
+        let horizon = &buf.horizon;
+        f.par_iter_mut()
+            .zip(m.damage.par_iter_mut())
+            .enumerate()
+            .with_min_len(PAR_MIN_PARTICLES)
+            .for_each(|(n, (fn_, phi))| {
+                *fn_ = gather(n);
+                let [mut kept, mut all] = horizon[n];
+                let duals = dh.dual_offsets[n]..dh.dual_offsets[n + 1];
+                for (&b, &o) in dh.dual[duals.clone()].iter().zip(&dh.dual_owner[duals]) {
+                    let v = vol[o as usize];
+                    all += v;
+                    kept += f64::from(dh.intact[b as usize]) * v;
+                }
+                *phi = if all > 0.0 { 1.0 - kept / all } else { 0.0 };
+            });
+    } else {
+        f.par_iter_mut()
+            .enumerate()
+            .with_min_len(PAR_MIN_PARTICLES)
+            .for_each(|(n, fn_)| *fn_ = gather(n));
+    }
     broken
 }

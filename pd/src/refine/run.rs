@@ -5,8 +5,10 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
+use super::pass::Measures;
 use super::{linear, Body, Refinement};
 use crate::error::PdError;
+use crate::geometry::P2;
 use crate::problem::PdProblem;
 
 /// Conjugate-gradient iteration cap per solve.
@@ -48,8 +50,34 @@ pub const DAMAGE_TIE: f64 = 1e-12;
 /// [`DAMAGE_TIE`]) or strained beyond `alpha s_c` (Eq. 16, `with_strain`). Each particle
 /// is tested on its own, cheapest test first (a particle at `max_level` costs nothing).
 pub fn flagged(body: &Body, r: &Refinement, with_regions: bool, with_strain: bool) -> Vec<usize> {
+    select(
+        body,
+        r,
+        with_regions,
+        with_strain,
+        |k| body.damage_of(k),
+        |k| body.accumulated_strain_of(k),
+    )
+}
+
+/// [`flagged`] without static regions and with Eq. 16, from the damage and strains a
+/// force pass measured at the body's state ([`super::pass::forces_measuring_into`]).
+pub fn flagged_measured(body: &Body, r: &Refinement, m: &Measures) -> Vec<usize> {
+    select(body, r, false, true, |k| m.damage[k], |k| m.strain[k])
+}
+
+/// [`flagged`] with the damage and accumulated strain of each particle from `damage` and
+/// `strain`.
+fn select(
+    body: &Body,
+    r: &Refinement,
+    with_regions: bool,
+    with_strain: bool,
+    damage: impl Fn(usize) -> f64 + Sync,
+    strain: impl Fn(usize) -> P2 + Sync,
+) -> Vec<usize> {
     let delta_ref = body.dh.delta.iter().fold(0.0f64, |a, &b| a.max(b));
-    let strain = if with_strain { r.strain_factor } else { None };
+    let factor = if with_strain { r.strain_factor } else { None };
     let selected = |k: usize| {
         if body.level[k] >= r.max_level {
             return false;
@@ -62,10 +90,10 @@ pub fn flagged(body: &Body, r: &Refinement, with_regions: bool, with_strain: boo
                 .any(|(i, s)| body.level[k] < r.region_level(i) && s.contains(x, delta_ref));
         region
             || r.critical_damage
-                .is_some_and(|c| body.damage_of(k) > c + DAMAGE_TIE)
-            || match (strain, body.critical_stretch(k)) {
+                .is_some_and(|c| damage(k) > c + DAMAGE_TIE)
+            || match (factor, body.critical_stretch(k)) {
                 (Some(a), Some(sc)) => {
-                    let e = body.accumulated_strain_of(k);
+                    let e = strain(k);
                     e[0].min(e[1]) > a * sc
                 }
                 _ => false,
