@@ -44,7 +44,6 @@ impl Body {
         if order.is_empty() {
             return Ok(0);
         }
-        let eps = self.accumulated_strain();
         // New indices in the old order, a parent's four children in its place (memory
         // locality: a particle's neighbours stay near it in the arrays).
         let n_new = n + 3 * order.len();
@@ -64,7 +63,7 @@ impl Body {
                 continue;
             }
             fate.push(Fate::Split(next));
-            let (x, d, e) = (self.dh.pos[k], self.size[k], eps[k]);
+            let (x, d, e) = (self.dh.pos[k], self.size[k], self.accumulated_strain_of(k));
             for s in SIGNS {
                 ancestor.push(k);
                 pos.push([x[0] + 0.25 * d * s[0], x[1] + 0.25 * d * s[1]]);
