@@ -147,11 +147,26 @@ pub fn check(scene: &Scene) -> Result<()> {
             .sum::<f64>()
             .abs();
     let bonds_per_node = model.n_bonds() as f64 / model.n_nodes() as f64;
-    let bonds = area / (full.dx * full.dx) * bonds_per_node;
+    // With `pd.refinement`, the children of its static regions too (split before the
+    // first step).
+    let refined = scene
+        .pd
+        .as_ref()
+        .and_then(|pd| pd.refinement.as_ref())
+        .map_or(0.0, |r| {
+            let geo = crate::scene::shapes::SceneGeometry::of(scene);
+            crate::setup::refined_size::refined_children(r, &geo, full.dx, full.horizon_factor).1
+        });
+    let bonds = area / (full.dx * full.dx) * bonds_per_node + refined;
     let work = steps * bonds;
     if steps > dynamics::MAX_STEPS as f64 || work > dynamics::MAX_BOND_STEPS {
+        let refinement = if refined > 0.0 {
+            ", lower pd.refinement.max_level or shrink its regions"
+        } else {
+            ""
+        };
         bail!(
-            "{}: pd.solver.end_time = {} s takes {steps:.3e} steps of dt = {dt:.3e} s over about {bonds:.3e} directed bonds ({work:.3e} bond updates; limits {} steps, {:.0e} updates): shorten end_time, raise dt or coarsen pd.dx",
+            "{}: pd.solver.end_time = {} s takes {steps:.3e} steps of dt = {dt:.3e} s over about {bonds:.3e} directed bonds ({work:.3e} bond updates; limits {} steps, {:.0e} updates): shorten end_time, raise dt{refinement} or coarsen pd.dx",
             file.display(),
             p.end_time,
             dynamics::MAX_STEPS,

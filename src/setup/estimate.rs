@@ -13,6 +13,9 @@
 //!   (stand-alone PD, full-PD growth at the window spacing) or n x n per window plus the
 //!   fictitious layers; directed bonds ~ nodes pi m^2 (m = horizon factor), bytes
 //!   [`NODE_BYTES`] per node and [`BOND_BYTES`] per bond.
+//! - Stand-alone PD with `pd.refinement`: the children of its static regions
+//!   ([`super::refined_size`]), the whole body at the refined particles' bytes (the
+//!   splits of its criteria are checked by each split against the same budget).
 //!
 //! The budget defaults to half the machine's memory (`MemTotal` of `/proc/meminfo`,
 //! 8 GiB when it cannot be read); `--max-memory` overrides it ([`set_budget`]).
@@ -108,12 +111,15 @@ pub struct Estimate {
     pub pd_bonds: f64,
     /// What sets the PD grid.
     pub pd_driver: Option<Driver>,
+    /// Bytes a refined body (`pd.refinement`) holds beyond `NODE_BYTES` per node and
+    /// `BOND_BYTES` per bond ([`add_refined`]).
+    pub pd_refined_bytes: f64,
 }
 
 impl Estimate {
     /// PD bytes.
     pub fn pd_bytes(&self) -> f64 {
-        self.pd_nodes * NODE_BYTES + self.pd_bonds * BOND_BYTES
+        self.pd_nodes * NODE_BYTES + self.pd_bonds * BOND_BYTES + self.pd_refined_bytes
     }
 
     /// Total bytes.
@@ -210,6 +216,9 @@ pub fn of(scene: &Scene) -> Result<Estimate> {
                 };
                 let nodes = (w / dx + layers) * (h / dx + layers);
                 add_pd(&mut e, nodes, m, setting, advice);
+                if let Some(r) = &pd.refinement {
+                    add_refined(&mut e, r, &geo, dx, m);
+                }
             }
         }
         (Mode::Growth, Some(GrowthMode::FullPd), Some(co)) => {
@@ -314,8 +323,46 @@ fn add_pd(e: &mut Estimate, nodes: f64, m: f64, setting: String, advice: &str) {
     });
 }
 
+/// Adds [`super::refined_size::refined_children`] to `e`. The whole body is then refined
+/// particles, at [`pdbem_pd::refine::PARTICLE_BYTES`] and
+/// [`pdbem_pd::refine::BOND_BYTES`], and the last level's split holds the body before it
+/// (a quarter of the children) beside it.
+fn add_refined(
+    e: &mut Estimate,
+    r: &crate::scene::PdRefinement,
+    geo: &SceneGeometry,
+    dx: f64,
+    m: f64,
+) {
+    use pdbem_pd::refine::{BOND_BYTES as REFINED_BOND, PARTICLE_BYTES};
+    let (nodes, bonds) = super::refined_size::refined_children(r, geo, dx, m);
+    let refined = |n: f64, b: f64| n * PARTICLE_BYTES + b * REFINED_BOND;
+    let (n, b) = (e.pd_nodes + nodes, e.pd_bonds + bonds);
+    let whole = refined(n, b) + 0.25 * refined(nodes, bonds);
+    e.pd_refined_bytes += (whole - (n * NODE_BYTES + b * BOND_BYTES)).max(0.0);
+    if nodes <= 0.0 {
+        return;
+    }
+    (e.pd_nodes, e.pd_bonds) = (n, b);
+    e.pd_driver = Some(Driver {
+        setting: format!(
+            "pd.refinement (max_level {}, its circles and near_cracks)",
+            r.max_level
+        ),
+        advice: "lower pd.refinement.max_level or shrink its regions".into(),
+        count: nodes,
+    });
+}
+
 /// Width and height of the body's bounding box (the features' for an infinite body).
-fn extent(geo: &SceneGeometry) -> (f64, f64) {
+pub(super) fn extent(geo: &SceneGeometry) -> (f64, f64) {
+    let (lo, hi) = bounds(geo);
+    (hi[0] - lo[0], hi[1] - lo[1])
+}
+
+/// Lower and upper corners of the body's bounding box (the features' for an infinite
+/// body; zero when there is neither).
+pub(super) fn bounds(geo: &SceneGeometry) -> ([f64; 2], [f64; 2]) {
     let mut pts: Vec<P2> = geo
         .outline
         .as_ref()
@@ -327,10 +374,10 @@ fn extent(geo: &SceneGeometry) -> (f64, f64) {
         }
     }
     if pts.is_empty() {
-        return (0.0, 0.0);
+        return ([0.0; 2], [0.0; 2]);
     }
     let (lo, hi) = crate::geometry::bounding_box(&pts);
-    (hi.x - lo.x, hi.y - lo.y)
+    ([lo.x, lo.y], [hi.x, hi.y])
 }
 
 /// round(len / h), at least 1, as `subdivide` gives (f64, saturating).

@@ -9,7 +9,8 @@
 use anyhow::{Context, Result};
 use pdbem_bem::system::{footprint as bem_footprint, BemFootprint};
 use pdbem_coupling::growth::Scenario;
-use pdbem_pd::PdModel;
+use pdbem_pd::refine::{set_up, Body};
+use pdbem_pd::{PdModel, PdProblem};
 
 use crate::runner::mode::{mode_of, Mode};
 use crate::scene::pd::PdSolver;
@@ -78,6 +79,25 @@ impl Footprint {
     }
 }
 
+/// The note on the refined body a `pd.refinement` scene starts from: its static regions
+/// and Eq. 15 on the pre-cracks split as the run will split them ([`pdbem_pd::refine::set_up`],
+/// each split within the memory budget).
+fn refined_start(
+    scene: &Scene,
+    r: &crate::scene::PdRefinement,
+    problem: &PdProblem,
+) -> Result<String> {
+    let settings = crate::run_refined::settings(r, &problem.cracks);
+    let mut body = Body::from_problem(problem).with_context(|| pd_ctx(scene))?;
+    body.keep_horizon = settings.keep_horizon;
+    let split = set_up(&mut body, &settings).with_context(|| pd_ctx(scene))?;
+    Ok(format!(
+        "pd.refinement: the set-up splits {split} particles: {} particles and {} directed bonds at the start (the criteria split more as they fire)",
+        body.len(),
+        body.dh.bonds.len()
+    ))
+}
+
 /// Bytes as KiB / MiB / GiB with three significant digits.
 pub fn bytes_text(b: usize) -> String {
     let b = b as f64;
@@ -102,6 +122,9 @@ pub fn of(scene: &Scene) -> Result<Footprint> {
             let model = PdModel::new(&problem).with_context(|| pd_ctx(scene))?;
             add_pd(&mut f, &model);
             f.pd_factor = tangent_factor(scene, &model)?;
+            if let Some(r) = scene.pd.as_ref().and_then(|pd| pd.refinement.as_ref()) {
+                f.notes.push(refined_start(scene, r, &problem)?);
+            }
         }
         Mode::Coupled => {
             let setup = super::coupled::prepare(scene)?;

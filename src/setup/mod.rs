@@ -28,6 +28,7 @@ pub mod estimate;
 pub mod footprint;
 pub mod growth;
 pub mod pd;
+pub mod refined_size;
 pub mod sizing;
 
 use anyhow::{Context, Result};

@@ -46,6 +46,9 @@ pub struct Body {
     /// Children keep their parent's horizon (seed 004 Table 3, delta_2 = delta_1) instead
     /// of halving it.
     pub keep_horizon: bool,
+    /// Bytes a split may make the body hold, with the body it splits; `None`: the
+    /// process's memory budget ([`crate::tangent::factor_budget`]).
+    pub budget: Option<u64>,
 }
 
 impl Body {
@@ -105,6 +108,7 @@ impl Body {
             moduli: mods,
             failure: p.failure,
             keep_horizon: false,
+            budget: None,
         })
     }
 

@@ -59,7 +59,7 @@ pub use super::pass::{
     critical_time_step, forces_breaking, forces_breaking_into, forces_measuring_into, Measures,
     PassBuffers,
 };
-use super::run::{flagged, flagged_measured};
+use super::run::flagged_measured;
 use super::{Body, Refinement};
 use crate::dynamics::crack::CrackTracker;
 use crate::dynamics::{region_velocities, DynamicRecord, DynamicsInfo, ExplicitParams};
@@ -329,13 +329,7 @@ pub fn run_dynamic(
         return Err(PdError::invalid("check_every", "must be at least 1 step"));
     }
     let mut body = Body::from_problem(p)?;
-    loop {
-        let f = flagged(&body, r, true, false);
-        if f.is_empty() {
-            break;
-        }
-        body.split(&f)?;
-    }
+    super::run::set_up(&mut body, r)?;
     let (dt, dt_c, steps, record_every) = plan(&body, ex, r)?;
     let t0 = Instant::now();
     for k in 0..body.len() {

@@ -78,7 +78,8 @@ mod tests;
 pub use body::Body;
 pub use dynamics::{run_dynamic, AdaptiveInfo, AdaptiveObserver, SplitEvent};
 pub use ramp::{ramp, ramp_with, RampRecord, RampStep, RefinedRamp};
-pub use run::{run, RefinedRun, Round};
+pub use run::{run, set_up, RefinedRun, Round};
+pub use split::{BOND_BYTES, PARTICLE_BYTES};
 
 use serde::{Deserialize, Serialize};
 

@@ -127,13 +127,7 @@ pub fn ramp_with(
     critical_stretches(&body)?;
     let mut out = RampRecord::default();
     let t = Instant::now();
-    loop {
-        let f = flagged(&body, r, true, false);
-        if f.is_empty() {
-            break;
-        }
-        out.setup_split += body.split(&f)?;
-    }
+    out.setup_split += super::run::set_up(&mut body, r)?;
     out.split_s += t.elapsed().as_secs_f64();
     let mut lam = first_load(&mut body, r, rp, &mut solver, &mut out)?;
     let ext0 = extension(&body, tips);

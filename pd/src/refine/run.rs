@@ -105,6 +105,21 @@ fn select(
         .collect()
 }
 
+/// The set-up refinement of every driver ([`run`], [`super::ramp`], [`super::run_dynamic`]):
+/// the static regions of `r` and Eq. 15 on the pre-cracks, level by level until nothing
+/// fires (each split changes its neighbours' damage). Returns the particles split; a
+/// split over the memory budget is refused before it allocates ([`Body::budget`]).
+pub fn set_up(body: &mut Body, r: &Refinement) -> Result<usize, PdError> {
+    let mut split = 0;
+    loop {
+        let f = flagged(body, r, true, false);
+        if f.is_empty() {
+            return Ok(split);
+        }
+        split += body.split(&f)?;
+    }
+}
+
 /// Solve `p` with adaptive refinement `r` at load factor `load`. A displacement
 /// condition's fictitious layer joins the body ([`Body::from_problem`]) and holds `load`
 /// times its values.
@@ -126,14 +141,7 @@ pub fn run(p: &PdProblem, r: &Refinement, load: f64) -> Result<RefinedRun, PdErr
     }
     // Set-up: static regions and Eq. 15 on the pre-cracks, level by level.
     let t = Instant::now();
-    let mut split = 0;
-    loop {
-        let f = flagged(&body, r, true, false);
-        if f.is_empty() {
-            break;
-        }
-        split += body.split(&f)?;
-    }
+    let split = set_up(&mut body, r)?;
     let split_s = t.elapsed().as_secs_f64();
     let t = Instant::now();
     let iterations = linear::solve(&mut body, load, r.tolerance, MAX_CG)?;

@@ -13,6 +13,14 @@ use crate::state_based::dual_horizon::{
     family_rows, finish_bonds, open_bonds, push_bond, DualHorizon, Reuse,
 };
 
+/// Bytes a refined body holds per particle (geometry, state, constants, flags, the
+/// dynamics' velocities and criteria, with room for the vectors' slack).
+pub const PARTICLE_BYTES: f64 = 256.0;
+/// Bytes a refined body holds per directed bond: the family (`Bonds`, 53), the
+/// dual-horizon data (flags, weights, dual lists, 25) and the force pass's buffers (24),
+/// rounded up.
+pub const BOND_BYTES: f64 = 112.0;
+
 /// Quadrant signs `(xi, eta)` of the four children.
 const SIGNS: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [-1.0, 1.0], [1.0, 1.0]];
 
@@ -90,6 +98,7 @@ impl Body {
         } else {
             self.new_rows(&child, &order, &fate, &ancestor, &pos, &delta)
         };
+        self.within_budget(&rows, &ancestor, order.len())?;
         let same = self.unchanged(&rows, &ancestor, &child, &fate);
         let bonds = self.splice_bonds(&rows, &ancestor, &fate, (&pos, &size, &volume, &delta));
         let intact = self.new_flags(&bonds, &ancestor, &pos, &size, &same);
@@ -139,6 +148,36 @@ impl Body {
         self.size = size;
         self.dh = dh;
         Ok(order.len())
+    }
+
+    /// [`PdError::TooLarge`] when the refined body of `rows` (beside this one, which lives
+    /// until the split is done) would pass [`Body::budget`] (default the memory budget,
+    /// [`crate::tangent::factor_budget`]): checked before its bonds are allocated, so a
+    /// refinement too deep or too wide for the machine is refused instead of aborting on
+    /// allocation.
+    fn within_budget(
+        &self,
+        rows: &[Option<Vec<u32>>],
+        ancestor: &[usize],
+        parents: usize,
+    ) -> Result<(), PdError> {
+        let old = &self.dh.bonds;
+        let bonds: usize = rows
+            .iter()
+            .zip(ancestor)
+            .map(|(r, &a)| r.as_ref().map_or(old.row(a).len(), Vec::len))
+            .sum();
+        let bytes = |particles: usize, bonds: usize| {
+            particles as f64 * PARTICLE_BYTES + bonds as f64 * BOND_BYTES
+        };
+        crate::tangent::check_budget(
+            &format!(
+                "pd.refinement: splitting {parents} particles makes a body of {} particles and {bonds} directed bonds, which beside the body it splits",
+                rows.len()
+            ),
+            bytes(rows.len(), bonds) + bytes(self.len(), old.len()),
+            self.budget.unwrap_or_else(crate::tangent::factor_budget),
+        )
     }
 
     /// The CSR families of the refined body's `rows`: a row `None` (an unchanged family)
@@ -360,3 +399,7 @@ impl Body {
         flags
     }
 }
+
+#[cfg(test)]
+#[path = "budget_tests.rs"]
+mod budget_tests;
