@@ -1,5 +1,8 @@
 //! The refined ramp within a memory budget (its own test binary: the factor budget is
-//! process-wide). Under a budget too small for the preconditioner's pattern or factor,
+//! process-wide). Under a budget that holds every split of the refined body (each is
+//! checked against it too) but is too small for the preconditioner's pattern or factor
+//! (24 MiB: the factor needs 30.6 MiB at its first refusal; 8 MiB, this test's budget
+//! before the splits were checked, refuses the body itself),
 //! `cases/seed004_edge_crack_initiation_nested.ron` runs by plain conjugate gradients and
 //! says so in a note; its first-break and initiation loads are the preconditioned run's
 //! (measured 40 and 46 MPa on both; 11 s plain, 3.4 s preconditioned).
@@ -20,7 +23,7 @@ fn refined_ramp_over_the_budget_says_it_ran_plain_conjugate_gradients() {
         let _ = std::fs::remove_dir_all(&dir);
         s
     };
-    let small = run(8 << 20, "small");
+    let small = run(24 << 20, "small");
     let big = run(8 << 30, "big");
     let plain = |s: &pdbem::runner::summary::RunSummary| {
         s.notes
