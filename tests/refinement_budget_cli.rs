@@ -6,14 +6,11 @@
 //! allocation.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-use std::time::{Duration, Instant};
+mod cli_common;
 
-fn temp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("pdbem-refbudget-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
-}
+use std::time::Duration;
+
+use cli_common::{pdbem, temp};
 
 fn case(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -36,25 +33,6 @@ fn variant(dir: &Path, case_name: &str, refinement: &str) -> PathBuf {
     )
     .unwrap();
     path
-}
-
-/// Runs `pdbem args`, failing the test after `limit` instead of hanging.
-fn pdbem(args: &[&std::ffi::OsStr], limit: Duration) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_pdbem"))
-        .args(args)
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .expect("runs");
-    let t = Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        if t.elapsed() > limit {
-            let _ = child.kill();
-            panic!("pdbem {args:?} still running after {limit:?}");
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    }
-    child.wait_with_output().unwrap()
 }
 
 /// The path-refined branching case: `check` reports the body the run starts from (the
@@ -93,7 +71,7 @@ fn check_reports_the_refined_start_and_the_estimate_holds() {
 /// no output folder.
 #[test]
 fn a_refinement_over_the_budget_is_refused_by_check_and_run() {
-    let dir = temp("deep");
+    let dir = temp("refbudget", "deep");
     let s = variant(
         &dir,
         "seed004_branching_case1_path_refined.ron",
@@ -142,7 +120,7 @@ fn a_refinement_over_the_budget_is_refused_by_check_and_run() {
 /// set-up) and by `run`, with no output folder.
 #[test]
 fn a_split_over_the_budget_ends_the_run_before_it_allocates() {
-    let dir = temp("split");
+    let dir = temp("refbudget", "split");
     let adaptive = case("seed004_branching_case1_adaptive.ron");
     let o = pdbem(
         &[

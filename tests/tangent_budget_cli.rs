@@ -7,14 +7,11 @@
 //! (the switching solver then spent its damage increments on a 10 000-node body for
 //! more than 10 minutes).
 
-use std::process::{Command, Output};
-use std::time::{Duration, Instant};
+mod cli_common;
 
-fn temp(name: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("pdbem-budget-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
-}
+use std::time::Duration;
+
+use cli_common::{pdbem, temp};
 
 /// A 1 m plate on a 0.01 m grid, state-based, held on its left side and pulled on its
 /// right, solved by `solver`.
@@ -41,28 +38,9 @@ fn scene(dir: &std::path::Path, solver: &str) -> std::path::PathBuf {
     path
 }
 
-/// Runs `pdbem args`, failing the test after `limit` instead of hanging.
-fn pdbem(args: &[&std::ffi::OsStr], limit: Duration) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_pdbem"))
-        .args(args)
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .expect("runs");
-    let t = Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        if t.elapsed() > limit {
-            let _ = child.kill();
-            panic!("pdbem {args:?} still running after {limit:?}");
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    }
-    child.wait_with_output().unwrap()
-}
-
 #[test]
 fn check_reports_the_factor_and_refuses_it_over_the_budget() {
-    let dir = temp("check");
+    let dir = temp("budget", "check");
     let s = scene(&dir, "Implicit");
     let o = pdbem(&["check".as_ref(), s.as_os_str()], Duration::from_secs(120));
     let stdout = String::from_utf8_lossy(&o.stdout);
@@ -94,7 +72,7 @@ fn check_reports_the_factor_and_refuses_it_over_the_budget() {
 
 #[test]
 fn run_refuses_the_factor_before_the_first_solve() {
-    let dir = temp("run");
+    let dir = temp("budget", "run");
     for solver in ["Implicit", "Switching"] {
         let s = scene(&dir, solver);
         let out = dir.join(format!("out_{solver}"));
