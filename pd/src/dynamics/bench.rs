@@ -15,10 +15,12 @@
 //! (seed 004 Table 5: 311 s, 4000-4522 particles). Its particles' force pass is not the
 //! uniform grid's `PdModel` pass (faster per bond), so the coarse plate is also timed on
 //! the particles with no criterion (nothing splits): adaptive over that is the cost of
-//! the refinement itself.
+//! the refinement itself. The path-refined run splits the region the crack crosses
+//! before the first step ([`PATH_CIRCLE`], then the same criteria): the fine grid's fork
+//! and branches, which the adaptive run does not give (`docs/seed004.md`), at its cost.
 //!
-//! **Protocol.** The four runs take turns, `repeats` rounds of coarse, coarse particles,
-//! adaptive and fine in one process, and each run's time is its fastest round: on a
+//! **Protocol.** The five runs take turns, `repeats` rounds of coarse, coarse particles,
+//! adaptive, path refined and fine in one process, and each run's time is its fastest round: on a
 //! shared machine a run is slowed by others, never sped up, so the minimum is the
 //! estimate of its cost that other jobs disturb least, and taking turns exposes every
 //! run to the same disturbances. Every round's time is reported too.
@@ -28,6 +30,7 @@ use serde::Serialize;
 use super::{run, DynamicRecord, ExplicitParams};
 use crate::cases::{branching_plate, SEED004_DENSITY};
 use crate::model::PdModel;
+use crate::problem::Selection;
 use crate::refine::{run_dynamic, Refinement};
 
 /// Seed 004 Table 5, case 1: coarse wall time for 80 us (s).
@@ -38,6 +41,9 @@ pub const SEED_FINE_S: f64 = 1441.0;
 pub const SEED_ADAPTIVE_S: f64 = 311.0;
 /// Steps between the adaptive run's Eq. 15 checks (0.1 us at dt = 1e-8 s).
 pub const ADAPTIVE_CHECK_EVERY: usize = 10;
+/// The path-refined run's static circle, centre and radius (m): the plate right of
+/// x = 48-55 mm (`cases/seed004_branching_case1_path_refined.ron`).
+pub const PATH_CIRCLE: ([f64; 2], f64) = ([0.08, 0.02], 0.032);
 
 /// One timed run.
 #[derive(Clone, Debug, Default, Serialize)]
@@ -88,6 +94,9 @@ pub struct BranchingBench {
     /// dx = 1 mm on the refined-particle kernel of the adaptive run, with no criterion
     /// (nothing splits): the coarse cost the refinement adds to.
     pub coarse_particles: BranchingRun,
+    /// dx = 1 mm with the crack's region ([`PATH_CIRCLE`]) split to 0.5 mm before the
+    /// first step, and the adaptive run's criteria.
+    pub path_refined: BranchingRun,
     /// Fine wall time over coarse wall time.
     pub ratio: f64,
     /// Seed 004 Table 5's ratio, 1441 s / 252 s.
@@ -97,6 +106,10 @@ pub struct BranchingBench {
     /// Adaptive wall time over [`Self::coarse_particles`]' (the same force kernel): the
     /// cost of the refinement itself.
     pub refinement_ratio: f64,
+    /// Path-refined wall time over coarse wall time.
+    pub path_ratio: f64,
+    /// Path-refined wall time over fine wall time.
+    pub path_fine_ratio: f64,
 }
 
 fn timed(dx: f64, window: f64, dt: f64) -> BranchingRun {
@@ -190,7 +203,7 @@ fn fastest(best: Option<BranchingRun>, run: BranchingRun) -> BranchingRun {
     }
 }
 
-/// Time the coarse and the fine plate, the adaptive run and the coarse particles over
+/// Time the coarse and the fine plate, the adaptive, path-refined and coarse-particle runs over
 /// `window` seconds of simulated time at the seed's dt = 1e-8 s, `repeats` rounds
 /// (module docs).
 pub fn branching(window: f64, repeats: usize) -> BranchingBench {
@@ -203,7 +216,15 @@ pub fn branching(window: f64, repeats: usize) -> BranchingBench {
         critical_damage: None,
         ..Default::default()
     };
+    let path_r = Refinement {
+        regions: vec![Selection::Circle {
+            centre: PATH_CIRCLE.0,
+            radius: PATH_CIRCLE.1,
+        }],
+        ..adaptive_r.clone()
+    };
     let (mut coarse, mut fine, mut adaptive, mut coarse_particles) = (None, None, None, None);
+    let mut path_refined = None;
     for _ in 0..repeats.max(1) {
         coarse = Some(fastest(coarse, timed(1e-3, window, dt)));
         coarse_particles = Some(fastest(
@@ -211,17 +232,22 @@ pub fn branching(window: f64, repeats: usize) -> BranchingBench {
             timed_particles(window, dt, &unsplit),
         ));
         adaptive = Some(fastest(adaptive, timed_particles(window, dt, &adaptive_r)));
+        path_refined = Some(fastest(path_refined, timed_particles(window, dt, &path_r)));
         fine = Some(fastest(fine, timed(5e-4, window, dt)));
     }
-    let (coarse, fine, adaptive, coarse_particles) = (
+    let (coarse, fine, adaptive, coarse_particles, path_refined) = (
         coarse.unwrap_or_default(),
         fine.unwrap_or_default(),
         adaptive.unwrap_or_default(),
         coarse_particles.unwrap_or_default(),
+        path_refined.unwrap_or_default(),
     );
     BranchingBench {
         adaptive_ratio: adaptive.wall_s / coarse.wall_s,
         refinement_ratio: adaptive.wall_s / coarse_particles.wall_s,
+        path_ratio: path_refined.wall_s / coarse.wall_s,
+        path_fine_ratio: path_refined.wall_s / fine.wall_s,
+        path_refined,
         coarse_particles,
         adaptive,
         window_s: window,
@@ -251,6 +277,7 @@ pub fn table(b: &BranchingBench) -> String {
         ("fine", &b.fine),
         ("adapt", &b.adaptive),
         ("coarse particles", &b.coarse_particles),
+        ("path refined", &b.path_refined),
     ] {
         let _ = writeln!(
             s,
@@ -290,6 +317,11 @@ pub fn table(b: &BranchingBench) -> String {
         "  adaptive / coarse particles (the same force kernel, nothing split) {:.2}x: the cost of the refinement",
         b.refinement_ratio
     );
+    let _ = writeln!(
+        s,
+        "  path refined (the crack's region split before the run: the fine grid's fork) / coarse {:.2}x, / fine {:.2}x",
+        b.path_ratio, b.path_fine_ratio
+    );
     s
 }
 
@@ -301,7 +333,13 @@ mod tests {
     fn branching_bench_times_both_grids() {
         let b = branching(2e-7, 2);
         assert_eq!(b.repeats, 2);
-        for r in [&b.coarse, &b.fine, &b.adaptive, &b.coarse_particles] {
+        for r in [
+            &b.coarse,
+            &b.fine,
+            &b.adaptive,
+            &b.coarse_particles,
+            &b.path_refined,
+        ] {
             assert_eq!(r.rounds_s.len(), 2);
             assert_eq!(
                 r.wall_s,
@@ -323,6 +361,12 @@ mod tests {
             (4000, 4000, b.coarse.bonds)
         );
         assert!(b.refinement_ratio.is_finite() && b.refinement_ratio > 0.0);
+        // The path circle splits 2056 particles before the first step (as
+        // `pdbem check` of the path-refined case reports).
+        let p = &b.path_refined;
+        assert!(p.error.is_none() && p.steps == 20, "{p:?}");
+        assert_eq!(p.nodes, 10168);
+        assert!(b.path_ratio > 1.0 && b.path_fine_ratio.is_finite());
         assert!(table(&b).contains("5.72x") && table(&b).contains("1.23x"));
     }
 }
