@@ -37,6 +37,10 @@
 //! ancestors had a broken bond stays broken. The constants of every particle whose
 //! family changed are then recalibrated on it ([`DualHorizon::from_families`]); the
 //! others keep theirs, as the uniform model keeps them while bonds break (tested).
+//! Before the refined body is allocated its size ([`PARTICLE_BYTES`], [`BOND_BYTES`],
+//! beside the body it splits) is checked against the memory budget ([`Body::budget`]):
+//! each level multiplies a region's particles by four, and a split that does not fit is
+//! refused ([`crate::error::PdError::TooLarge`]) instead of aborting on allocation.
 //!
 //! **Solve.** Elastic equilibrium of the linearised dual-horizon energy by conjugate
 //! gradients ([`linear`]); the adaptive driver ([`run`]) refines before the solve (static
