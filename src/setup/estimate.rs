@@ -355,14 +355,7 @@ fn add_refined(
 }
 
 /// Width and height of the body's bounding box (the features' for an infinite body).
-pub(super) fn extent(geo: &SceneGeometry) -> (f64, f64) {
-    let (lo, hi) = bounds(geo);
-    (hi[0] - lo[0], hi[1] - lo[1])
-}
-
-/// Lower and upper corners of the body's bounding box (the features' for an infinite
-/// body; zero when there is neither).
-pub(super) fn bounds(geo: &SceneGeometry) -> ([f64; 2], [f64; 2]) {
+fn extent(geo: &SceneGeometry) -> (f64, f64) {
     let mut pts: Vec<P2> = geo
         .outline
         .as_ref()
@@ -374,10 +367,10 @@ pub(super) fn bounds(geo: &SceneGeometry) -> ([f64; 2], [f64; 2]) {
         }
     }
     if pts.is_empty() {
-        return ([0.0; 2], [0.0; 2]);
+        return (0.0, 0.0);
     }
     let (lo, hi) = crate::geometry::bounding_box(&pts);
-    ([lo.x, lo.y], [hi.x, hi.y])
+    (hi.x - lo.x, hi.y - lo.y)
 }
 
 /// round(len / h), at least 1, as `subdivide` gives (f64, saturating).

@@ -14,13 +14,15 @@ use crate::scene::PdRefinement;
 /// finer). Overlaps count twice; the criteria's splits during a run are not counted (a
 /// split refuses a body over the budget before allocating it).
 pub fn refined_children(r: &PdRefinement, geo: &SceneGeometry, dx: f64, m: f64) -> (f64, f64) {
-    let (w, h) = super::estimate::extent(geo);
-    let boxed = |area: f64| area.min(w * h);
+    // Stand-alone PD has an outline: its box holds the holes and cracks too.
+    let (lo, hi) = geo.bounds();
+    let (lo, hi) = ([lo.x, lo.y], [hi.x, hi.y]);
+    let boxed = |area: f64| area.min((hi[0] - lo[0]) * (hi[1] - lo[1]));
     let mut regions: Vec<(f64, u8)> = r
         .circles
         .iter()
         .map(|c| {
-            let area = disc_in_box(c.centre, c.radius, super::estimate::bounds(geo));
+            let area = disc_in_box(c.centre, c.radius, (lo, hi));
             (area, c.level.unwrap_or(r.max_level).min(r.max_level))
         })
         .collect();

@@ -162,11 +162,7 @@ impl Body {
         parents: usize,
     ) -> Result<(), PdError> {
         let old = &self.dh.bonds;
-        let bonds: usize = rows
-            .iter()
-            .zip(ancestor)
-            .map(|(r, &a)| r.as_ref().map_or(old.row(a).len(), Vec::len))
-            .sum();
+        let bonds = self.bond_count(rows, ancestor);
         let bytes = |particles: usize, bonds: usize| {
             particles as f64 * PARTICLE_BYTES + bonds as f64 * BOND_BYTES
         };
@@ -178,6 +174,15 @@ impl Body {
             bytes(rows.len(), bonds) + bytes(self.len(), old.len()),
             self.budget.unwrap_or_else(crate::tangent::factor_budget),
         )
+    }
+
+    /// Directed bonds of the refined body's `rows` (a row `None` keeps its ancestor's).
+    fn bond_count(&self, rows: &[Option<Vec<u32>>], ancestor: &[usize]) -> usize {
+        let old = &self.dh.bonds;
+        rows.iter()
+            .zip(ancestor)
+            .map(|(r, &a)| r.as_ref().map_or(old.row(a).len(), Vec::len))
+            .sum()
     }
 
     /// The CSR families of the refined body's `rows`: a row `None` (an unchanged family)
@@ -193,12 +198,7 @@ impl Body {
     ) -> Bonds {
         let (pos, size, volume, delta) = geo;
         let old = &self.dh.bonds;
-        let n: usize = rows
-            .iter()
-            .zip(ancestor)
-            .map(|(r, &a)| r.as_ref().map_or(old.row(a).len(), Vec::len))
-            .sum();
-        let mut b = open_bonds(rows.len(), n);
+        let mut b = open_bonds(rows.len(), self.bond_count(rows, ancestor));
         for (i, row) in rows.iter().enumerate() {
             match row {
                 Some(row) => {
