@@ -12,7 +12,8 @@
 //! - PD nodes: (extent / dx + 2 ceil(m))^2-like boxes: the body's bounding box at `pd.dx`
 //!   (stand-alone PD, full-PD growth at the window spacing) or n x n per window plus the
 //!   fictitious layers; directed bonds ~ nodes pi m^2 (m = horizon factor), bytes
-//!   [`NODE_BYTES`] per node and [`BOND_BYTES`] per bond.
+//!   [`NODE_BYTES`] per node and [`BOND_BYTES`] per bond ([`STATE_BASED_BOND_BYTES`] for the
+//!   state-based model).
 //! - Stand-alone PD with `pd.refinement`: the children of its static regions
 //!   ([`super::refined_size`]), the whole body at the refined particles' bytes (the
 //!   splits of its criteria are checked by each split against the same budget).
@@ -33,6 +34,9 @@ use crate::scene::{GrowthMode, Placement, Scene};
 pub const NODE_BYTES: f64 = 256.0;
 /// Bytes per directed PD bond (neighbour list, weights, damage, a share of the stiffness).
 pub const BOND_BYTES: f64 = 64.0;
+/// Bytes per directed bond of the state-based model: [`BOND_BYTES`] plus its per-bond
+/// constants and force-pass scratch (`pdbem bench pd` measures 115 bytes of bond data).
+pub const STATE_BASED_BOND_BYTES: f64 = 120.0;
 /// Budget when the machine's memory cannot be read (8 GiB).
 pub const FALLBACK_BUDGET: u64 = 8 << 30;
 
@@ -112,14 +116,26 @@ pub struct Estimate {
     /// What sets the PD grid.
     pub pd_driver: Option<Driver>,
     /// Bytes a refined body (`pd.refinement`) holds beyond `NODE_BYTES` per node and
-    /// `BOND_BYTES` per bond ([`add_refined`]).
+    /// [`Self::bond_bytes`] per bond ([`add_refined`]).
     pub pd_refined_bytes: f64,
+    /// The PD model is state-based (`pd.model: StateBased`): bonds at
+    /// [`STATE_BASED_BOND_BYTES`].
+    pub pd_state_based: bool,
 }
 
 impl Estimate {
+    /// Bytes per directed PD bond of the scene's model.
+    pub fn bond_bytes(&self) -> f64 {
+        if self.pd_state_based {
+            STATE_BASED_BOND_BYTES
+        } else {
+            BOND_BYTES
+        }
+    }
+
     /// PD bytes.
     pub fn pd_bytes(&self) -> f64 {
-        self.pd_nodes * NODE_BYTES + self.pd_bonds * BOND_BYTES + self.pd_refined_bytes
+        self.pd_nodes * NODE_BYTES + self.pd_bonds * self.bond_bytes() + self.pd_refined_bytes
     }
 
     /// Total bytes.
@@ -204,6 +220,10 @@ pub fn of(scene: &Scene) -> Result<Estimate> {
         }
     }
     let m = scene.pd.as_ref().map(|p| p.horizon_factor).unwrap_or(3.015);
+    e.pd_state_based = scene
+        .pd
+        .as_ref()
+        .is_some_and(|p| p.model == crate::scene::PdModelKind::StateBased);
     let layers = 2.0 * m.ceil();
     match (mode_of(scene), growth, &scene.coupling) {
         (Mode::Pd, _, _) => {
@@ -339,7 +359,7 @@ fn add_refined(
     let refined = |n: f64, b: f64| n * PARTICLE_BYTES + b * REFINED_BOND;
     let (n, b) = (e.pd_nodes + nodes, e.pd_bonds + bonds);
     let whole = refined(n, b) + 0.25 * refined(nodes, bonds);
-    e.pd_refined_bytes += (whole - (n * NODE_BYTES + b * BOND_BYTES)).max(0.0);
+    e.pd_refined_bytes += (whole - (n * NODE_BYTES + b * e.bond_bytes())).max(0.0);
     if nodes <= 0.0 {
         return;
     }

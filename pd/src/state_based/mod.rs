@@ -146,6 +146,12 @@ pub struct StateBased {
     pub(crate) theta: Vec<f64>,
     /// Failure factor `T` of every bond at the last force pass.
     pub(crate) tfac: Vec<f64>,
+    /// Force density of every directed bond `k -> j` on its owner at the last force
+    /// pass, $\tau_{kj} V'_j\, (y_j - y_k)/|y_j - y_k|$ ([`forces`]).
+    pub(crate) half: Vec<crate::geometry::P2>,
+    /// Current length of every directed bond at the last force pass (scratch of
+    /// [`forces`]).
+    pub(crate) length: Vec<f64>,
 }
 
 /// Moments of a family over the bonds `keep` selects: `s0 = sum V'`, the dilatation
@@ -401,6 +407,8 @@ impl StateBased {
             rev,
             theta: vec![0.0; n],
             tfac: vec![0.0; nb],
+            half: vec![[0.0; 2]; nb],
+            length: vec![0.0; nb],
         }
     }
 
