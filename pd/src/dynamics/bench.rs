@@ -13,9 +13,9 @@
 //! pre-crack's particles refined at set-up (Eq. 15) and splits the particles Eqs. 15-16
 //! flag (the seed's phi_c = 0.4, alpha = 0.5) every [`ADAPTIVE_CHECK_EVERY`] steps
 //! (seed 004 Table 5: 311 s, 4000-4522 particles). Its particles' force pass is not the
-//! uniform grid's `PdModel` pass (faster per bond), so the coarse plate is also timed on
-//! the particles with no criterion (nothing splits): adaptive over that is the cost of
-//! the refinement itself. The path-refined run splits the region the crack crosses
+//! uniform grid's `PdModel` pass (since 2026-11-29 the two take the same time per bond on
+//! this plate), so the coarse plate is also timed on the particles with no criterion
+//! (nothing splits): adaptive over that is the cost of the refinement itself. The path-refined run splits the region the crack crosses
 //! before the first step ([`PATH_CIRCLE`], then the same criteria): the fine grid's fork
 //! and branches, which the adaptive run does not give (`docs/seed004.md`), at its cost.
 //!

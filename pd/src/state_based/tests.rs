@@ -6,6 +6,16 @@ use crate::geometry::P2;
 use crate::problem::{PdMaterial, PdProblem, Region};
 use crate::PdModel;
 
+/// A deterministic sequence uniform in [-1, 1) from `seed` (a 64-bit LCG).
+fn uniform_in_pm1(mut seed: u64) -> impl FnMut() -> f64 {
+    move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+    }
+}
+
 /// Classical energy density of a homogeneous strain `[exx, eyy, gxy/2]` (2-D moduli).
 fn w_cm(kappa: f64, mu: f64, e: [f64; 3]) -> f64 {
     let tr = e[0] + e[1];
@@ -111,13 +121,7 @@ fn nu_one_third_plane_stress_is_the_pmb_model() {
     }))
     .unwrap();
     let mut pmb = PdModel::new(&problem(PdMaterial::Pmb)).unwrap();
-    let mut seed = 11u64;
-    let mut rnd = || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-    };
+    let mut rnd = uniform_in_pm1(11);
     let u: Vec<P2> = osb
         .positions()
         .iter()
@@ -192,13 +196,7 @@ fn the_force_pass_is_the_sum_of_pair_forces_and_conserves_momentum() {
             ..Default::default()
         })
         .unwrap();
-        let mut seed = 5u64;
-        let mut rnd = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-        };
+        let mut rnd = uniform_in_pm1(5);
         let u: Vec<P2> = m
             .positions()
             .iter()
