@@ -198,3 +198,40 @@ fn byte_counts_with_suffixes() {
         assert!(estimate::parse_bytes(bad).is_err(), "{bad}");
     }
 }
+
+#[test]
+fn state_based_bonds_are_estimated_at_their_own_size() {
+    // The state-based model holds more per bond than PMB (constants, reverse index and the
+    // force pass's half forces and lengths): the estimate counts its bonds at
+    // STATE_BASED_BOND_BYTES, and both per-bond sizes cover what the models hold
+    // (`pdbem bench pd` measures it the same way).
+    let pmb = estimate::of(&load(&strip(20.0, 10.0, 5.0, "pd: (nx: 200)"))).unwrap();
+    let osb = estimate::of(&load(&strip(
+        20.0,
+        10.0,
+        5.0,
+        "pd: (nx: 200, model: StateBased)",
+    )))
+    .unwrap();
+    assert_eq!(pmb.pd_bonds, osb.pd_bonds);
+    let extra = osb.pd_bytes() - pmb.pd_bytes();
+    let expected = osb.pd_bonds * (estimate::STATE_BASED_BOND_BYTES - estimate::BOND_BYTES);
+    assert!(
+        (extra - expected).abs() <= 1e-9 * expected,
+        "{extra} vs {expected}"
+    );
+    use pdbem_pd::problem::PdMaterial;
+    for (material, bytes) in [
+        (PdMaterial::Pmb, estimate::BOND_BYTES),
+        (
+            PdMaterial::StateBased { poisson_ratio: 0.3 },
+            estimate::STATE_BASED_BOND_BYTES,
+        ),
+    ] {
+        let held = pdbem_pd::bench::kernel_of(19, 0.0, material).bytes_per_bond;
+        assert!(
+            held <= bytes,
+            "{material:?}: {held} bytes per bond, estimated {bytes}"
+        );
+    }
+}
