@@ -253,3 +253,35 @@ fn the_scene_notes_reach_the_summary() {
         s.notes
     );
 }
+
+#[test]
+fn a_refined_body_notes_the_solver_settings_it_does_not_read() {
+    use pdbem::scene::{AdrParams, PdSolver};
+    let notes = |scene: &mut Scene| {
+        scene.notes.clear();
+        scene.note_inert_fields();
+        scene.notes.clone()
+    };
+    // The quasi-static refined body: the default solver is no note, ADR or a check
+    // interval are (the body solves by conjugate gradients and checks at every equilibrium).
+    let mut scene = case("seed004_edge_crack_adaptive", &[]);
+    assert!(notes(&mut scene).is_empty(), "{:?}", scene.notes);
+    let pd = scene.pd.as_mut().unwrap();
+    pd.solver = PdSolver::Adr(AdrParams::default());
+    pd.refinement.as_mut().unwrap().check_every = 5;
+    let n = notes(&mut scene);
+    assert!(
+        n.iter().any(|n| n.starts_with("pd.solver (Adr) is not read"))
+            && n.iter().any(|n| n.starts_with("pd.refinement.check_every = 5")),
+        "{n:?}"
+    );
+    // Adaptive dynamics: the conjugate-gradient tolerance is the field it does not read.
+    let mut scene = case("seed004_branching_case2_adaptive", &[]);
+    assert!(notes(&mut scene).is_empty(), "{:?}", scene.notes);
+    scene.pd.as_mut().unwrap().refinement.as_mut().unwrap().tolerance = 1e-6;
+    let n = notes(&mut scene);
+    assert!(
+        n.len() == 1 && n[0].starts_with("pd.refinement.tolerance = 1e-6 is not read"),
+        "{n:?}"
+    );
+}

@@ -205,8 +205,9 @@ impl Scene {
     }
 
     /// Notes on fields the scene sets but no solver reads (no silent garbage):
-    /// `material.fracture.s0` (the PD failure law is `pd.failure`), and `material.nu`
-    /// where the bond-based PD model (`pd.model: Pmb`) fixes its own.
+    /// `material.fracture.s0` (the PD failure law is `pd.failure`), `material.nu`
+    /// where the bond-based PD model (`pd.model: Pmb`) fixes its own, and the solver
+    /// settings a refined body does not read ([`PdRefinement::inert_notes`]).
     pub fn note_inert_fields(&mut self) {
         if self
             .pd
@@ -222,6 +223,11 @@ impl Scene {
                 self.notes.push(format!(
                     "material.nu = {nu} is not the PD model's: bond-based PD (pd.model: Pmb) has nu = {label}, so the PD part runs with that ratio; pd.model: StateBased uses material.nu"
                 ));
+            }
+        }
+        if let Some(pd) = &self.pd {
+            if let Some(r) = &pd.refinement {
+                self.notes.extend(r.inert_notes(&pd.solver));
             }
         }
         let s0 = self.material.fracture.as_ref().and_then(|f| f.s0);

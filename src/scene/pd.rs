@@ -97,6 +97,44 @@ impl Default for PdRefinement {
     }
 }
 
+impl PdRefinement {
+    /// Notes on settings a refined body does not read (no silent garbage): under explicit
+    /// dynamics the conjugate-gradient `tolerance`; in the quasi-static solves `pd.solver`
+    /// other than the default (a refined body has one quasi-static solver, conjugate
+    /// gradients on its linearised energy, `pdbem_pd::refine`) and `check_every`.
+    pub fn inert_notes(&self, solver: &PdSolver) -> Vec<String> {
+        let defaults = PdRefinement::default();
+        let mut notes = Vec::new();
+        if matches!(solver, PdSolver::Explicit(_)) {
+            if self.tolerance != defaults.tolerance {
+                notes.push(format!(
+                    "pd.refinement.tolerance = {:e} is not read: adaptive explicit dynamics solves no linear system",
+                    self.tolerance
+                ));
+            }
+            return notes;
+        }
+        if *solver != PdSolver::default() {
+            let name = match solver {
+                PdSolver::Adr(_) => "Adr",
+                PdSolver::Implicit(_) => "Implicit",
+                _ => "Switching",
+            };
+            notes.push(format!(
+                "pd.solver ({name}) is not read: a refined body's quasi-static solves are conjugate gradients on its linearised energy, to the relative residual pd.refinement.tolerance = {:e} (pd.solver: Explicit runs adaptive dynamics)",
+                self.tolerance
+            ));
+        }
+        if self.check_every != defaults.check_every {
+            notes.push(format!(
+                "pd.refinement.check_every = {} is not read: it spaces the checks of adaptive explicit dynamics; the quasi-static solves check the criteria at every equilibrium",
+                self.check_every
+            ));
+        }
+        notes
+    }
+}
+
 /// A circle of particles to refine before the solve.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
