@@ -4,10 +4,10 @@
 //! `bench pd` (issue 3): bond-force throughput at about 1e4, 1e5 and 1e6 bonds, bytes per
 //! bond, tangent factorisation and solve times, and the switching solver against pure ADR on
 //! `pd_plate_hole` and `pd_three_point_bend` in one run (`switching_speedup`, damage and
-//! displacement agreement), and seed 004's dynamic branching plate timed on the coarse grid,
-//! the fine grid and the adaptively refined coarse grid over 80 us (2 us with `--quick`)
-//! with the fine/coarse and adaptive/coarse ratios next to the seed's Table 5
-//! (`branching`); schema in `pdbem_pd::bench`.
+//! displacement agreement), and seed 004's dynamic branching plate, cases 1 and 2, timed on
+//! the coarse grid, the fine grid and the adaptively refined coarse grid over 80 us (2 us
+//! with `--quick`) with the fine/coarse and adaptive/coarse ratios next to the seed's
+//! Tables 5 and 6 (`branching`); schema in `pdbem_pd::bench`.
 //!
 //! `bench trade` (issue 18): [`crate::bench_trade`], path deviation and failure-load
 //! error of PD-BEM growth against wall time over window resolution, side, relaxation and
@@ -238,7 +238,7 @@ fn bench_coupling(out: &Path, quick: bool) -> Result<()> {
 /// `bench pd`: the PD crate's benchmark as a table on stdout, `bench.txt` and `bench.json`.
 fn bench_pd(out: &Path, quick: bool) -> Result<()> {
     eprintln!(
-        "bench pd: force kernel, factorisation, switching vs ADR, seed 004 branching plate coarse, fine, adaptive, refined initiation ramp plain vs preconditioned ({})",
+        "bench pd: force kernel, factorisation, switching vs ADR, seed 004 branching plate (cases 1 and 2) coarse, fine, adaptive, refined initiation ramp plain vs preconditioned ({})",
         if quick {
             "quick"
         } else {

@@ -30,7 +30,7 @@ fn main() {
                 protocol: pdbem_pd::bench::protocol(),
                 kernel: Vec::new(),
                 switching: vec![r],
-                branching: None,
+                branching: Vec::new(),
                 refined_ramp: None,
             };
             print!("{}", table(&report));

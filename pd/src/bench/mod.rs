@@ -29,15 +29,19 @@
 //!   `profile_difference` (the same over the two node rows next to the
 //!   horizontal centre line, the seed's Figs. 13-14 profiles), `error`
 //!   (a solver error, if any).
-//! - `branching` ([`crate::dynamics::bench::BranchingBench`]): seed 004's branching plate
-//!   (case 1) timed on the coarse and the fine grid, adaptively refined, and on the coarse
-//!   particles with nothing split, over `window_s` (80 us, 2 us with `--quick`) at `dt_s`
-//!   = 1e-8 s, in `repeats` rounds taken in turns (3, 1 with `--quick`): per run `dx`,
-//!   `nodes`, `nodes_max`, `refine_s`, `bonds`, `steps`, `wall_s` (the fastest round),
-//!   `rounds_s` (every round), `bond_steps_per_s`, `branch_time_s`, `boundary_time_s`,
-//!   `broken_bonds`, `error`; `ratio` (fine / coarse wall time), `seed_ratio` (Table 5:
-//!   5.72), `adaptive_ratio` (adaptive / coarse) and `refinement_ratio` (adaptive /
-//!   coarse particles).
+//! - `branching[]` ([`crate::dynamics::bench::BranchingBench`]): seed 004's branching
+//!   plate, `case` `One` (sigma_B = 1 MPa) and `Two` (2 MPa), timed on the coarse and the
+//!   fine grid, adaptively refined, path refined and on the coarse particles with nothing
+//!   split, over `window_s` (80 us, 2 us with `--quick`) at `dt_s` = 1e-8 s, in `repeats`
+//!   rounds taken in turns (3, 1 with `--quick`): per run (`coarse`, `fine`, `adaptive`,
+//!   `coarse_particles`, `path_refined`) `dx`, `nodes`, `nodes_max`, `refine_s`, `bonds`,
+//!   `steps`, `wall_s` (the fastest round), `rounds_s` (every round), `bond_steps_per_s`,
+//!   `branch_time_s`, `boundary_time_s`, `broken_bonds`, `edge_damaged` (particles past
+//!   damage 0.4 within 3 mm of the loaded edges at the end: case 2's fake damage),
+//!   `error`; `ratio` (fine / coarse wall time), `seed_ratio` (Table 5: 5.72, Table 6:
+//!   5.69), `adaptive_ratio` (adaptive / coarse), `seed_adaptive_ratio` (Table 5: 1.23,
+//!   Table 6: 1.25), `refinement_ratio` (adaptive / coarse particles), `path_ratio` and
+//!   `path_fine_ratio` (path refined / coarse and / fine).
 //! - `refined_ramp` ([`crate::refine::bench::RefinedRampBench`]): the refined
 //!   crack-initiation ramp on nested tip circles (base dx 1 mm, 2 mm with `--quick`),
 //!   `plain` and `preconditioned` ([`crate::refine::bench::RampRun`]: `particles`,
@@ -49,6 +53,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::cases::{plate_hole, three_point_bend, PdCase};
+use crate::dynamics::bench::BranchingCase;
 use crate::forces::{History, TangentKind};
 use crate::geometry::to_g_all;
 use crate::model::PdModel;
@@ -182,8 +187,9 @@ pub struct BenchReport {
     pub kernel: Vec<KernelBench>,
     /// Switching measurements (plate with hole, three-point bend).
     pub switching: Vec<SwitchBench>,
-    /// Seed 004's branching plate, coarse against fine ([`crate::dynamics::bench`]).
-    pub branching: Option<crate::dynamics::bench::BranchingBench>,
+    /// Seed 004's branching plate, cases 1 and 2: coarse, fine, adaptive
+    /// ([`crate::dynamics::bench`]).
+    pub branching: Vec<crate::dynamics::bench::BranchingBench>,
     /// The refined crack-initiation ramp, plain against Cholesky-preconditioned CG
     /// ([`crate::refine::bench`]).
     pub refined_ramp: Option<crate::refine::bench::RefinedRampBench>,
@@ -459,11 +465,11 @@ pub fn run_bench(opts: BenchOptions) -> BenchReport {
     ];
     // Explicit dynamics: the seed's 80 us (8000 steps per grid), 3 rounds; 2 us, one
     // round, when quick.
-    let branching = Some(if opts.quick {
-        crate::dynamics::bench::branching(2e-6, 1)
-    } else {
-        crate::dynamics::bench::branching(8e-5, 3)
-    });
+    let (window, rounds) = if opts.quick { (2e-6, 1) } else { (8e-5, 3) };
+    let branching = [BranchingCase::One, BranchingCase::Two]
+        .into_iter()
+        .map(|case| crate::dynamics::bench::branching(case, window, rounds))
+        .collect();
     // The refined ramp: base dx 2 mm when quick (about 20 s), 1 mm otherwise.
     let refined_ramp = Some(crate::refine::bench::refined_ramp(if opts.quick {
         2e-3

@@ -99,7 +99,7 @@ pub fn table(r: &BenchReport) -> String {
         s,
         "seed 000 Table 1 (Julia, one core, its own ADR baseline): plate 10.7x, three-point bend 6.4x"
     );
-    if let Some(b) = &r.branching {
+    for b in &r.branching {
         s.push_str(&crate::dynamics::bench::table(b));
     }
     if let Some(b) = &r.refined_ramp {

@@ -1,8 +1,8 @@
 //! `pdbem bench pd`: the cost of seed 004's dynamic crack-branching plate (section 4.2,
-//! case 1: sigma_B = 1 MPa, dt = 1e-8 s) on the coarse (dx = 1 mm, 4000 particles) and
-//! the fine grid (dx = 0.5 mm, 16000 particles), each timed over the same simulated
-//! window, and the fine/coarse ratio next to seed 004 Table 5's (252 s and 1441 s for
-//! 80 us: 5.7x).
+//! case 1: sigma_B = 1 MPa, and case 2: 2 MPa, dt = 1e-8 s) on the coarse (dx = 1 mm,
+//! 4000 particles) and the fine grid (dx = 0.5 mm, 16000 particles), each timed over the
+//! same simulated window, and the fine/coarse ratio next to seed 004 Table 5's (case 1:
+//! 252 s and 1441 s for 80 us, 5.7x) and Table 6's (case 2: 248 s and 1411 s, 5.7x).
 //!
 //! The cost per step is one state-based force pass over the directed bonds (4.1 times
 //! as many on the fine grid: 437956 against 106996) plus the node updates; dt is the
@@ -12,12 +12,18 @@
 //! The adaptive run ([`crate::refine::run_dynamic`]) starts from the coarse grid with the
 //! pre-crack's particles refined at set-up (Eq. 15) and splits the particles Eqs. 15-16
 //! flag (the seed's phi_c = 0.4, alpha = 0.5) every [`ADAPTIVE_CHECK_EVERY`] steps
-//! (seed 004 Table 5: 311 s, 4000-4522 particles). Its particles' force pass is not the
+//! (seed 004 Table 5: 311 s, 4000-4522 particles; Table 6: 309 s, 4000-4783). Its particles' force pass is not the
 //! uniform grid's `PdModel` pass (since 2026-11-29 the two take the same time per bond on
 //! this plate), so the coarse plate is also timed on the particles with no criterion
 //! (nothing splits): adaptive over that is the cost of the refinement itself. The path-refined run splits the region the crack crosses
 //! before the first step ([`PATH_CIRCLE`], then the same criteria): the fine grid's fork
 //! and branches, which the adaptive run does not give (`docs/seed004.md`), at its cost.
+//!
+//! **The damage pattern.** Case 2 is the one where the grids' patterns differ in a way
+//! a count shows: the coarse grid's "fake damage" along the loaded edges (seed 004
+//! section 4.2), which the fine grid does not have. Every run reports
+//! [`BranchingRun::edge_damaged`], its particles past damage [`EDGE_DAMAGE`] within
+//! [`EDGE_BAND`] of the loaded top and bottom edges at the end of the window.
 //!
 //! **Protocol.** The five runs take turns, `repeats` rounds of coarse, coarse particles,
 //! adaptive, path refined and fine in one process, and each run's time is its fastest round: on a
@@ -27,18 +33,57 @@
 
 use serde::Serialize;
 
+use super::crack::damaged_near_edges;
 use super::{run, DynamicRecord, ExplicitParams};
 use crate::cases::{branching_plate, SEED004_DENSITY};
+use crate::geometry::P2;
 use crate::model::PdModel;
 use crate::problem::Selection;
 use crate::refine::{run_dynamic, Refinement};
 
-/// Seed 004 Table 5, case 1: coarse wall time for 80 us (s).
-pub const SEED_COARSE_S: f64 = 252.0;
-/// Seed 004 Table 5, case 1: fine wall time for 80 us (s).
-pub const SEED_FINE_S: f64 = 1441.0;
-/// Seed 004 Table 5, case 1: adaptive wall time for 80 us (s).
-pub const SEED_ADAPTIVE_S: f64 = 311.0;
+/// Height of the branching plate ([`branching_plate`]: 100 mm x 40 mm) (m).
+const PLATE_HEIGHT: f64 = 0.04;
+/// Damage past which a particle counts in [`BranchingRun::edge_damaged`] (the crack
+/// tip's threshold, [`crate::dynamics::crack`]).
+pub const EDGE_DAMAGE: f64 = 0.4;
+/// Distance from the loaded edges within which [`BranchingRun::edge_damaged`] counts (m).
+pub const EDGE_BAND: f64 = 3e-3;
+
+/// Seed 004 section 4.2's two load cases.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub enum BranchingCase {
+    /// Case 1, sigma_B = 1 MPa (Table 5).
+    #[default]
+    One,
+    /// Case 2, sigma_B = 2 MPa (Table 6): the coarse grid's fake damage.
+    Two,
+}
+
+impl BranchingCase {
+    /// The traction sigma_B on the top and bottom edges (Pa).
+    pub fn sigma(self) -> f64 {
+        match self {
+            BranchingCase::One => 1e6,
+            BranchingCase::Two => 2e6,
+        }
+    }
+
+    /// The seed's wall times for 80 us (s): coarse, adaptive and fine (Table 5 for case
+    /// 1, Table 6 for case 2).
+    pub fn seed_times(self) -> [f64; 3] {
+        match self {
+            BranchingCase::One => [252.0, 311.0, 1441.0],
+            BranchingCase::Two => [248.0, 309.0, 1411.0],
+        }
+    }
+
+    fn label(self) -> &'static str {
+        match self {
+            BranchingCase::One => "case 1 (sigma_B = 1 MPa), seed 004 Table 5",
+            BranchingCase::Two => "case 2 (sigma_B = 2 MPa), seed 004 Table 6",
+        }
+    }
+}
 /// Steps between the adaptive run's Eq. 15 checks (0.1 us at dt = 1e-8 s).
 pub const ADAPTIVE_CHECK_EVERY: usize = 10;
 /// The path-refined run's static circle, centre and radius (m): the plate right of
@@ -72,6 +117,9 @@ pub struct BranchingRun {
     pub boundary_time_s: Option<f64>,
     /// Broken bond pairs at the end.
     pub broken_bonds: usize,
+    /// Particles past damage [`EDGE_DAMAGE`] within [`EDGE_BAND`] of the loaded edges at
+    /// the end (case 2's fake damage on the coarse grid).
+    pub edge_damaged: usize,
     /// An error of the run, if any.
     pub error: Option<String>,
 }
@@ -79,6 +127,8 @@ pub struct BranchingRun {
 /// Coarse and fine runs over one window.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct BranchingBench {
+    /// The load case.
+    pub case: BranchingCase,
     /// Simulated window (s).
     pub window_s: f64,
     /// Rounds of the four runs (module docs: each run's time is its fastest round).
@@ -99,10 +149,12 @@ pub struct BranchingBench {
     pub path_refined: BranchingRun,
     /// Fine wall time over coarse wall time.
     pub ratio: f64,
-    /// Seed 004 Table 5's ratio, 1441 s / 252 s.
+    /// The seed's fine / coarse ratio (Table 5: 1441 s / 252 s; Table 6: 1411 s / 248 s).
     pub seed_ratio: f64,
     /// Adaptive wall time over coarse wall time.
     pub adaptive_ratio: f64,
+    /// The seed's adaptive / coarse ratio (Table 5: 311 s / 252 s; Table 6: 309 s / 248 s).
+    pub seed_adaptive_ratio: f64,
     /// Adaptive wall time over [`Self::coarse_particles`]' (the same force kernel): the
     /// cost of the refinement itself.
     pub refinement_ratio: f64,
@@ -112,8 +164,14 @@ pub struct BranchingBench {
     pub path_fine_ratio: f64,
 }
 
-fn timed(dx: f64, window: f64, dt: f64) -> BranchingRun {
-    let case = branching_plate(dx, 1e6);
+/// Particles at `pos` past [`EDGE_DAMAGE`] within [`EDGE_BAND`] of the plate's bottom and
+/// top (`height`) edges.
+fn edge_damaged(pos: &[P2], phi: &[f64], height: f64) -> usize {
+    damaged_near_edges(pos, phi, EDGE_DAMAGE, [0.0, height], EDGE_BAND)
+}
+
+fn timed(case: BranchingCase, dx: f64, window: f64, dt: f64) -> BranchingRun {
+    let case = branching_plate(dx, case.sigma());
     let mut out = BranchingRun {
         dx,
         ..Default::default()
@@ -144,6 +202,8 @@ fn timed(dx: f64, window: f64, dt: f64) -> BranchingRun {
             out.branch_time_s = info.branch_time;
             out.boundary_time_s = info.boundary_time;
             out.broken_bonds = m.broken_bonds();
+            let phi = m.damage();
+            out.edge_damaged = edge_damaged(m.positions(), &phi, PLATE_HEIGHT);
         }
         Err(e) => out.error = Some(e.to_string()),
     }
@@ -152,8 +212,8 @@ fn timed(dx: f64, window: f64, dt: f64) -> BranchingRun {
 
 /// The coarse plate on the refined-particle kernel under `r` (the seed's Eqs. 15-16, or
 /// no criterion at all).
-fn timed_particles(window: f64, dt: f64, r: &Refinement) -> BranchingRun {
-    let case = branching_plate(1e-3, 1e6);
+fn timed_particles(case: BranchingCase, window: f64, dt: f64, r: &Refinement) -> BranchingRun {
+    let case = branching_plate(1e-3, case.sigma());
     let p = ExplicitParams {
         density: SEED004_DENSITY,
         end_time: window,
@@ -167,7 +227,8 @@ fn timed_particles(window: f64, dt: f64, r: &Refinement) -> BranchingRun {
     };
     let mut obs = (Vec::new(), Vec::new());
     match run_dynamic(&case.problem, &p, r, ADAPTIVE_CHECK_EVERY, &mut obs) {
-        Ok((_, info)) => {
+        Ok((body, info)) => {
+            out.edge_damaged = edge_damaged(&body.dh.pos, &body.damage(), PLATE_HEIGHT);
             let d = &info.dynamics;
             (out.nodes, out.nodes_max) = info.particles;
             out.bonds = info.bonds;
@@ -203,10 +264,10 @@ fn fastest(best: Option<BranchingRun>, run: BranchingRun) -> BranchingRun {
     }
 }
 
-/// Time the coarse and the fine plate, the adaptive, path-refined and coarse-particle runs over
-/// `window` seconds of simulated time at the seed's dt = 1e-8 s, `repeats` rounds
-/// (module docs).
-pub fn branching(window: f64, repeats: usize) -> BranchingBench {
+/// Time the coarse and the fine plate, the adaptive, path-refined and coarse-particle runs of
+/// `case` over `window` seconds of simulated time at the seed's dt = 1e-8 s, `repeats`
+/// rounds (module docs).
+pub fn branching(case: BranchingCase, window: f64, repeats: usize) -> BranchingBench {
     let dt = 1e-8;
     let adaptive_r = Refinement {
         strain_factor: Some(0.5),
@@ -226,14 +287,20 @@ pub fn branching(window: f64, repeats: usize) -> BranchingBench {
     let (mut coarse, mut fine, mut adaptive, mut coarse_particles) = (None, None, None, None);
     let mut path_refined = None;
     for _ in 0..repeats.max(1) {
-        coarse = Some(fastest(coarse, timed(1e-3, window, dt)));
+        coarse = Some(fastest(coarse, timed(case, 1e-3, window, dt)));
         coarse_particles = Some(fastest(
             coarse_particles,
-            timed_particles(window, dt, &unsplit),
+            timed_particles(case, window, dt, &unsplit),
         ));
-        adaptive = Some(fastest(adaptive, timed_particles(window, dt, &adaptive_r)));
-        path_refined = Some(fastest(path_refined, timed_particles(window, dt, &path_r)));
-        fine = Some(fastest(fine, timed(5e-4, window, dt)));
+        adaptive = Some(fastest(
+            adaptive,
+            timed_particles(case, window, dt, &adaptive_r),
+        ));
+        path_refined = Some(fastest(
+            path_refined,
+            timed_particles(case, window, dt, &path_r),
+        ));
+        fine = Some(fastest(fine, timed(case, 5e-4, window, dt)));
     }
     let (coarse, fine, adaptive, coarse_particles, path_refined) = (
         coarse.unwrap_or_default(),
@@ -242,8 +309,11 @@ pub fn branching(window: f64, repeats: usize) -> BranchingBench {
         coarse_particles.unwrap_or_default(),
         path_refined.unwrap_or_default(),
     );
+    let [seed_coarse, seed_adaptive, seed_fine] = case.seed_times();
     BranchingBench {
+        case,
         adaptive_ratio: adaptive.wall_s / coarse.wall_s,
+        seed_adaptive_ratio: seed_adaptive / seed_coarse,
         refinement_ratio: adaptive.wall_s / coarse_particles.wall_s,
         path_ratio: path_refined.wall_s / coarse.wall_s,
         path_fine_ratio: path_refined.wall_s / fine.wall_s,
@@ -256,7 +326,7 @@ pub fn branching(window: f64, repeats: usize) -> BranchingBench {
         ratio: fine.wall_s / coarse.wall_s,
         coarse,
         fine,
-        seed_ratio: SEED_FINE_S / SEED_COARSE_S,
+        seed_ratio: seed_fine / seed_coarse,
     }
 }
 
@@ -266,11 +336,13 @@ pub fn table(b: &BranchingBench) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "seed 004 branching plate, case 1 (sigma_B = 1 MPa), {:.1} us at dt = {:.0e} s, fastest of {} rounds taken in turns:",
+        "seed 004 branching plate, {}, {:.1} us at dt = {:.0e} s, fastest of {} rounds taken in turns:",
+        b.case.label(),
         b.window_s * 1e6,
         b.dt_s,
         b.repeats
     );
+    let seed = b.case.seed_times();
     let us = |t: Option<f64>| t.map_or("-".to_string(), |t| format!("{:.1}", t * 1e6));
     for (name, r) in [
         ("coarse", &b.coarse),
@@ -281,7 +353,7 @@ pub fn table(b: &BranchingBench) -> String {
     ] {
         let _ = writeln!(
             s,
-            "  {name:<16} dx {:.1} mm: {}-{} nodes (refinement {:.2} s), {} bonds, {} steps, {:.2} s (rounds {}; {:.3e} bond updates/s), branch {} us, boundary {} us, {} broken{}",
+            "  {name:<16} dx {:.1} mm: {}-{} nodes (refinement {:.2} s), {} bonds, {} steps, {:.2} s (rounds {}; {:.3e} bond updates/s), branch {} us, boundary {} us, {} broken, {} past {EDGE_DAMAGE} within {:.0} mm of the loaded edges{}",
             r.dx * 1e3,
             r.nodes,
             r.nodes_max,
@@ -298,19 +370,20 @@ pub fn table(b: &BranchingBench) -> String {
             us(r.branch_time_s),
             us(r.boundary_time_s),
             r.broken_bonds,
+            r.edge_damaged,
+            EDGE_BAND * 1e3,
             r.error.as_ref().map_or(String::new(), |e| format!(" (error: {e})"))
         );
     }
     let _ = writeln!(
         s,
-        "  fine / coarse wall time {:.2}x; seed 004 Table 5 (80 us, one i7 core): 1441 s / 252 s = {:.2}x",
-        b.ratio, b.seed_ratio
+        "  fine / coarse wall time {:.2}x; seed (80 us, one i7 core): {:.0} s / {:.0} s = {:.2}x",
+        b.ratio, seed[2], seed[0], b.seed_ratio
     );
     let _ = writeln!(
         s,
-        "  adaptive / coarse wall time {:.2}x; seed 004 Table 5: 311 s / 252 s = {:.2}x",
-        b.adaptive_ratio,
-        SEED_ADAPTIVE_S / SEED_COARSE_S
+        "  adaptive / coarse wall time {:.2}x; seed: {:.0} s / {:.0} s = {:.2}x",
+        b.adaptive_ratio, seed[1], seed[0], b.seed_adaptive_ratio
     );
     let _ = writeln!(
         s,
@@ -331,7 +404,7 @@ mod tests {
 
     #[test]
     fn branching_bench_times_both_grids() {
-        let b = branching(2e-7, 2);
+        let b = branching(BranchingCase::One, 2e-7, 2);
         assert_eq!(b.repeats, 2);
         for r in [
             &b.coarse,
@@ -368,5 +441,40 @@ mod tests {
         assert_eq!(p.nodes, 10168);
         assert!(b.path_ratio > 1.0 && b.path_fine_ratio.is_finite());
         assert!(table(&b).contains("5.72x") && table(&b).contains("1.23x"));
+        // Nothing is damaged near the loaded edges 0.2 us after the load is applied.
+        assert!([&b.coarse, &b.fine, &b.adaptive]
+            .iter()
+            .all(|r| r.edge_damaged == 0));
+    }
+
+    #[test]
+    fn case_two_carries_its_load_and_table_six() {
+        let b = branching(BranchingCase::Two, 1e-7, 1);
+        assert_eq!(b.case, BranchingCase::Two);
+        assert!(
+            b.coarse.error.is_none() && b.coarse.steps == 10,
+            "{:?}",
+            b.coarse
+        );
+        let t = table(&b);
+        // Table 6: 1411 s / 248 s and 309 s / 248 s.
+        assert!(t.contains("case 2 (sigma_B = 2 MPa)"), "{t}");
+        assert!(t.contains("5.69x") && t.contains("1.25x"), "{t}");
+        assert!((b.seed_adaptive_ratio - 309.0 / 248.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn edge_damage_counts_damaged_particles_within_the_band_of_either_edge() {
+        let pos = [
+            [0.01, 0.001],
+            [0.01, 0.0385],
+            [0.01, 0.02],
+            [0.02, 0.002],
+            [0.0, 0.0035],
+        ];
+        let phi = [0.5, 0.41, 0.9, 0.4, 0.6];
+        // The mid-plate particle is outside the bands, 0.4 is not past the threshold and
+        // y = 3.5 mm lies beyond 3 mm of the bottom edge.
+        assert_eq!(edge_damaged(&pos, &phi, PLATE_HEIGHT), 2);
     }
 }

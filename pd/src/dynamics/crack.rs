@@ -196,3 +196,19 @@ impl CrackTracker {
         None
     }
 }
+
+/// Points at `pos` whose damage `phi` passes `threshold` within `band` of the horizontal
+/// edges at `y = edges[0]` and `y = edges[1]`: the damage a loaded edge takes that is no
+/// part of the crack (seed 004 section 4.2's "fake damage" of a coarse grid).
+pub fn damaged_near_edges(
+    pos: &[P2],
+    phi: &[f64],
+    threshold: f64,
+    edges: [f64; 2],
+    band: f64,
+) -> usize {
+    pos.iter()
+        .zip(phi)
+        .filter(|(x, &d)| d > threshold && edges.iter().any(|&y| (x[1] - y).abs() < band))
+        .count()
+}
