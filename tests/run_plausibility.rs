@@ -271,14 +271,23 @@ fn a_refined_body_notes_the_solver_settings_it_does_not_read() {
     pd.refinement.as_mut().unwrap().check_every = 5;
     let n = notes(&mut scene);
     assert!(
-        n.iter().any(|n| n.starts_with("pd.solver (Adr) is not read"))
-            && n.iter().any(|n| n.starts_with("pd.refinement.check_every = 5")),
+        n.iter()
+            .any(|n| n.starts_with("pd.solver (Adr) is not read"))
+            && n.iter()
+                .any(|n| n.starts_with("pd.refinement.check_every = 5")),
         "{n:?}"
     );
     // Adaptive dynamics: the conjugate-gradient tolerance is the field it does not read.
     let mut scene = case("seed004_branching_case2_adaptive", &[]);
     assert!(notes(&mut scene).is_empty(), "{:?}", scene.notes);
-    scene.pd.as_mut().unwrap().refinement.as_mut().unwrap().tolerance = 1e-6;
+    scene
+        .pd
+        .as_mut()
+        .unwrap()
+        .refinement
+        .as_mut()
+        .unwrap()
+        .tolerance = 1e-6;
     let n = notes(&mut scene);
     assert!(
         n.len() == 1 && n[0].starts_with("pd.refinement.tolerance = 1e-6 is not read"),
