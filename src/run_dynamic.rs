@@ -20,6 +20,7 @@ use anyhow::{bail, Context, Result};
 use pdbem_pd::dynamics::{
     self, critical_time_step, DynamicRecord, DynamicsObserver, ExplicitParams, RegionVelocity,
 };
+use pdbem_pd::geometry::dist_point_polyline;
 use pdbem_pd::{PdModel, PdProblem, Region, Selection};
 use serde_json::json;
 
@@ -241,6 +242,9 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     summary
         .extra
         .insert("dynamics".into(), summary_entry(&info, &last));
+    summary
+        .notes
+        .extend(loaded_edge_damage_note(&problem, &x[..n], &phi[..n]));
     let angles = deflections(&problem, &x[..n], &phi[..n]);
     log_deflections(ctx, &angles);
     summary.extra.insert("deflection_deg".into(), json!(angles));
@@ -253,6 +257,43 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
         .insert("broken_bonds".into(), json!(model.broken_bonds()));
     summary.wall_time_s = t0.elapsed().as_secs_f64();
     Ok(summary)
+}
+
+/// Damage past which a node by a loaded edge counts in [`loaded_edge_damage_note`] (the
+/// crack tip's threshold).
+const EDGE_DAMAGE: f64 = 0.4;
+
+/// The note of a run without `pd.surface_correction` whose traction-loaded edges took
+/// damage: the nodes past [`EDGE_DAMAGE`] within a horizon of a `Traction` condition's
+/// edge at the end. Without the correction the rows by a free edge are softer than the
+/// bulk, and under a load held on that edge they can break in bands that are no part of
+/// the crack (seed 004's coarse branching plate at 2 MPa: 46 such nodes, 4 with the
+/// correction, the corners of the loaded layers; `docs/seed004.md`).
+fn loaded_edge_damage_note(problem: &PdProblem, x: &[[f64; 2]], phi: &[f64]) -> Option<String> {
+    if problem.surface_correction {
+        return None;
+    }
+    let delta = problem.horizon();
+    let edges: Vec<&[[f64; 2]]> = problem
+        .boundary
+        .iter()
+        .filter_map(|bc| match bc {
+            pdbem_pd::BoundaryCondition::Traction { edge, .. } => Some(edge.as_slice()),
+            _ => None,
+        })
+        .collect();
+    let near = x
+        .iter()
+        .zip(phi)
+        .filter(|(p, &d)| {
+            d > EDGE_DAMAGE && edges.iter().any(|e| dist_point_polyline(**p, e) <= delta)
+        })
+        .count();
+    (near > 0).then(|| {
+        format!(
+            "{near} nodes past damage {EDGE_DAMAGE} lie within a horizon of the traction-loaded edges at the end; without pd.surface_correction the rows by a free edge are softer than the bulk and can break there in bands that are no part of the crack (seed 004's coarse branching plate at 2 MPa: 46 such nodes, 4 with the correction): look at the damage plot, or run with `surface_correction: true`"
+        )
+    })
 }
 
 /// The console lines of a finished run: when the crack branched and reached the boundary.
@@ -434,4 +475,31 @@ pub(crate) fn snapshot_plot(
             .trim_end_matches('.')
     );
     save_plot(&ctx.writer, &stem, &fig, &scene.outputs.formats, summary)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pdbem_pd::cases::branching_plate;
+
+    #[test]
+    fn damage_by_a_loaded_edge_is_noted_without_the_surface_correction() {
+        // The 100 x 40 mm plate, horizon 3.015 mm, tractions on y = 0 and y = 40 mm.
+        let mut p = branching_plate(1e-3, 2e6).problem;
+        let x = [
+            [0.05, 0.001],
+            [0.05, 0.0385],
+            [0.05, 0.02],
+            [0.08, 0.0031],
+            [0.02, 0.039],
+        ];
+        // Past 0.4 within a horizon of an edge: the first two; the third is mid-plate, the
+        // fourth 3.1 mm from the bottom edge, the fifth at 0.4 exactly.
+        let phi = [0.5, 0.9, 1.0, 0.8, 0.4];
+        let note = loaded_edge_damage_note(&p, &x, &phi).expect("a note");
+        assert!(note.starts_with("2 nodes past damage 0.4"), "{note}");
+        assert!(loaded_edge_damage_note(&p, &x, &[0.0; 5]).is_none());
+        p.surface_correction = true;
+        assert!(loaded_edge_damage_note(&p, &x, &phi).is_none());
+    }
 }
