@@ -47,12 +47,23 @@ fn pd_from_gc_needs_gc() {
 
 #[test]
 fn pd_solver_params_are_checked() {
-    assert_invalid(
-        &base_with("pd: (dx: 0.1, solver: Adr(tolerance: -1))"),
-        "pd.solver.tolerance = -1",
-        "must be > 0",
-    );
+    // A relative tolerance lies in [1e-14, 1): below, the measure is round-off (an ADR
+    // run at 1e-300 ran 100 000 iterations to fail at 2.2e-16); from 1 on, the first
+    // iterate passes. The value shows in exponent form, not as 300 zeros.
+    for (solver, value) in [
+        ("Adr(tolerance: -1)", "-1"),
+        ("Adr(tolerance: 1e-300)", "1e-300"),
+        ("Implicit(tolerance: 1e-15)", "1e-15"),
+        ("Switching(tolerance: 1)", "1"),
+    ] {
+        assert_invalid(
+            &base_with(&format!("pd: (dx: 0.1, solver: {solver})")),
+            &format!("pd.solver.tolerance = {value}:"),
+            "a relative tolerance must lie in [1e-14, 1)",
+        );
+    }
     load(&base_with("pd: (dx: 0.1, solver: Implicit(max_iter: 20))")).expect("valid");
+    load(&base_with("pd: (dx: 0.1, solver: Adr(tolerance: 1e-14))")).expect("valid");
 }
 
 #[test]

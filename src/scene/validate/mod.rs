@@ -37,7 +37,7 @@ impl Checker {
     ) {
         self.issues.push(Issue {
             path: path.into(),
-            value: Some(value.to_string()),
+            value: Some(shown(value.to_string())),
             reason: reason.into(),
         });
     }
@@ -125,4 +125,13 @@ pub(super) fn safe_file_name(name: &str) -> bool {
             .chars()
             .all(|ch| ch.is_ascii_alphanumeric() || matches!(ch, '_' | '-' | '.'))
         && !name.starts_with('.')
+}
+
+/// A value as an issue shows it: a number whose plain decimal form runs past 16
+/// characters (1e-300 prints 300 zeros) in exponent form, anything else as it is.
+fn shown(value: String) -> String {
+    match value.parse::<f64>() {
+        Ok(v) if value.len() > 16 && v.is_finite() => format!("{v:e}"),
+        _ => value,
+    }
 }

@@ -13,6 +13,23 @@ pub const MIN_HORIZON_FACTOR: f64 = 2.0;
 pub const MAX_HORIZON_FACTOR: f64 = 6.0;
 /// Largest coupling tolerance psi (a relative change of the interface displacements).
 pub const MAX_PSI: f64 = 0.1;
+/// Smallest relative tolerance of a PD solve (`pd.solver.tolerance`,
+/// `pd.refinement.tolerance`): f64 resolves relative changes of 2.2e-16, and a solve's
+/// round-off floor lies some tens to hundreds of times above (the refined plate's
+/// conjugate gradients stall at 1e-14 to 1e-13 of the load at dx = 0.5 mm; ADR's
+/// displacement change at 2.2e-16), so a smaller tolerance cannot mean convergence.
+pub const MIN_PD_TOLERANCE: f64 = 1e-14;
+
+/// A relative tolerance of a PD solve at `path`: in [[`MIN_PD_TOLERANCE`], 1).
+fn relative_tolerance(c: &mut Checker, path: &str, v: f64) {
+    if c.finite(path, v) && !(MIN_PD_TOLERANCE..1.0).contains(&v) {
+        c.fail(
+            path,
+            v,
+            format!("a relative tolerance must lie in [{MIN_PD_TOLERANCE:e}, 1): below it a solve's measure is round-off (f64 resolves 2.2e-16), from 1 on the first iterate passes"),
+        );
+    }
+}
 
 /// Checks the PD and coupling sections.
 pub fn check(c: &mut Checker, scene: &Scene) {
@@ -149,10 +166,7 @@ fn check_refinement(
     if !(1..=4).contains(&r.max_level) {
         c.fail("pd.refinement.max_level", r.max_level, "must be 1 to 4");
     }
-    if c.finite("pd.refinement.tolerance", r.tolerance) && !(r.tolerance > 0.0 && r.tolerance < 1.0)
-    {
-        c.fail("pd.refinement.tolerance", r.tolerance, "must lie in (0, 1)");
-    }
+    relative_tolerance(c, "pd.refinement.tolerance", r.tolerance);
 }
 
 /// The solver and failure law a refined body can run: the elastic solve (`failure:
@@ -323,7 +337,7 @@ fn check_solver(c: &mut Checker, solver: &PdSolver) {
     match solver {
         PdSolver::Explicit(_) => {}
         PdSolver::Adr(p) => {
-            c.positive("pd.solver.tolerance", p.tolerance, "tolerance");
+            relative_tolerance(c, "pd.solver.tolerance", p.tolerance);
             c.at_least("pd.solver.max_iter", p.max_iter, 1, "iteration cap");
             if c.finite("pd.solver.safety_factor", p.safety_factor) && p.safety_factor < 1.0 {
                 c.fail(
@@ -334,11 +348,11 @@ fn check_solver(c: &mut Checker, solver: &PdSolver) {
             }
         }
         PdSolver::Implicit(p) => {
-            c.positive("pd.solver.tolerance", p.tolerance, "tolerance");
+            relative_tolerance(c, "pd.solver.tolerance", p.tolerance);
             c.at_least("pd.solver.max_iter", p.max_iter, 1, "iteration cap");
         }
         PdSolver::Switching(p) => {
-            c.positive("pd.solver.tolerance", p.tolerance, "tolerance");
+            relative_tolerance(c, "pd.solver.tolerance", p.tolerance);
             c.at_least("pd.solver.max_newton", p.max_newton, 1, "iteration cap");
             c.at_least("pd.solver.max_adr", p.max_adr, 1, "iteration cap");
             c.at_least(
