@@ -127,11 +127,28 @@ pub(super) fn safe_file_name(name: &str) -> bool {
         && !name.starts_with('.')
 }
 
-/// A value as an issue shows it: a number whose plain decimal form runs past 16
-/// characters (1e-300 prints 300 zeros) in exponent form, anything else as it is.
+/// A value as an issue shows it: a number whose plain decimal form runs long (1e-300
+/// prints 300 zeros) in exponent form, anything else as it is. Integers keep their
+/// digits up to the 20 of `u64::MAX`: a fraction is shortened past 16 characters, a
+/// digit string past 21.
 fn shown(value: String) -> String {
+    let long = if value.contains('.') { 16 } else { 21 };
     match value.parse::<f64>() {
-        Ok(v) if value.len() > 16 && v.is_finite() => format!("{v:e}"),
+        Ok(v) if value.len() > long && v.is_finite() => format!("{v:e}"),
         _ => value,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::shown;
+
+    #[test]
+    fn long_numbers_show_in_exponent_form_and_integers_keep_their_digits() {
+        assert_eq!(shown(1e-300f64.to_string()), "1e-300");
+        assert_eq!(shown(1e300f64.to_string()), "1e300");
+        assert_eq!(shown(0.1f64.to_string()), "0.1");
+        assert_eq!(shown(u64::MAX.to_string()), "18446744073709551615");
+        assert_eq!(shown("top".into()), "top");
     }
 }
