@@ -29,7 +29,7 @@ pub enum PdError {
         got: usize,
     },
     /// A solver produced a non-finite value.
-    #[error("{solver}: non-finite value at iteration {iteration} (load factor {load})")]
+    #[error("{solver}: non-finite value at iteration {iteration} (load factor {})", factor_text(*load))]
     NonFinite {
         /// Solver name.
         solver: &'static str,
@@ -40,7 +40,8 @@ pub enum PdError {
     },
     /// The residual grew by more than the allowed factor.
     #[error(
-        "{solver} diverged at iteration {iteration} (load factor {load}): residual {residual:.3e} grew from {initial:.3e}"
+        "{solver} diverged at iteration {iteration} (load factor {}): residual {residual:.3e} grew from {initial:.3e}",
+        factor_text(*load)
     )]
     Diverged {
         /// Solver name.
@@ -56,7 +57,8 @@ pub enum PdError {
     },
     /// The iteration cap was reached without meeting the tolerance.
     #[error(
-        "{solver} did not converge in {iterations} iterations (load factor {load}): measure {measure:.3e} > tolerance {tolerance:.3e}"
+        "{solver} did not converge in {iterations} iterations (load factor {}): measure {measure:.3e} > tolerance {tolerance:.3e}",
+        factor_text(*load)
     )]
     NoConvergence {
         /// Solver name.
@@ -102,6 +104,17 @@ fn size_text(bytes: f64) -> String {
     format!("{v:.3} {unit}")
 }
 
+/// A load factor as the messages show it: as it prints when short (0.6, 3.3, 8.1), in
+/// exponent form when its decimal form runs past 12 characters (1e300 prints 301 digits).
+fn factor_text(load: f64) -> String {
+    let plain = load.to_string();
+    if plain.len() > 12 {
+        format!("{load:.6e}")
+    } else {
+        plain
+    }
+}
+
 impl PdError {
     /// Shorthand for [`PdError::InvalidInput`].
     pub fn invalid(field: impl Into<String>, reason: impl Into<String>) -> Self {
@@ -109,5 +122,24 @@ impl PdError {
             field: field.into(),
             reason: reason.into(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn load_factors_print_short() {
+        let e = |load| PdError::NonFinite {
+            solver: "adr",
+            iteration: 1,
+            load,
+        };
+        assert!(e(0.6).to_string().ends_with("(load factor 0.6)"));
+        assert!(e(1e300).to_string().ends_with("(load factor 1.000000e300)"));
+        assert!(e(0.1 + 0.2)
+            .to_string()
+            .ends_with("(load factor 3.000000e-1)"));
     }
 }

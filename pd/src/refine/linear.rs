@@ -198,7 +198,15 @@ pub fn pcg(
     let mut rz = dot(&r, &z);
     let mut restarts = 0;
     for it in 0..max_iter {
-        if dot(&r, &r).sqrt() <= tol * fnorm {
+        let rnorm = dot(&r, &r).sqrt();
+        if !rnorm.is_finite() {
+            return Err(PdError::NonFinite {
+                solver,
+                iteration: it,
+                load,
+            });
+        }
+        if rnorm <= tol * fnorm {
             // The recurrence says converged: check f - K u itself (module docs).
             r = true_residual(&body.u);
             let measure = dot(&r, &r).sqrt() / fnorm;
