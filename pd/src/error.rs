@@ -55,6 +55,26 @@ pub enum PdError {
         /// Smallest residual measure seen in the step.
         initial: f64,
     },
+    /// A load step's bond-breaking rounds ran out before the bond history settled: bonds
+    /// still broke, or stretches still grew past their committed history.
+    #[error(
+        "{solver}: the bond history did not settle in {rounds} re-converged rounds at load factor {} (last round: {broken} directed bonds broke, the largest stretch grew {growth:.3e} past its history, allowed {allowed:.3e}): no quasi-static equilibrium was reached at this load (a crack running unstably, or a load step too large for the breaking rounds)",
+        factor_text(*load)
+    )]
+    Unsettled {
+        /// Solver name.
+        solver: &'static str,
+        /// Rounds done.
+        rounds: usize,
+        /// Load factor of the step.
+        load: f64,
+        /// Directed bonds broken in the last round.
+        broken: usize,
+        /// Largest growth of a stretch past its history in the last round.
+        growth: f64,
+        /// The growth allowed.
+        allowed: f64,
+    },
     /// The iteration cap was reached without meeting the tolerance.
     #[error(
         "{solver} did not converge in {iterations} iterations (load factor {}): measure {measure:.3e} > tolerance {tolerance:.3e}",

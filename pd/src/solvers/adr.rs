@@ -333,6 +333,7 @@ impl Adr {
         }
         let mut grew = false;
         let mut iters = 0;
+        let mut last = (0, 0.0);
         for round in 0..max_rounds.max(1) {
             // Every increment starts at rest, so the result depends on the
             // start state only (not on the velocity a previous increment
@@ -344,6 +345,7 @@ impl Adr {
             iters += it;
             let st = model.commit_history();
             self.broken_directed += st.newly_broken;
+            last = (st.newly_broken, st.max_growth);
             grew |= st.growing > 0;
             let settled = match self.history {
                 History::Secant => st.max_growth <= self.growth_tol,
@@ -353,12 +355,13 @@ impl Adr {
                 return Ok((iters, m, st, grew));
             }
         }
-        Err(PdError::NoConvergence {
+        Err(PdError::Unsettled {
             solver: "adr (bond breaking)",
-            iterations: max_rounds,
+            rounds: max_rounds.max(1),
             load: model.load,
-            measure: f64::NAN,
-            tolerance: 0.0,
+            broken: last.0,
+            growth: last.1,
+            allowed: self.growth_tol,
         })
     }
 
@@ -496,4 +499,42 @@ pub fn solve(model: &mut PdModel, params: &AdrParams) -> Result<SolveInfo, PdErr
     let broken = model.broken_bonds() - broken0;
     info.finish_single_phase(PhaseKind::Explicit, lam0, params.target_load, dt, broken);
     Ok(info)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cases::plate_hole;
+
+    #[test]
+    fn breaking_rounds_that_run_out_say_so() {
+        // The seed 000 plate with a hole on a 12 x 12 grid, pulled to 4 times its
+        // target in one step with one re-convergence round: bonds break in that round,
+        // so the step has not settled, and the error says why instead of reporting a NaN
+        // measure against a zero tolerance.
+        let case = plate_hole(12);
+        let mut m = PdModel::new(&case.problem).unwrap();
+        let params = AdrParams {
+            target_load: 4.0 * case.target_load,
+            steps: 1,
+            max_break_rounds: 1,
+            ..Default::default()
+        };
+        match solve(&mut m, &params) {
+            Err(PdError::Unsettled {
+                rounds,
+                broken,
+                growth,
+                allowed,
+                ..
+            }) => {
+                assert_eq!(rounds, 1);
+                assert!(
+                    broken > 0 || growth > allowed,
+                    "{broken} {growth} {allowed}"
+                );
+            }
+            other => panic!("expected Unsettled, got {other:?}"),
+        }
+    }
 }
