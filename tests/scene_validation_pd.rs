@@ -27,6 +27,23 @@ fn pd_dx_must_be_positive() {
 }
 
 #[test]
+fn pd_grid_must_fit_a_horizon_across_the_body() {
+    // The 10 x 20 body: nx = 2 gives dx = 5 and a horizon of 15.1 > 10.
+    assert_invalid(
+        &base_with("pd: (nx: 2)"),
+        "pd.nx = 2",
+        "must fit across the body's 1.0000e1 m",
+    );
+    assert_invalid(
+        &base_with("pd: (dx: 4)"),
+        "pd.dx = 4",
+        "in a thinner body every family is cut by both faces",
+    );
+    // dx = 3.3 gives a horizon of 9.95: it fits.
+    load(&base_with("pd: (dx: 3.3)")).expect("valid");
+}
+
+#[test]
 fn pd_degradation_needs_s_m_below_s_c() {
     let extra = "pd: (dx: 0.1, failure: Degradation(s_m: 0.02, s_c: 0.015, beta: 3))";
     assert_invalid(

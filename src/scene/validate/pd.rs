@@ -70,6 +70,9 @@ fn check_pd(c: &mut Checker, scene: &Scene, pd: &crate::scene::PdSettings) {
             "stand-alone PD needs a finite body: an Infinite outline has no region to fill",
         );
     }
+    if scene.coupling.is_none() {
+        check_body_spans_horizons(c, scene, pd);
+    }
     check_solver(c, &pd.solver);
     if let PdSolver::Explicit(p) = &pd.solver {
         check_explicit(c, scene, p);
@@ -287,6 +290,40 @@ fn check_explicit(c: &mut Checker, scene: &Scene, p: &crate::scene::ExplicitPara
             "pd.solver.safety_factor",
             p.safety_factor,
             "fraction of the stable time step must lie in (0, 1]",
+        );
+    }
+}
+
+/// Stand-alone PD: the body's bounding box spans at least one horizon across each side
+/// (`pd.dx`, or its width / `pd.nx`, times the horizon factor). In a thinner body every
+/// family is cut by both faces: the PD calibration holds nowhere, and solves of such a
+/// grid fail to converge (`nx: 2` on a square: the implicit solve stalled at 2e-2). A
+/// strip of 1.7 horizons, as `pd_bar_tension` (5 nodes across), still converges to the
+/// bar's u = F x / (A E) with the surface correction.
+fn check_body_spans_horizons(c: &mut Checker, scene: &Scene, pd: &crate::scene::PdSettings) {
+    let Some(outline) = outline_loop(&scene.body.outline) else {
+        return;
+    };
+    let (lo, hi) = bounding_box(&outline.points);
+    let (w, h) = (hi.x - lo.x, hi.y - lo.y);
+    let (dx, field, given) = match (pd.dx, pd.nx) {
+        (Some(dx), None) => (dx, "pd.dx", dx.to_string()),
+        (None, Some(nx)) if nx > 0 => (w / nx as f64, "pd.nx", nx.to_string()),
+        _ => return,
+    };
+    let delta = pd.horizon_factor * dx;
+    if !(delta.is_finite() && delta > 0.0 && w.is_finite() && h.is_finite()) {
+        return;
+    }
+    if w.min(h) < delta {
+        c.fail(
+            field,
+            given,
+            format!(
+                "the horizon {delta:.4e} m (dx {dx:.4e} m times {}) must fit across the body's {:.4e} m: in a thinner body every family is cut by both faces; refine the grid",
+                pd.horizon_factor,
+                w.min(h)
+            ),
         );
     }
 }
