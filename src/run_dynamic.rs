@@ -17,10 +17,10 @@
 //! exceed the work bound, before anything is built at full size.
 
 use anyhow::{bail, Context, Result};
+use pdbem_pd::dynamics::crack::{damaged_near_edges, EDGE_DAMAGE};
 use pdbem_pd::dynamics::{
     self, critical_time_step, DynamicRecord, DynamicsObserver, ExplicitParams, RegionVelocity,
 };
-use pdbem_pd::geometry::dist_point_polyline;
 use pdbem_pd::{PdModel, PdProblem, Region, Selection};
 use serde_json::json;
 
@@ -259,10 +259,6 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     Ok(summary)
 }
 
-/// Damage past which a node by a loaded edge counts in [`loaded_edge_damage_note`] (the
-/// crack tip's threshold).
-const EDGE_DAMAGE: f64 = 0.4;
-
 /// The note of a run without `pd.surface_correction` whose traction-loaded edges took
 /// damage: the nodes past [`EDGE_DAMAGE`] within a horizon of a `Traction` condition's
 /// edge at the end. Without the correction the rows by a free edge are softer than the
@@ -282,13 +278,7 @@ fn loaded_edge_damage_note(problem: &PdProblem, x: &[[f64; 2]], phi: &[f64]) -> 
             _ => None,
         })
         .collect();
-    let near = x
-        .iter()
-        .zip(phi)
-        .filter(|(p, &d)| {
-            d > EDGE_DAMAGE && edges.iter().any(|e| dist_point_polyline(**p, e) <= delta)
-        })
-        .count();
+    let near = damaged_near_edges(x, phi, &edges, delta);
     (near > 0).then(|| {
         format!(
             "{near} nodes past damage {EDGE_DAMAGE} lie within a horizon of the traction-loaded edges at the end; without pd.surface_correction the rows by a free edge are softer than the bulk and can break there in bands that are no part of the crack (seed 004's coarse branching plate at 2 MPa: 46 such nodes, 4 with the correction): look at the damage plot, or run with `surface_correction: true`"

@@ -21,7 +21,8 @@ use pdbem_pd::PdModel;
 
 /// Nodes past damage 0.4 within 3 mm of the plate's loaded edges (y = 0 and 40 mm).
 fn edge_damaged(pos: &[P2], phi: &[f64]) -> usize {
-    damaged_near_edges(pos, phi, 0.4, [0.0, 0.04], 3e-3)
+    let edges: [&[P2]; 2] = [&[[0.0, 0.0], [0.1, 0.0]], &[[0.0, 0.04], [0.1, 0.04]]];
+    damaged_near_edges(pos, phi, &edges, 3e-3)
 }
 
 fn params() -> ExplicitParams {

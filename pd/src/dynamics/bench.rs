@@ -33,7 +33,7 @@
 
 use serde::Serialize;
 
-use super::crack::damaged_near_edges;
+use super::crack::{damaged_near_edges, EDGE_DAMAGE};
 use super::{run, DynamicRecord, ExplicitParams};
 use crate::cases::{branching_plate, SEED004_DENSITY};
 use crate::geometry::P2;
@@ -41,11 +41,9 @@ use crate::model::PdModel;
 use crate::problem::Selection;
 use crate::refine::{run_dynamic, Refinement};
 
-/// Height of the branching plate ([`branching_plate`]: 100 mm x 40 mm) (m).
-const PLATE_HEIGHT: f64 = 0.04;
-/// Damage past which a particle counts in [`BranchingRun::edge_damaged`] (the crack
-/// tip's threshold, [`crate::dynamics::crack`]).
-pub const EDGE_DAMAGE: f64 = 0.4;
+/// The branching plate's loaded edges, bottom and top ([`branching_plate`]: 100 mm x
+/// 40 mm) (m).
+const LOADED_EDGES: [[P2; 2]; 2] = [[[0.0, 0.0], [0.1, 0.0]], [[0.0, 0.04], [0.1, 0.04]]];
 /// Distance from the loaded edges within which [`BranchingRun::edge_damaged`] counts (m).
 pub const EDGE_BAND: f64 = 3e-3;
 
@@ -164,10 +162,10 @@ pub struct BranchingBench {
     pub path_fine_ratio: f64,
 }
 
-/// Particles at `pos` past [`EDGE_DAMAGE`] within [`EDGE_BAND`] of the plate's bottom and
-/// top (`height`) edges.
-fn edge_damaged(pos: &[P2], phi: &[f64], height: f64) -> usize {
-    damaged_near_edges(pos, phi, EDGE_DAMAGE, [0.0, height], EDGE_BAND)
+/// Particles at `pos` past [`EDGE_DAMAGE`] within [`EDGE_BAND`] of the plate's loaded
+/// edges.
+fn edge_damaged(pos: &[P2], phi: &[f64]) -> usize {
+    damaged_near_edges(pos, phi, &[&LOADED_EDGES[0], &LOADED_EDGES[1]], EDGE_BAND)
 }
 
 fn timed(case: BranchingCase, dx: f64, window: f64, dt: f64) -> BranchingRun {
@@ -203,7 +201,7 @@ fn timed(case: BranchingCase, dx: f64, window: f64, dt: f64) -> BranchingRun {
             out.boundary_time_s = info.boundary_time;
             out.broken_bonds = m.broken_bonds();
             let phi = m.damage();
-            out.edge_damaged = edge_damaged(m.positions(), &phi, PLATE_HEIGHT);
+            out.edge_damaged = edge_damaged(m.positions(), &phi);
         }
         Err(e) => out.error = Some(e.to_string()),
     }
@@ -228,7 +226,7 @@ fn timed_particles(case: BranchingCase, window: f64, dt: f64, r: &Refinement) ->
     let mut obs = (Vec::new(), Vec::new());
     match run_dynamic(&case.problem, &p, r, ADAPTIVE_CHECK_EVERY, &mut obs) {
         Ok((body, info)) => {
-            out.edge_damaged = edge_damaged(&body.dh.pos, &body.damage(), PLATE_HEIGHT);
+            out.edge_damaged = edge_damaged(&body.dh.pos, &body.damage());
             let d = &info.dynamics;
             (out.nodes, out.nodes_max) = info.particles;
             out.bonds = info.bonds;
@@ -475,6 +473,6 @@ mod tests {
         let phi = [0.5, 0.41, 0.9, 0.4, 0.6];
         // The mid-plate particle is outside the bands, 0.4 is not past the threshold and
         // y = 3.5 mm lies beyond 3 mm of the bottom edge.
-        assert_eq!(edge_damaged(&pos, &phi, PLATE_HEIGHT), 2);
+        assert_eq!(edge_damaged(&pos, &phi), 2);
     }
 }

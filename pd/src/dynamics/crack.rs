@@ -30,7 +30,7 @@
 //! after the fork itself (a few horizons of crack growth).
 
 use crate::bonds::Bonds;
-use crate::geometry::P2;
+use crate::geometry::{dist_point_polyline, P2};
 use crate::model::PdModel;
 
 /// The measures of one state.
@@ -197,18 +197,18 @@ impl CrackTracker {
     }
 }
 
-/// Points at `pos` whose damage `phi` passes `threshold` within `band` of the horizontal
-/// edges at `y = edges[0]` and `y = edges[1]`: the damage a loaded edge takes that is no
-/// part of the crack (seed 004 section 4.2's "fake damage" of a coarse grid).
-pub fn damaged_near_edges(
-    pos: &[P2],
-    phi: &[f64],
-    threshold: f64,
-    edges: [f64; 2],
-    band: f64,
-) -> usize {
+/// Damage past which a point by a loaded edge counts in [`damaged_near_edges`] (the crack
+/// tip's threshold of [`CrackTracker`]'s users).
+pub const EDGE_DAMAGE: f64 = 0.4;
+
+/// Points at `pos` whose damage `phi` passes [`EDGE_DAMAGE`] within `band` of one of the
+/// polylines `edges`: the damage a loaded edge takes that is no part of the crack (seed
+/// 004 section 4.2's "fake damage" of a coarse grid).
+pub fn damaged_near_edges(pos: &[P2], phi: &[f64], edges: &[&[P2]], band: f64) -> usize {
     pos.iter()
         .zip(phi)
-        .filter(|(x, &d)| d > threshold && edges.iter().any(|&y| (x[1] - y).abs() < band))
+        .filter(|(x, &d)| {
+            d > EDGE_DAMAGE && edges.iter().any(|e| dist_point_polyline(**x, e) < band)
+        })
         .count()
 }
