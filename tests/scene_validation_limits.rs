@@ -266,3 +266,76 @@ fn bem_tolerance_is_a_relative_tolerance_of_static_runs() {
         "static BEM runs only",
     );
 }
+
+/// The 10 x 20 plate of [`scene_named`] with E and the boundary replaced.
+fn loaded(e: &str, boundary: &str, extra: &str) -> String {
+    format!(
+        r#"(name: "t", material: (E: {e}, nu: 0.3, plane: Stress),
+        body: (outline: Rectangle(x0: 0, y0: 0, width: 10, height: 20)),
+        cracks: [(name: "c", start: (0, 10), angle_deg: 0, length: 3)],
+        boundary: {boundary}, {extra})"#
+    )
+}
+
+#[test]
+fn loads_must_strain_the_body_less_than_one() {
+    // 1e300 Pa ran into a non-finite BEM solution at run time; so did E = 1e-300.
+    let pull =
+        |t: &str| format!(r#"[(on: "top", y: Traction({t})), (on: "bottom", y: Traction(-1))]"#);
+    assert_invalid(
+        &loaded("1e4", &pull("1e300"), ""),
+        "boundary.0.y = 1e300",
+        "strain the body by about 1.000e296",
+    );
+    assert_invalid(
+        &loaded("1e-300", &pull("1"), ""),
+        "boundary.0.y = 1",
+        "outside the small-strain elasticity",
+    );
+    // The load factor counts: 1e3 / 1e4 is 0.1, at factor 20 it is 2.
+    load(&loaded("1e4", &pull("1e3"), "")).expect("valid");
+    assert_invalid(
+        &loaded("1e4", &pull("1e3"), "load: (initial: 20)"),
+        "boundary.0.y = 1000",
+        "about 2.000e0 (|load| / E, or a displacement's spread over the body's size, at load factor 20)",
+    );
+    // Displacements: their spread over the body's size (the diagonal, 22.36 m); one
+    // displaced edge alone moves the body rigidly.
+    let pulled = |d: &str| {
+        format!(r#"[(on: "top", y: Displacement({d})), (on: "bottom", y: Displacement(0))]"#)
+    };
+    assert_invalid(
+        &loaded("1e4", &pulled("30"), ""),
+        "boundary.0.y = 30",
+        "about 1.342e0",
+    );
+    load(&loaded("1e4", &pulled("20"), "")).expect("valid");
+    let moved = r#"[(on: "top", y: Displacement(30)), (on: "bottom", y: Traction(-1))]"#;
+    load(&loaded("1e4", moved, "")).expect("a rigid shift is no strain");
+    // A remote stress.
+    let infinite = r#"(name: "t", material: (E: 1e4, nu: 0.3, plane: Stress),
+        body: (outline: Infinite(syy: 2e4)),
+        cracks: [(name: "c", center: (0, 0), angle_deg: 0, length: 1)], boundary: [])"#;
+    assert_invalid(infinite, "body.outline.syy = 20000", "about 2.000e0");
+}
+
+#[test]
+fn pd_needs_loads_above_its_round_off() {
+    let pull =
+        |t: &str| format!(r#"[(on: "top", y: Traction({t})), (on: "bottom", y: Traction(-{t}))]"#);
+    let pd = "pd: (dx: 0.5)";
+    // 1e-7 Pa on E = 1e4 is a strain of 1e-11: the PD solves stall on round-off.
+    assert_invalid(
+        &loaded("1e4", &pull("1e-7"), pd),
+        "boundary.0.y",
+        "PD needs at least 1e-10",
+    );
+    load(&loaded("1e4", &pull("2e-6"), pd)).expect("2e-10 is resolved");
+    // The BEM alone takes it; the smallest load factor counts.
+    load(&loaded("1e4", &pull("1e-7"), "")).expect("BEM is linear in the loads");
+    assert_invalid(
+        &loaded("1e4", &pull("2e-6"), &format!("{pd}, load: (initial: 0.1, step: 0.1, count: 10)")),
+        "boundary.0.y",
+        "about 2.000e-11 (|load| / E, or a displacement's spread over the body's size, at load factor 0.1)",
+    );
+}

@@ -4,8 +4,9 @@
 //!
 //! Rules by section: `material`, `body` (outline, holes, patches),
 //! `cracks`, `boundary` (conditions, load, "nothing to solve"),
-//! `sections` (bem, reference, outputs), `pd` (pd, coupling, growth), `limits`
-//! (upper bounds of counts and sampling coordinates, safe output names).
+//! `sections` (bem, reference, outputs), `pd` (pd, coupling, growth), `strain` (the
+//! loads' nominal strain), `limits` (upper bounds of counts and sampling coordinates,
+//! safe output names).
 
 mod body;
 mod boundary;
@@ -15,6 +16,7 @@ pub mod limits;
 mod material;
 mod pd;
 mod sections;
+pub mod strain;
 mod window_refine;
 
 use super::error::Issue;
@@ -93,6 +95,9 @@ pub fn check(scene: &Scene) -> Vec<Issue> {
         cracks::check(&mut c, scene);
     }
     boundary::check(&mut c, scene);
+    if body_ok {
+        strain::check(&mut c, scene);
+    }
     sections::check(&mut c, scene, body_ok);
     pd::check(&mut c, scene);
     growth::check(&mut c, scene);

@@ -1,0 +1,155 @@
+//! The loads' nominal strain: the largest prescribed traction (boundary components, normal
+//! and shear tractions, the remote stress of an infinite plate) over E, and the largest
+//! spread of a prescribed displacement component between the conditions that hold it over
+//! the body's size, each times the load factor.
+//!
+//! - From [`MAX_NOMINAL_STRAIN`] on, the loads are outside the small-strain elasticity that
+//!   the BEM solves and the PD constants are calibrated for (and their products overflow:
+//!   a traction of 1e300 Pa ran into a non-finite BEM solution).
+//! - With PD, below [`MIN_PD_NOMINAL_STRAIN`]: a bond's stretch is a difference of two
+//!   lengths, exact to about 2.2e-16 of the bond, so its relative error is about
+//!   2.2e-16 / strain, and PD solves stall on that round-off. Measured: the state-based
+//!   SENT window (`coupled_sent_a5_state_based`, E = 1e4 Pa) converges at a nominal
+//!   strain of 5e-12 and fails at 2e-12 (ADR does not converge; at 5e-13 its measure
+//!   stalls at 1.3e-5 against 1e-9); the implicit bar (`pd_bar_tension`) converges at
+//!   3e-11 and fails at 1.5e-11 (measure 1.8e-7). The bound keeps a factor 6.7 from the
+//!   worst failure (1 Pa on steel, 5e-12, is refused). Where the solves converge the
+//!   results do not move with the load's scale: the window's K / sigma agrees to 3e-6
+//!   from strain 5e-12 to 5e-10. The elastic solution scales with the loads, so the way
+//!   out is to scale them up. The BEM alone is linear in the loads down to the smallest
+//!   normal numbers and takes any load below the upper bound.
+
+use super::Checker;
+use crate::scene::shapes::SceneGeometry;
+use crate::scene::{Component, Scene};
+
+/// Largest nominal strain a scene may load its body with.
+pub const MAX_NOMINAL_STRAIN: f64 = 1.0;
+/// Smallest nominal strain of a scene with PD (module docs).
+pub const MIN_PD_NOMINAL_STRAIN: f64 = 1e-10;
+
+/// One load's nominal strain at factor 1 and the field that sets it.
+struct Nominal {
+    strain: f64,
+    path: String,
+    value: f64,
+}
+
+/// Checks the nominal strain against [`MAX_NOMINAL_STRAIN`] and, with PD, against
+/// [`MIN_PD_NOMINAL_STRAIN`] at the smallest non-zero load factor.
+pub fn check(c: &mut Checker, scene: &Scene) {
+    let e = scene.material.e;
+    if !(e.is_finite() && e > 0.0) {
+        return;
+    }
+    let Some(n) = largest(scene, e) else { return };
+    let factors: Vec<f64> = scene
+        .load
+        .factors()
+        .into_iter()
+        .map(f64::abs)
+        .filter(|f| f.is_finite() && *f > 0.0)
+        .collect();
+    let (Some(lo), Some(hi)) = (
+        factors.iter().copied().reduce(f64::min),
+        factors.iter().copied().reduce(f64::max),
+    ) else {
+        return;
+    };
+    let (most, least) = (n.strain * hi, n.strain * lo);
+    if !(most < MAX_NOMINAL_STRAIN) {
+        c.fail(
+            n.path.as_str(),
+            n.value,
+            format!(
+                "the loads strain the body by about {most:.3e} (|load| / E, or a displacement's spread over the body's size, at load factor {hi}): from {MAX_NOMINAL_STRAIN} on they are outside the small-strain elasticity the BEM and PD solve (check the units, Pa and m, and material.E)"
+            ),
+        );
+    } else if scene.pd.is_some() && least < MIN_PD_NOMINAL_STRAIN {
+        c.fail(
+            n.path.as_str(),
+            n.value,
+            format!(
+                "the loads strain the body by about {least:.3e} (|load| / E, or a displacement's spread over the body's size, at load factor {lo}): PD needs at least {MIN_PD_NOMINAL_STRAIN:e}, since a bond's stretch is exact only to about 2.2e-16 of its length and its solves stall on that round-off below; scale the loads up (the elastic solution scales with them)"
+            ),
+        );
+    }
+}
+
+/// The load with the largest nominal strain at factor 1 (the first of equals); `None` when nothing is loaded
+/// (an impact alone, or every value zero).
+fn largest(scene: &Scene, e: f64) -> Option<Nominal> {
+    let mut all: Vec<Nominal> = Vec::new();
+    if let Some(s) = scene.body.outline.remote_stress() {
+        for (name, v) in ["sxx", "syy", "sxy"].into_iter().zip(s) {
+            all.push(Nominal {
+                strain: v.abs() / e,
+                path: format!("body.outline.{name}"),
+                value: v,
+            });
+        }
+    }
+    for (i, bc) in scene.boundary.iter().enumerate() {
+        let comps = [("x", bc.x), ("y", bc.y)];
+        for (name, comp) in comps {
+            if let Component::Traction(v) = comp {
+                all.push(Nominal {
+                    strain: v.abs() / e,
+                    path: format!("boundary.{i}.{name}"),
+                    value: v,
+                });
+            }
+        }
+        for (name, v) in [("normal", bc.normal), ("shear", bc.shear)] {
+            if let Some(v) = v {
+                all.push(Nominal {
+                    strain: v.abs() / e,
+                    path: format!("boundary.{i}.{name}"),
+                    value: v,
+                });
+            }
+        }
+    }
+    all.extend(displacement_spreads(scene));
+    all.into_iter()
+        .filter(|n| n.strain.is_finite() && n.strain > 0.0)
+        .reduce(|a, b| if b.strain > a.strain { b } else { a })
+}
+
+/// Per component, the largest difference between two prescribed displacements over the
+/// body's size (one displaced condition alone moves the body rigidly: no strain).
+fn displacement_spreads(scene: &Scene) -> Vec<Nominal> {
+    let (lo, hi) = SceneGeometry::of(scene).bounds();
+    let size = (hi - lo).norm();
+    if !(size.is_finite() && size > 0.0) {
+        return Vec::new();
+    }
+    let mut out = Vec::new();
+    for axis in 0..2 {
+        let held: Vec<(usize, f64)> = scene
+            .boundary
+            .iter()
+            .enumerate()
+            .filter_map(|(i, bc)| match [bc.x, bc.y][axis] {
+                Component::Displacement(v) => Some((i, v)),
+                _ => None,
+            })
+            .collect();
+        let (Some(min), Some(max)) = (
+            held.iter().map(|h| h.1).reduce(f64::min),
+            held.iter().map(|h| h.1).reduce(f64::max),
+        ) else {
+            continue;
+        };
+        let far = held
+            .iter()
+            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+            .expect("held is not empty");
+        out.push(Nominal {
+            strain: (max - min) / size,
+            path: format!("boundary.{}.{}", far.0, ["x", "y"][axis]),
+            value: far.1,
+        });
+    }
+    out
+}
