@@ -140,7 +140,15 @@ fn shipped_bem_cases_pass_the_review_without_a_note() {
         println!("{}: condition {cond:.3e}", f.display());
         // Measured at most 4.9e6 (sent_bem_a8): three orders below the limit.
         assert!(cond < 1e-3 * CONDITION_LIMIT, "{}: {cond}", f.display());
-        assert!(s.notes.is_empty(), "{}: {:?}", f.display(), s.notes);
+        // The one note a shipped case may carry: an infinite plate's reference on a
+        // finite body (first_scene, inclined_crack_45_finite).
+        let finite_plate = "scene: reference: InclinedCrackInfinite is the infinite plate's";
+        let others: Vec<_> = s
+            .notes
+            .iter()
+            .filter(|n| !n.starts_with(finite_plate))
+            .collect();
+        assert!(others.is_empty(), "{}: {:?}", f.display(), s.notes);
         solved += 1;
     }
     assert!(solved >= 5, "only {solved} BEM cases");
@@ -293,4 +301,44 @@ fn a_refined_body_notes_the_solver_settings_it_does_not_read() {
         n.len() == 1 && n[0].starts_with("pd.refinement.tolerance = 1e-6 is not read"),
         "{n:?}"
     );
+}
+
+#[test]
+fn an_infinite_plate_reference_on_a_finite_body_is_noted() {
+    // first_scene: a 0.1 m crack at the centre of a 1 x 0.5 m plate, K_I 4.7 % above the
+    // infinite plate's closed form (docs/scene.md); the note gives the distance of the
+    // nearest edge in half crack lengths.
+    let scope = |scene: &Scene| {
+        let r = scene.reference.as_ref().expect("a reference");
+        r.scope_note(scene)
+    };
+    let first = Scene::load(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/cases/first_scene.ron"
+    ))
+    .unwrap();
+    let note = scope(&first).expect("a finite plate is noted");
+    assert!(
+        note.contains("nearest edge is 5.0 half crack lengths"),
+        "{note}"
+    );
+    assert!(first.notes.contains(&note), "{:?}", first.notes);
+    // Ten times the plate: 50 half-lengths.
+    let large = case(
+        "first_scene",
+        &[
+            ("body.outline.Rectangle.x0", "-4.5"),
+            ("body.outline.Rectangle.y0", "-2.25"),
+            ("body.outline.Rectangle.width", "10"),
+            ("body.outline.Rectangle.height", "5"),
+        ],
+    );
+    let note = scope(&large).expect("still finite");
+    assert!(
+        note.contains("nearest edge is 50.0 half crack lengths"),
+        "{note}"
+    );
+    // The infinite plate is the reference's own body; SENT is not an idealisation of it.
+    assert_eq!(scope(&case("inclined_crack_45", &[])), None);
+    assert_eq!(scope(&case("sent_bem_a5", &[])), None);
 }

@@ -142,6 +142,9 @@ impl Scene {
         scene.validate()?;
         scene.normalise();
         scene.note_inert_fields();
+        if let Some(note) = scene.reference.as_ref().and_then(|r| r.scope_note(&scene)) {
+            scene.notes.push(note);
+        }
         Ok(scene)
     }
 

@@ -31,3 +31,34 @@ pub enum Reference {
         sigma: f64,
     },
 }
+
+impl Reference {
+    /// A note when the scene's body is not the reference's: the inclined-crack closed form
+    /// is the infinite plate's, so on a finite outline `k1_err` and `k2_err` hold the
+    /// body's finite size besides the run's own error (which the error estimates bound).
+    /// A 4 m crack in a 20 m square plate, its edges 5 half-lengths from its centre,
+    /// opens 5.1 % more in mode I than the closed form (the BEM of that plate); 10
+    /// half-lengths, 1.35 %.
+    pub fn scope_note(&self, scene: &super::Scene) -> Option<String> {
+        let Reference::InclinedCrackInfinite { .. } = self else {
+            return None;
+        };
+        let geo = super::shapes::SceneGeometry::of(scene);
+        let outline = geo.outline.as_ref()?;
+        let crack = geo.cracks.first()?;
+        let (first, last) = (crack.points.first()?, crack.points.last()?);
+        let centre = first + (last - first) * 0.5;
+        let a = 0.5 * crate::geometry::polyline_length(&crack.points);
+        let n = outline.points.len();
+        let nearest = (0..n)
+            .map(|i| {
+                let (p, q) = (&outline.points[i], &outline.points[(i + 1) % n]);
+                crate::geometry::point_segment_distance(&centre, p, q)
+            })
+            .fold(f64::INFINITY, f64::min);
+        Some(format!(
+            "reference: InclinedCrackInfinite is the infinite plate's closed form and this body is finite (its nearest edge is {:.1} half crack lengths from the crack's centre), so k1_err and k2_err include the body's finite size; the error estimates (k1_err_est, k2_err_est) bound the run's own error",
+            nearest / a
+        ))
+    }
+}
