@@ -236,7 +236,8 @@ fn crossing_share(el: &pdbem_bem::mesh::Element, xi: V2, xj: V2) -> f64 {
     }
     let c = xi + si / (si - sj) * (xj - xi);
     let along = (c - el.mid).dot(&el.tangent).abs();
-    let (half, tol) = (0.5 * el.h, 1e-9 * el.h);
+    let scale = xi.abs().max().max(xj.abs().max()).max(el.mid.abs().max());
+    let (half, tol) = (0.5 * el.h, pdbem_geometry::tie_band(el.h, scale));
     if along < half - tol {
         1.0
     } else if along <= half + tol {

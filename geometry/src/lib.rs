@@ -8,7 +8,7 @@
 //!
 //! Map (everything is re-exported at the crate root):
 //! - this file: [`P2`], [`p2`], [`cross`], [`direction`], [`rotate`], [`scale_of`],
-//!   [`grid_centres`], [`EPS_REL`];
+//!   [`grid_centres`], [`EPS_REL`], [`tie_band`];
 //! - [`polygon`]: signed area, centroid and orientation, bounding box, scale, containment,
 //!   distance to the boundary, self-intersection;
 //! - [`segment`]: projection of a point and distance to a segment, "on the segment",
@@ -54,6 +54,15 @@ pub type P2 = Vector2<f64>;
 
 /// Relative tolerance for "on the segment" and parallelism tests.
 pub const EPS_REL: f64 = 1e-10;
+
+/// Half-width of the band in which a lattice test counts a tie (a cell centre on a
+/// zone's edge, a bond through an element's end point): `1e-9` of the test's `length`,
+/// or the round-off of coordinates of size `magnitude` where that is larger. Positions
+/// are rounded to their magnitude (a body placed at 1e7 m carries them to 1.9e-9 m), so a
+/// band of 1e-9 of a 0.1 m cell there decided ties at random.
+pub fn tie_band(length: f64, magnitude: f64) -> f64 {
+    (1e-9 * length).max(64.0 * f64::EPSILON * magnitude)
+}
 
 /// Builds a point from a `(x, y)` tuple, as scenes store them.
 pub fn p2(t: (f64, f64)) -> P2 {

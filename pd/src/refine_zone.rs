@@ -25,7 +25,10 @@ pub struct RefineZone {
 impl RefineZone {
     /// Whether the coarse cell centred at `x` is split by this zone.
     pub fn contains(&self, x: P2) -> bool {
-        let tol = 1e-9 * self.half_size;
+        let magnitude = [x[0], x[1], self.centre[0], self.centre[1]]
+            .iter()
+            .fold(0.0f64, |m, v| m.max(v.abs()));
+        let tol = pdbem_geometry::tie_band(self.half_size, magnitude);
         (x[0] - self.centre[0]).abs() <= self.half_size + tol
             && (x[1] - self.centre[1]).abs() <= self.half_size + tol
     }

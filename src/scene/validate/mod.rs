@@ -5,7 +5,7 @@
 //! Rules by section: `material`, `body` (outline, holes, patches),
 //! `cracks`, `boundary` (conditions, load, "nothing to solve"),
 //! `sections` (bem, reference, outputs), `pd` (pd, coupling, growth), `strain` (the
-//! loads' nominal strain), `limits` (upper bounds of counts and sampling coordinates,
+//! loads' nominal strain, a PD body's distance from the origin), `limits` (upper bounds of counts and sampling coordinates,
 //! safe output names).
 
 mod body;
@@ -97,6 +97,7 @@ pub fn check(scene: &Scene) -> Vec<Issue> {
     boundary::check(&mut c, scene);
     if body_ok {
         strain::check(&mut c, scene);
+        strain::check_origin(&mut c, scene);
     }
     sections::check(&mut c, scene, body_ok);
     pd::check(&mut c, scene);

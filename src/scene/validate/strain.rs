@@ -57,7 +57,7 @@ pub fn check(c: &mut Checker, scene: &Scene) {
         return;
     };
     let (most, least) = (n.strain * hi, n.strain * lo);
-    if !(most < MAX_NOMINAL_STRAIN) {
+    if most.is_nan() || most >= MAX_NOMINAL_STRAIN {
         c.fail(
             n.path.as_str(),
             n.value,
@@ -152,4 +152,69 @@ fn displacement_spreads(scene: &Scene) -> Vec<Nominal> {
         });
     }
     out
+}
+
+/// Largest distance of a PD body's coordinates from the origin, in its smallest spacing.
+/// Positions are rounded to 2.2e-16 of their magnitude, and the lattice's geometric ties
+/// (a cell centre on a zone's edge, a bond through an element's end point) are decided
+/// within bands of 1e-9 of a spacing where that rounding is smaller
+/// (`pdbem_geometry::tie_band`). Measured with a body moved away from the origin: every
+/// coupled case gives its results to 3e-5 at 2e8 spacings (the rotated window at 1e6 m,
+/// dx 5 mm); at 1e9 spacings the shear beam's window no longer met the outline ("the
+/// outer boundary crosses the window") and at 2e9 the rotated window took 34 coupling
+/// iterations instead of 14: the bound keeps a factor 5 from the first failure. Before
+/// the tie bands, the SENT window at 1e8 spacings (1e7 m, dx 0.1 m) gave K 2.3 % high and
+/// the refined SENT window at 1.96e8 (4.9e6 m, finest cells 0.025 m) split the cells of
+/// 556 nodes instead of 700, both with exit 0 (`tests/verification_translation.rs`).
+pub const MAX_SPACINGS_FROM_ORIGIN: f64 = 2e8;
+
+/// A PD body (stand-alone or windows) must lie within [`MAX_SPACINGS_FROM_ORIGIN`] of
+/// its smallest spacing from the origin.
+pub fn check_origin(c: &mut Checker, scene: &Scene) {
+    let Some(pd) = &scene.pd else { return };
+    let Some(h) = smallest_spacing(scene, pd) else {
+        return;
+    };
+    let (lo, hi) = SceneGeometry::of(scene).bounds();
+    let far = [lo.x, lo.y, hi.x, hi.y]
+        .iter()
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    if far.is_finite() && far / h > MAX_SPACINGS_FROM_ORIGIN {
+        c.fail(
+            "body.outline",
+            format!("reaching {far:.4e} m from the origin"),
+            format!(
+                "a PD body must lie within {MAX_SPACINGS_FROM_ORIGIN:e} of its smallest spacing ({h:.4e} m) from the origin: positions are rounded to 2.2e-16 of their size, {:.2e} m here, and the lattice's ties are decided within 1e-9 of a spacing; move the body to the origin (subtract ({:.6e}, {:.6e}) from every coordinate)",
+                far * f64::EPSILON,
+                0.5 * (lo.x + hi.x),
+                0.5 * (lo.y + hi.y)
+            ),
+        );
+    }
+}
+
+/// The smallest PD spacing a scene asks for: the stand-alone grid's or the windows',
+/// divided by its refinement levels; `None` when a value is not usable (other rules
+/// report it).
+fn smallest_spacing(scene: &Scene, pd: &crate::scene::PdSettings) -> Option<f64> {
+    let h = match &scene.coupling {
+        Some(co) if co.n > 0 => {
+            let levels = co.refine.as_ref().map_or(0, |r| r.levels.min(8));
+            co.side / co.n as f64 / f64::from(1u32 << levels)
+        }
+        Some(_) => return None,
+        None => {
+            let base = match (pd.dx, pd.nx) {
+                (Some(dx), _) => dx,
+                (None, Some(nx)) if nx > 0 => {
+                    let (lo, hi) = SceneGeometry::of(scene).bounds();
+                    (hi.x - lo.x) / nx as f64
+                }
+                _ => return None,
+            };
+            let levels = pd.refinement.as_ref().map_or(0, |r| r.max_level.min(8));
+            base / f64::from(1u32 << levels)
+        }
+    };
+    (h.is_finite() && h > 0.0).then_some(h)
 }
