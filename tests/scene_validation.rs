@@ -487,4 +487,7 @@ fn scene_file_that_does_not_exist() {
     assert!(e
         .to_string()
         .contains("cases/does_not_exist.ron: cannot read scene"));
+    // The CLI prints the chain (`{:#}`): the reason once, not twice.
+    let chain = format!("{:#}", anyhow::Error::from(e));
+    assert_eq!(chain.matches("(os error 2)").count(), 1, "{chain}");
 }

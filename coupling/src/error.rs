@@ -80,14 +80,15 @@ pub enum CouplingError {
     },
     /// Error from the BEM solver.
     #[error("BEM: {0}")]
-    Bem(#[from] BemError),
+    Bem(BemError),
     /// Error from the PD solver of a window.
-    #[error("PD window {window}: {source}")]
+    #[error("PD window {window}: {error}")]
     Pd {
         /// Window index.
         window: usize,
-        /// The PD error.
-        source: PdError,
+        /// The PD error, in the message (not a `source`, which `{:#}` would print a
+        /// second time).
+        error: PdError,
     },
     /// The iteration diverged or stagnated after every back-off of the relaxation.
     #[error("coupling diverged ({reason}) after {iterations} iterations and {backoffs} relaxation back-offs; residual history {residuals:?}; lower the relaxation weight or refine the interface")]
@@ -210,10 +211,21 @@ pub enum CouplingError {
     },
 }
 
+/// The BEM error in the message, not as a `source` (which `{:#}` would print a second
+/// time: "BEM: solve: ...: solve: ...").
+impl From<BemError> for CouplingError {
+    fn from(e: BemError) -> Self {
+        CouplingError::Bem(e)
+    }
+}
+
 impl CouplingError {
     /// Wraps a PD error of window `window`.
     pub fn pd(window: usize, source: PdError) -> Self {
-        CouplingError::Pd { window, source }
+        CouplingError::Pd {
+            window,
+            error: source,
+        }
     }
 }
 
@@ -224,5 +236,25 @@ fn convergence_hint(scheme: &str) -> &'static str {
         "raise max_iter, lower the IQN-ILS first weight w0, or lower the load step"
     } else {
         "raise max_iter or use IQN-ILS"
+    }
+}
+
+#[cfg(test)]
+mod message_tests {
+    use super::*;
+    use std::error::Error;
+
+    /// The wrapped BEM and PD errors are part of the message and not repeated by a
+    /// printer that walks the source chain (the CLI prints `{:#}`).
+    #[test]
+    fn wrapped_errors_appear_once() {
+        let bem = CouplingError::from(BemError::Mesh("no element".into()));
+        assert_eq!(bem.to_string(), "BEM: mesh: no element");
+        assert!(bem.source().is_none());
+        let pd = CouplingError::pd(0, PdError::invalid("coupling.refine", "too wide"));
+        assert!(pd
+            .to_string()
+            .starts_with("PD window 0: invalid input `coupling.refine`"));
+        assert!(pd.source().is_none());
     }
 }

@@ -28,12 +28,13 @@ impl fmt::Display for Issue {
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
     /// The file could not be read.
-    #[error("{file}: cannot read scene: {source}")]
+    #[error("{file}: cannot read scene: {error}")]
     Io {
         /// Scene file.
         file: PathBuf,
-        /// Underlying error.
-        source: std::io::Error,
+        /// Underlying error, in the message (not a `source`, which `{:#}` would print a
+        /// second time).
+        error: std::io::Error,
     },
     /// RON syntax error, unknown or missing field, wrong type.
     #[error("{file}:{line}:{column}: {message}")]

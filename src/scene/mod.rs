@@ -129,9 +129,9 @@ impl Scene {
     /// the file, line and column; rule violations the file, field path and reason.
     pub fn load(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+        let text = std::fs::read_to_string(path).map_err(|error| SceneError::Io {
             file: path.to_path_buf(),
-            source,
+            error,
         })?;
         Scene::from_ron_str(&text, path)
     }

@@ -87,7 +87,10 @@ pub fn solve_prepared(
                 Some((sol, tractions)),
                 broke,
             ),
-            Err(CouplingError::Pd { window, source }) => {
+            Err(CouplingError::Pd {
+                window,
+                error: source,
+            }) => {
                 // A failed PD solve counts as divergence: restart its state from rest.
                 match &mut tws {
                     None => reset_window(&mut problem.windows[window]),
