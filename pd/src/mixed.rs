@@ -299,15 +299,13 @@ pub fn surface_correction(bonds: &mut Bonds, grid: &Grid, c: f64, youngs: f64, p
         Plane::Strain => 6.0 / 5.0 * youngs,
     };
     let w_cm = 0.5 * e_eff;
+    let axes = crate::surface::lattice_axes(grid.angle);
     let m = grid.delta / grid.dx;
     for k in 0..grid.len() {
         let ck = micromodulus_scaled(c, grid.delta, m * grid.node_dx(k));
         let mut w = [0.0; 2];
         for b in bonds.row(k) {
-            let (nx, ny) = (
-                bonds.xi[b][0] * bonds.inv_len[b],
-                bonds.xi[b][1] * bonds.inv_len[b],
-            );
+            let (nx, ny) = crate::surface::lattice_direction(bonds, b, axes);
             let f = 0.25 * ck * bonds.vol_factor[b] * grid.volume / bonds.inv_len[b];
             w[0] += f * nx.powi(4);
             w[1] += f * ny.powi(4);
@@ -315,10 +313,7 @@ pub fn surface_correction(bonds: &mut Bonds, grid: &Grid, c: f64, youngs: f64, p
         let g = |d: usize| if w[d] > 0.0 { w_cm / w[d] } else { 1.0 };
         let (gx, gy) = (g(0), g(1));
         for b in bonds.row(k) {
-            let (nx, ny) = (
-                bonds.xi[b][0] * bonds.inv_len[b],
-                bonds.xi[b][1] * bonds.inv_len[b],
-            );
+            let (nx, ny) = crate::surface::lattice_direction(bonds, b, axes);
             bonds.surface[b] = 1.0 / ((nx / gx).powi(2) + (ny / gy).powi(2)).sqrt();
         }
     }

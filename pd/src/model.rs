@@ -74,14 +74,20 @@ impl PdModel {
             if mixed {
                 crate::mixed::surface_correction(&mut bonds, &grid, c, p.youngs_modulus, p.plane);
             } else {
-                apply_surface_correction(&mut bonds, c, grid.volume, p.youngs_modulus, p.plane);
+                apply_surface_correction(
+                    &mut bonds,
+                    c,
+                    grid.volume,
+                    (p.youngs_modulus, p.plane),
+                    grid.angle,
+                );
             }
         }
         set_coefficients(&mut bonds, &grid, c);
         let mut intact = vec![1u8; bonds.len()];
         let cut = cut_cracks(&grid, &bonds, &p.cracks, &mut intact);
         if p.crack_face_correction && cut > 0 && pmb {
-            apply_crack_face_correction(&mut bonds, &intact);
+            apply_crack_face_correction(&mut bonds, &intact, grid.angle);
             set_coefficients(&mut bonds, &grid, c);
         }
         let osb = state_based::for_problem(p, &grid, &mut bonds, &intact);

@@ -159,8 +159,8 @@ impl DualHorizon {
                     (scaled.clone(), scaled)
                 }
                 None => (
-                    moments(&bonds, k, 1.0, |_| true),
-                    moments(&bonds, k, 1.0, |b| intact[b] != 0),
+                    moments(&bonds, k, 1.0, (1.0, 0.0), |_| true),
+                    moments(&bonds, k, 1.0, (1.0, 0.0), |b| intact[b] != 0),
                 ),
             };
             let c = deviatoric_weights(mo.h, target)?;

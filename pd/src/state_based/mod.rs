@@ -48,7 +48,9 @@
 //! making the node's fourth moment $\sum_j \beta_{kj}\, n^{\otimes4}|\xi| V'_j$ that of
 //! the full lattice family times $\beta_{bulk}$. The node's energy density is then the
 //! bulk one for every homogeneous strain (0.51 % from the classical, tested row by row
-//! from the edge). Per-node and per-bond constants keep the energy form, so no correction
+//! from the edge). The directions $n$ of these fits are taken in the lattice frame (the
+//! grid's angle, [`crate::surface::lattice_axes`]), the frame of the full family's
+//! moments, so a turned window's constants turn with it. Per-node and per-bond constants keep the energy form, so no correction
 //! breaks the symmetry of the tangent; the forces of a node with corrected constants
 //! still differ from the bulk's (the PD surface effect on forces, measured by
 //! `tests/verification_state_based_uniform_strain.rs`).
@@ -177,7 +179,16 @@ impl Moments {
     }
 }
 
-fn moments(bonds: &Bonds, k: usize, vol: f64, keep: impl Fn(usize) -> bool) -> Moments {
+/// The moments of node `k`'s bonds that `keep` selects, with the bond directions taken in
+/// the lattice frame `axes` ([`crate::surface::lattice_axes`]), the frame of the full
+/// family's moments ([`bulk_moments`]) they are fitted to.
+fn moments(
+    bonds: &Bonds,
+    k: usize,
+    vol: f64,
+    axes: (f64, f64),
+    keep: impl Fn(usize) -> bool,
+) -> Moments {
     let mut mo = Moments {
         s0: 0.0,
         m: [0.0; 5],
@@ -187,7 +198,7 @@ fn moments(bonds: &Bonds, k: usize, vol: f64, keep: impl Fn(usize) -> bool) -> M
     for b in bonds.row(k).filter(|&b| keep(b)) {
         let v = bonds.vol_factor[b] * vol;
         let l = 1.0 / bonds.inv_len[b];
-        let (nx, ny) = (bonds.xi[b][0] / l, bonds.xi[b][1] / l);
+        let (nx, ny) = crate::surface::lattice_direction(bonds, b, axes);
         mo.s0 += v;
         for p in 0..5 {
             let t = nx.powi(4 - p as i32) * ny.powi(p as i32) * v;
@@ -227,7 +238,7 @@ fn bulk_moments(dx: f64, delta: f64, vol: f64) -> Moments {
         xi,
         ..Default::default()
     };
-    moments(&bonds, 0, vol, |_| true)
+    moments(&bonds, 0, vol, (1.0, 0.0), |_| true)
 }
 
 /// Solve the small dense system `a x = r` by Gaussian elimination with partial pivoting;
@@ -321,6 +332,7 @@ impl StateBased {
             }
         }
         let nb = bonds.len();
+        let axes = crate::surface::lattice_axes(grid.angle);
         let (mut a, mut omega, mut beta) = (vec![0.0; n], vec![0.0; nb], vec![q_coarse; nb]);
         for k in 0..n {
             let lv = levels
@@ -331,8 +343,8 @@ impl StateBased {
             if grid.is_mixed() {
                 beta[bonds.row(k)].fill(q_bulk);
             }
-            let all = moments(bonds, k, vol, |_| true);
-            let kept = moments(bonds, k, vol, |b| intact[b] != 0);
+            let all = moments(bonds, k, vol, axes, |_| true);
+            let kept = moments(bonds, k, vol, axes, |b| intact[b] != 0);
             if kept.s0 <= 0.0 {
                 continue;
             }
@@ -356,8 +368,7 @@ impl StateBased {
             let mut w_om = Vec::new();
             let mut w_be = Vec::new();
             for b in bonds.row(k) {
-                let l = 1.0 / bonds.inv_len[b];
-                let (nx, ny) = (bonds.xi[b][0] / l, bonds.xi[b][1] / l);
+                let (nx, ny) = crate::surface::lattice_direction(bonds, b, axes);
                 w_om.push(bt.map_or(scalar, |t| {
                     t[0] * nx * nx + 2.0 * t[1] * nx * ny + t[2] * ny * ny
                 }));
