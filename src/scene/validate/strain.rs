@@ -165,7 +165,7 @@ fn displacement_spreads(scene: &Scene) -> Vec<Nominal> {
 /// iterations instead of 14: the bound keeps a factor 5 from the first failure. Before
 /// the tie bands, the SENT window at 1e8 spacings (1e7 m, dx 0.1 m) gave K 2.3 % high and
 /// the refined SENT window at 1.96e8 (4.9e6 m, finest cells 0.025 m) split the cells of
-/// 556 nodes instead of 700, both with exit 0 (`tests/verification_translation.rs`).
+/// 556 nodes instead of 700, both with exit 0 (`tests/verification_invariance.rs`).
 pub const MAX_SPACINGS_FROM_ORIGIN: f64 = 2e8;
 
 /// A PD body (stand-alone or windows) must lie within [`MAX_SPACINGS_FROM_ORIGIN`] of
