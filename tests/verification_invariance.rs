@@ -93,6 +93,24 @@ fn a_pd_body_far_from_the_origin_is_refused() {
         .to_string()
         + "    reference: SentTada(width: 10, sigma: 0.5),\n)\n";
     Scene::from_ron_str(&bem, "cases/x.ron").expect("BEM alone is not bounded");
+    // Growth: 1e5 spacings (dx 0.1 m, so 1e4 m) ended as at the origin, 1e6 did not.
+    let growth = |off: f64| {
+        let path = format!(
+            "{}/cases/growth_tension_edge.ron",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        let src = std::fs::read_to_string(&path).unwrap();
+        let moved = src
+            .replace("x0: 0, y0: 0", &format!("x0: {off:?}, y0: 0"))
+            .replace("start: (10, 10)", &format!("start: ({:?}, 10)", 10.0 + off));
+        Scene::from_ron_str(&moved, "cases/x.ron")
+    };
+    growth(9e3).expect("within 1e5 spacings");
+    let msg = growth(2e4).expect_err("beyond 1e5 spacings").to_string();
+    assert!(
+        msg.contains("within 1e5 of its smallest spacing (1.0000e-1 m)"),
+        "{msg}"
+    );
 }
 
 /// The SENT plate of `coupled_sent_a5` turned by `deg` about the origin, with tension 0.5

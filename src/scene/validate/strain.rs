@@ -168,8 +168,19 @@ fn displacement_spreads(scene: &Scene) -> Vec<Nominal> {
 /// 556 nodes instead of 700, both with exit 0 (`tests/verification_invariance.rs`).
 pub const MAX_SPACINGS_FROM_ORIGIN: f64 = 2e8;
 
+/// [`MAX_SPACINGS_FROM_ORIGIN`] for PD-BEM and full-PD growth. Measured on
+/// `growth_tension_edge` (dx 0.1 m) moved away from the origin: at 1e3 and 1e4 m (1e5
+/// spacings) the run ends as at the origin (the tip reaches the outline at (9.9389,
+/// 0.0567) m, failure at 3.35), its 14 relocations and its first step alike to 1e-13; at
+/// 1e5 and 1e6 m the unstable last step ends with the last window's coupling stalled at
+/// y = 0.95 m (same failure load). A perturbation of the load by 3e-12 at the origin does
+/// not change the ending, so this is the coordinates' round-off, not the step's
+/// sensitivity alone; where it enters is not found. The bound is the last distance
+/// measured alike.
+pub const MAX_GROWTH_SPACINGS_FROM_ORIGIN: f64 = 1e5;
+
 /// A PD body (stand-alone or windows) must lie within [`MAX_SPACINGS_FROM_ORIGIN`] of
-/// its smallest spacing from the origin.
+/// its smallest spacing from the origin ([`MAX_GROWTH_SPACINGS_FROM_ORIGIN`] in growth).
 pub fn check_origin(c: &mut Checker, scene: &Scene) {
     let Some(pd) = &scene.pd else { return };
     let Some(h) = smallest_spacing(scene, pd) else {
@@ -179,12 +190,17 @@ pub fn check_origin(c: &mut Checker, scene: &Scene) {
     let far = [lo.x, lo.y, hi.x, hi.y]
         .iter()
         .fold(0.0f64, |m, v| m.max(v.abs()));
-    if far.is_finite() && far / h > MAX_SPACINGS_FROM_ORIGIN {
+    let limit = if scene.growth.is_some() {
+        MAX_GROWTH_SPACINGS_FROM_ORIGIN
+    } else {
+        MAX_SPACINGS_FROM_ORIGIN
+    };
+    if far.is_finite() && far / h > limit {
         c.fail(
             "body.outline",
             format!("reaching {far:.4e} m from the origin"),
             format!(
-                "a PD body must lie within {MAX_SPACINGS_FROM_ORIGIN:e} of its smallest spacing ({h:.4e} m) from the origin: positions are rounded to 2.2e-16 of their size, {:.2e} m here, and the lattice's ties are decided within 1e-9 of a spacing; move the body to the origin (subtract ({:.6e}, {:.6e}) from every coordinate)",
+                "a PD body must lie within {limit:e} of its smallest spacing ({h:.4e} m) from the origin: positions are rounded to 2.2e-16 of their size, {:.2e} m here, and the lattice's ties are decided within 1e-9 of a spacing; move the body to the origin (subtract ({:.6e}, {:.6e}) from every coordinate)",
                 far * f64::EPSILON,
                 0.5 * (lo.x + hi.x),
                 0.5 * (lo.y + hi.y)
