@@ -23,10 +23,16 @@
 
 use pdbem::scene::Scene;
 
-/// The case file `name` with every point and rectangle corner moved by (off, off).
-fn moved(name: &str, off: f64) -> Scene {
+/// The path and text of the case file `name`.
+fn case_text(name: &str) -> (String, String) {
     let path = format!("{}/cases/{name}.ron", env!("CARGO_MANIFEST_DIR"));
     let src = std::fs::read_to_string(&path).expect("case file");
+    (path, src)
+}
+
+/// The case file `name` with every point and rectangle corner moved by (off, off).
+fn moved(name: &str, off: f64) -> Scene {
+    let (path, src) = case_text(name);
     let shifted = src
         .replace("x0: 0, y0: 0", &format!("x0: {off:?}, y0: {off:?}"))
         .replace(
@@ -35,6 +41,15 @@ fn moved(name: &str, off: f64) -> Scene {
         );
     assert!(off == 0.0 || shifted != src, "{name}: nothing moved");
     Scene::from_ron_str(&shifted, &path).expect("valid scene")
+}
+
+/// Asserts that `(K_I, CMOD)` of the moved plate equal the reference's to `tol`.
+fn same(what: &str, (k, cmod): (f64, f64), (k_m, cmod_m): (f64, f64), tol: f64) {
+    assert!((k_m / k - 1.0).abs() < tol, "{what}: K_I {k} -> {k_m}");
+    assert!(
+        (cmod_m / cmod - 1.0).abs() < tol,
+        "{what}: CMOD {cmod} -> {cmod_m}"
+    );
 }
 
 /// (K_I, CMOD, PD nodes) of a coupled solve.
@@ -58,13 +73,11 @@ fn a_coupled_window_gives_its_results_anywhere() {
             nodes, nodes_far,
             "{name}: the refined zone split other cells"
         );
-        assert!(
-            (k_far / k - 1.0).abs() < 1e-5,
-            "{name}: K_I {k} at the origin, {k_far} at {off} m"
-        );
-        assert!(
-            (cmod_far / cmod - 1.0).abs() < 1e-5,
-            "{name}: CMOD {cmod} at the origin, {cmod_far} at {off} m"
+        same(
+            &format!("{name} at {off} m"),
+            (k, cmod),
+            (k_far, cmod_far),
+            1e-5,
         );
     }
 }
@@ -72,8 +85,7 @@ fn a_coupled_window_gives_its_results_anywhere() {
 #[test]
 fn a_pd_body_far_from_the_origin_is_refused() {
     // The SENT window's spacing is 0.1 m: 2e8 spacings are 2e7 m.
-    let path = format!("{}/cases/coupled_sent_a5.ron", env!("CARGO_MANIFEST_DIR"));
-    let src = std::fs::read_to_string(&path).unwrap();
+    let (_, src) = case_text("coupled_sent_a5");
     let far = src
         .replace("x0: 0, y0: 0", "x0: 3e7, y0: 0")
         .replace("start: (10, 10)", "start: (30000010, 10)");
@@ -155,13 +167,11 @@ fn a_coupled_window_turned_with_its_crack_gives_the_same_results() {
         for deg in [30.0, 137.0] {
             let (k_t, cmod_t, _) = solved(&turned(deg, pd));
             println!("{label}, {deg} degrees: K_I {k} -> {k_t}, CMOD {cmod} -> {cmod_t}");
-            assert!(
-                (k_t / k - 1.0).abs() < 1e-7,
-                "{label}: K_I {k} -> {k_t} at {deg} degrees"
-            );
-            assert!(
-                (cmod_t / cmod - 1.0).abs() < 1e-7,
-                "{label}: CMOD {cmod} -> {cmod_t} at {deg} degrees"
+            same(
+                &format!("{label} at {deg} degrees"),
+                (k, cmod),
+                (k_t, cmod_t),
+                1e-7,
             );
         }
     }
@@ -169,8 +179,7 @@ fn a_coupled_window_turned_with_its_crack_gives_the_same_results() {
 
 #[test]
 fn a_coupled_window_scales_with_the_plate() {
-    let path = format!("{}/cases/coupled_sent_a5.ron", env!("CARGO_MANIFEST_DIR"));
-    let src = std::fs::read_to_string(&path).unwrap();
+    let (path, src) = case_text("coupled_sent_a5");
     let scaled = |f: f64| {
         let text = src
             .replace(
