@@ -76,8 +76,8 @@ pub fn check(c: &mut Checker, scene: &Scene) {
     }
 }
 
-/// The load with the largest nominal strain at factor 1 (the first of equals); `None` when nothing is loaded
-/// (an impact alone, or every value zero).
+/// The load with the largest nominal strain at factor 1 (the first of equals); `None`
+/// when nothing is loaded (an impact alone, or every value zero).
 fn largest(scene: &Scene, e: f64) -> Option<Nominal> {
     let mut all: Vec<Nominal> = Vec::new();
     if let Some(s) = scene.body.outline.remote_stress() {
@@ -168,15 +168,15 @@ fn displacement_spreads(scene: &Scene) -> Vec<Nominal> {
 /// 556 nodes instead of 700, both with exit 0 (`tests/verification_invariance.rs`).
 pub const MAX_SPACINGS_FROM_ORIGIN: f64 = 2e8;
 
-/// [`MAX_SPACINGS_FROM_ORIGIN`] for PD-BEM and full-PD growth. Measured on
-/// `growth_tension_edge` (dx 0.1 m) moved away from the origin: at 1e3 and 1e4 m (1e5
-/// spacings) the run ends as at the origin (the tip reaches the outline at (9.9389,
-/// 0.0567) m, failure at 3.35), its 14 relocations and its first step alike to 1e-13; at
-/// 1e5 and 1e6 m the unstable last step ends with the last window's coupling stalled at
-/// y = 0.95 m (same failure load). A perturbation of the load by 3e-12 at the origin does
-/// not change the ending, so this is the coordinates' round-off, not the step's
-/// sensitivity alone; where it enters is not found. The bound is the last distance
-/// measured alike.
+/// [`MAX_SPACINGS_FROM_ORIGIN`] for scenes with `growth` (any mode: `--growth-mode` may
+/// switch it at run time). Measured on `growth_tension_edge` (dx 0.1 m) moved away from
+/// the origin: at 1e3 and 1e4 m (up to 1e5 spacings) the run ends as at the origin (the
+/// tip reaches the outline at (9.9389, 0.0567) m, failure at 3.35). At 1e5 and 1e6 m its
+/// first step agrees with the origin's to 1e-13 and its 14 relocations are the same, but
+/// the unstable last step ends with the last window's coupling stalled at y = 0.95 m (the
+/// same failure load). A load perturbed by 3e-12 at the origin ends as the origin does,
+/// so the coordinates' round-off enters, not only the step's sensitivity; where it enters
+/// is not found. The bound is the largest distance measured to end alike.
 pub const MAX_GROWTH_SPACINGS_FROM_ORIGIN: f64 = 1e5;
 
 /// A PD body (stand-alone or windows) must lie within [`MAX_SPACINGS_FROM_ORIGIN`] of
