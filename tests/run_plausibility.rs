@@ -246,10 +246,15 @@ fn a_window_that_leaves_a_thin_strip_of_bem_body_is_noted_by_check_and_run() {
 fn the_scene_notes_reach_the_summary() {
     // A bond-based PD window under a BEM body of nu = 0.3: the scene notes the ratio the
     // PD part runs with, and the run's summary keeps that note first.
-    let mut scene = case("coupled_sent_a8", &[("material.nu", "0.3")]);
-    scene.note_inert_fields();
-    assert!(
-        scene.notes.iter().any(|n| n.contains("material.nu = 0.3")),
+    // The edited scene (what a sweep runs) carries the note once.
+    let scene = case("coupled_sent_a8", &[("material.nu", "0.3")]);
+    assert_eq!(
+        scene
+            .notes
+            .iter()
+            .filter(|n| n.contains("material.nu = 0.3"))
+            .count(),
+        1,
         "{:?}",
         scene.notes
     );
@@ -337,6 +342,11 @@ fn an_infinite_plate_reference_on_a_finite_body_is_noted() {
     assert!(
         note.contains("nearest edge is 50.0 half crack lengths"),
         "{note}"
+    );
+    assert_eq!(
+        large.notes,
+        vec![note],
+        "the edited scene carries its own note"
     );
     // The infinite plate is the reference's own body; SENT is not an idealisation of it.
     assert_eq!(scope(&case("inclined_crack_45", &[])), None);

@@ -141,10 +141,7 @@ impl Scene {
         let mut scene = Scene::parse(text, file.as_ref())?;
         scene.validate()?;
         scene.normalise();
-        scene.note_inert_fields();
-        if let Some(note) = scene.reference.as_ref().and_then(|r| r.scope_note(&scene)) {
-            scene.notes.push(note);
-        }
+        scene.add_notes();
         Ok(scene)
     }
 
@@ -204,6 +201,15 @@ impl Scene {
                         .push(format!("body.holes.{i}: points reversed to run clockwise"));
                 }
             }
+        }
+    }
+
+    /// Every note a loaded or edited scene carries: [`Self::note_inert_fields`] and a
+    /// reference the body departs from ([`Reference::scope_note`]).
+    pub fn add_notes(&mut self) {
+        self.note_inert_fields();
+        if let Some(note) = self.reference.as_ref().and_then(|r| r.scope_note(self)) {
+            self.notes.push(note);
         }
     }
 

@@ -31,7 +31,8 @@ pub fn parse_value(text: &str) -> Value {
     Value::String(t.to_string())
 }
 
-/// Returns a copy of `scene` with each `(path, value)` set, validated.
+/// Returns a copy of `scene` with each `(path, value)` set, validated, with the notes of
+/// the edited scene ([`Scene::add_notes`]).
 pub fn with_overrides(scene: &Scene, overrides: &[(String, Value)]) -> Result<Scene, SceneError> {
     let file = scene.file_label();
     let mut json = scene.to_json();
@@ -54,6 +55,7 @@ pub fn with_overrides(scene: &Scene, overrides: &[(String, Value)]) -> Result<Sc
     out.source = scene.source.clone();
     out.validate()?;
     out.normalise();
+    out.add_notes();
     Ok(out)
 }
 

@@ -50,7 +50,8 @@
 //! bulk one for every homogeneous strain (0.51 % from the classical, tested row by row
 //! from the edge). The directions $n$ of these fits are taken in the lattice frame (the
 //! grid's angle, [`crate::surface::lattice_axes`]), the frame of the full family's
-//! moments, so a turned window's constants turn with it. Per-node and per-bond constants keep the energy form, so no correction
+//! moments, so a turned window's constants turn with it. Per-node and per-bond constants
+//! keep the energy form, so no correction
 //! breaks the symmetry of the tangent; the forces of a node with corrected constants
 //! still differ from the bulk's (the PD surface effect on forces, measured by
 //! `tests/verification_state_based_uniform_strain.rs`).
