@@ -5,8 +5,8 @@
 //! Rules by section: `material`, `body` (outline, holes, patches),
 //! `cracks`, `boundary` (conditions, load, "nothing to solve"),
 //! `sections` (bem, reference, outputs), `pd` (pd, coupling, growth), `strain` (the
-//! loads' nominal strain, a PD body's distance from the origin), `limits` (upper bounds of counts and sampling coordinates,
-//! safe output names).
+//! loads' nominal strain, a PD body's distance from the origin), `limits` (upper bounds
+//! of counts and sampling coordinates, safe output names).
 
 mod body;
 mod boundary;
