@@ -246,12 +246,11 @@ pub fn refine_zones(centre: [f64; 2], r: WindowRefine) -> Vec<RefineZone> {
         .collect()
 }
 
-/// Extent of the split cells of zone `r` from its centre along window `w`'s axes (m):
-/// the zone is axis-aligned, the window may be rotated; cells reach dx/2 past their
-/// centres.
+/// Extent of the split cells of a zone of half side `half_size` from its centre along
+/// window `w`'s axes (m): the zone's sides run along the window lattice
+/// ([`RefineZone`]), and cells reach dx/2 past their centres.
 fn zone_reach(w: &Window, half_size: f64) -> f64 {
-    let (sa, ca) = w.spec.angle.sin_cos();
-    half_size * (ca.abs() + sa.abs()) + 0.5 * w.spec.dx
+    half_size + 0.5 * w.spec.dx
 }
 
 /// Centre of the refinement zone of window `w` for the tip `tip`: the cell corner nearest
@@ -368,7 +367,6 @@ pub fn check_refine_zone(w: &Window, problem: &PdProblem) -> Result<(), String> 
     let Some(z) = problem.refine_zones.first() else {
         return Ok(());
     };
-    let (sa, ca) = w.spec.angle.sin_cos();
     let reach = zone_reach(w, z.half_size);
     let need = reach + 2.0 * w.delta();
     let c = V2::new(z.centre[0], z.centre[1]);
@@ -386,7 +384,7 @@ pub fn check_refine_zone(w: &Window, problem: &PdProblem) -> Result<(), String> 
             c.x,
             c.y,
             2.0 * w.delta(),
-            ((room - 2.0 * w.delta() - 0.5 * w.spec.dx) / (ca.abs() + sa.abs())).max(0.0)
+            (room - 2.0 * w.delta() - 0.5 * w.spec.dx).max(0.0)
         ));
     }
     Ok(())

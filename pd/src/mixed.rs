@@ -79,11 +79,12 @@ pub fn refine_grid(grid: &mut Grid, p: &PdProblem) -> Result<(), PdError> {
     let mut pos = Vec::with_capacity(grid.pos.len());
     let mut spacing = Vec::with_capacity(grid.pos.len());
     let mut used = vec![false; p.refine_zones.len()];
+    let axes = crate::surface::lattice_axes(grid.angle);
     for (i, &x) in grid.pos.iter().enumerate() {
         let mut level = 0;
         if i < grid.n_real {
             for (z, zone) in p.refine_zones.iter().enumerate() {
-                if zone.contains(x) {
+                if zone.contains(x, axes) {
                     used[z] = true;
                     level = level.max(zone.levels);
                 }

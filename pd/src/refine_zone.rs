@@ -1,5 +1,7 @@
 //! Refinement zones of a PD grid ([`crate::mixed`]): the square zones whose coarse cells
-//! are split into children of half (or a quarter of) the spacing.
+//! are split into children of half (or a quarter of) the spacing. A zone's sides run
+//! along the grid's lattice axes ([`crate::problem::PdProblem::grid_angle`]), so on a
+//! grid turned with an inclined crack it splits the same cells as on the unturned grid.
 
 use serde::{Deserialize, Serialize};
 
@@ -9,28 +11,33 @@ use crate::geometry::P2;
 /// Largest refinement level of a zone.
 pub const MAX_LEVELS: u32 = 2;
 
-/// A square zone (axis-aligned) whose coarse cells are split `levels` times.
+/// A square zone, its sides along the grid's lattice axes, whose coarse cells are split
+/// `levels` times.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RefineZone {
     /// Centre (m).
     pub centre: P2,
     /// Half the side (m): coarse cells whose centres are within this Chebyshev distance
-    /// of the centre are split.
+    /// of the centre, measured along the lattice axes, are split.
     pub half_size: f64,
     /// Splits per coarse cell (1: 4 children, 2: 16), at most [`MAX_LEVELS`].
     pub levels: u32,
 }
 
 impl RefineZone {
-    /// Whether the coarse cell centred at `x` is split by this zone.
-    pub fn contains(&self, x: P2) -> bool {
+    /// Whether the coarse cell centred at `x` is split by this zone on a grid whose
+    /// lattice axes are `axes` (`(cos, sin)` of the grid angle,
+    /// [`crate::surface::lattice_axes`]: exact at multiples of 90 degrees, so an
+    /// axis-aligned or quarter-turned grid measures the global components to the bit).
+    pub fn contains(&self, x: P2, (c, s): (f64, f64)) -> bool {
         let magnitude = [x[0], x[1], self.centre[0], self.centre[1]]
             .iter()
             .fold(0.0f64, |m, v| m.max(v.abs()));
         let tol = pdbem_geometry::tie_band(self.half_size, magnitude);
-        (x[0] - self.centre[0]).abs() <= self.half_size + tol
-            && (x[1] - self.centre[1]).abs() <= self.half_size + tol
+        let d = [x[0] - self.centre[0], x[1] - self.centre[1]];
+        let (u, v) = (c * d[0] + s * d[1], c * d[1] - s * d[0]);
+        u.abs() <= self.half_size + tol && v.abs() <= self.half_size + tol
     }
 }
 
