@@ -168,29 +168,52 @@ unsafe fn node_force(
                 (1.0, s)
             })
         }
+        (BondLaw::Degrading { s_m, s_c, beta }, h) if !bonds.s_scale.is_empty() => {
+            // Mixed spacing: the law acts on the normalised stretch, which `s_hist` holds
+            // (crate::mixed).
+            let scale = &bonds.s_scale;
+            row_force(bonds, intact, s_hist, u, i, out, |st, s, b, ip, hp| {
+                let s = s / *scale.get_unchecked(b);
+                degrading(st, h, (s_m, s_c, beta), s, ip, hp)
+            })
+        }
         (BondLaw::Degrading { s_m, s_c, beta }, h) => {
             row_force(bonds, intact, s_hist, u, i, out, |st, s, _, ip, hp| {
-                if *ip == NO_FAIL {
-                    return (1.0, s);
-                }
-                let hv = *hp;
-                if s > s_m && s > hv {
-                    st.growing += 1;
-                    st.max_growth = st.max_growth.max(s - hv.max(s_m));
-                    if h == History::Update {
-                        *hp = s;
-                        if s >= s_c {
-                            *ip = 0;
-                            st.newly_broken += 1;
-                            return (0.0, s);
-                        }
-                    }
-                }
-                let arg = if h == History::Secant { hv } else { s.max(hv) };
-                (degradation(arg, s_m, s_c, beta).0, s)
+                degrading(st, h, (s_m, s_c, beta), s, ip, hp)
             })
         }
     }
+}
+
+/// The tanh law's factor `T` of an intact bond of (normalised) stretch `s` and the
+/// stretch to report, updating its flags and history `hp` in [`History::Update`].
+#[inline(always)]
+fn degrading(
+    st: &mut ForceStats,
+    h: History,
+    (s_m, s_c, beta): (f64, f64, f64),
+    s: f64,
+    ip: &mut u8,
+    hp: &mut f64,
+) -> (f64, f64) {
+    if *ip == NO_FAIL {
+        return (1.0, s);
+    }
+    let hv = *hp;
+    if s > s_m && s > hv {
+        st.growing += 1;
+        st.max_growth = st.max_growth.max(s - hv.max(s_m));
+        if h == History::Update {
+            *hp = s;
+            if s >= s_c {
+                *ip = 0;
+                st.newly_broken += 1;
+                return (0.0, s);
+            }
+        }
+    }
+    let arg = if h == History::Secant { hv } else { s.max(hv) };
+    (degradation(arg, s_m, s_c, beta).0, s)
 }
 
 /// The bond loop of [`node_force`], monomorphised per bond law. `law`
@@ -313,14 +336,38 @@ pub fn bond_tangent_in(
     s_hist: f64,
     kind: TangentKind,
 ) -> [[f64; 2]; 2] {
+    bond_tangent_scaled(law, k, inv_len, y, s_hist, kind, 1.0)
+}
+
+/// The factor of bond `b`'s stretch that its failure law sees: `bonds.s_scale[b]` on
+/// mixed spacing ([`crate::mixed`]: the law acts on `s / s_scale`), else 1.
+#[inline]
+pub fn stretch_scale(bonds: &Bonds, b: usize) -> f64 {
+    bonds.s_scale.get(b).copied().unwrap_or(1.0)
+}
+
+/// [`bond_tangent_in`] of a bond whose law acts on the normalised stretch `s / scale`
+/// (`s_hist` normalised too; [`stretch_scale`]): the tanh law's slope is
+/// $dT/ds = T'(s/\sigma)/\sigma$. `scale = 1` is [`bond_tangent_in`] to the bit.
+#[inline]
+pub fn bond_tangent_scaled(
+    law: BondLaw,
+    k: f64,
+    inv_len: f64,
+    y: P2,
+    s_hist: f64,
+    kind: TangentKind,
+    scale: f64,
+) -> [[f64; 2]; 2] {
     let l = y[0].hypot(y[1]);
     let s = l * inv_len - 1.0;
     let (g, gp) = match law {
         BondLaw::Elastic | BondLaw::Brittle { .. } => (s, 1.0),
         BondLaw::Degrading { s_m, s_c, beta } => {
-            if s > s_hist && kind == TangentKind::Consistent {
-                let (t, dt) = degradation(s, s_m, s_c, beta);
-                (s * t, t + s * dt)
+            let sn = s / scale;
+            if sn > s_hist && kind == TangentKind::Consistent {
+                let (t, dt) = degradation(sn, s_m, s_c, beta);
+                (s * t, t + s * (dt / scale))
             } else {
                 let t = degradation(s_hist, s_m, s_c, beta).0;
                 (s * t, t)

@@ -40,8 +40,13 @@
 //! `s_scale` $= \sqrt{\delta/\delta_o}$, $\delta_o$ the smallest horizon among its owners
 //! (the finer half-bond holds the larger energy density). Force passes report the
 //! normalised stretch `s / s_scale`, so every comparison with `s0` stays right. The tanh
-//! law, transfer-function tractions and explicit dynamics take uniform grids only
-//! (validated).
+//! law (seed 000 Eq. 12) acts on the normalised stretch too, $T(s/\sigma)$ with the
+//! history $s_{hist}$ normalised, so a pair softens from $\sigma s_m$ to $\sigma s_c$ and
+//! its tangent slope is $T'(s/\sigma)/\sigma$ ([`crate::forces::bond_tangent_scaled`]);
+//! $T$ depends on $s$ only through $(s - s_m)/(s_c - s_m)$, so this is the law with both
+//! stretches scaled by $\sigma$: the energy a pair dissipates scales as the square of
+//! its stretches, as for the critical stretch. Transfer-function tractions and explicit dynamics take
+//! uniform grids only (validated).
 //!
 //! **State-based model** ([`crate::state_based`], seed 004 Eqs. 3-8 and 13): every node
 //! is calibrated on its own family against the full lattice family of its own spacing

@@ -15,7 +15,8 @@ use crate::boundary::{resolve, Boundary};
 use crate::damage::damage;
 use crate::error::PdError;
 use crate::forces::{
-    bond_tangent, elastic_energy, internal_forces, BondState, ForceStats, History,
+    bond_tangent_scaled, elastic_energy, internal_forces, stretch_scale, BondState, ForceStats,
+    History, TangentKind,
 };
 use crate::geometry::P2;
 use crate::grid::Grid;
@@ -349,7 +350,8 @@ impl PdModel {
         let s = l * self.bonds.inv_len[b] - 1.0;
         let t = match self.law {
             BondLaw::Degrading { s_m, s_c, beta } => {
-                crate::material::degradation(s.max(self.s_hist[b]), s_m, s_c, beta).0
+                let sn = s / stretch_scale(&self.bonds, b);
+                crate::material::degradation(sn.max(self.s_hist[b]), s_m, s_c, beta).0
             }
             _ => 1.0,
         };
@@ -497,12 +499,14 @@ impl PdModel {
                     self.bonds.xi[b][0] + (self.u[j][0] - self.u[i][0]),
                     self.bonds.xi[b][1] + (self.u[j][1] - self.u[i][1]),
                 ];
-                let m = bond_tangent(
+                let m = bond_tangent_scaled(
                     self.law,
                     self.bonds.k[b],
                     self.bonds.inv_len[b],
                     y,
                     self.s_hist[b],
+                    TangentKind::Consistent,
+                    stretch_scale(&self.bonds, b),
                 );
                 for p in 0..2 {
                     for q in 0..2 {

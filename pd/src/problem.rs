@@ -494,17 +494,13 @@ impl PdProblem {
         if self.refine_zones.is_empty() {
             return Ok(());
         }
-        let unsupported = if matches!(self.failure, Failure::Degradation { .. }) {
-            Some("the tanh degradation law on mixed spacing is not implemented; use a critical stretch or the fracture energy")
-        } else if self.traction == TractionLoad::TransferFunction {
-            Some("transfer-function tractions need a uniform grid; use the body-force layer")
-        } else {
-            None
-        };
-        match unsupported {
-            Some(reason) => Err(PdError::invalid("refine_zones", reason)),
-            None => Ok(()),
+        if self.traction == TractionLoad::TransferFunction {
+            return Err(PdError::invalid(
+                "refine_zones",
+                "transfer-function tractions need a uniform grid; use the body-force layer",
+            ));
         }
+        Ok(())
     }
 }
 

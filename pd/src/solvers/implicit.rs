@@ -248,12 +248,14 @@ impl Newton {
                     b.xi[bb][0] + (model.u[j][0] - model.u[i][0]),
                     b.xi[bb][1] + (model.u[j][1] - model.u[i][1]),
                 ];
-                let m = crate::forces::bond_tangent(
+                let m = crate::forces::bond_tangent_scaled(
                     model.law,
                     b.k[bb],
                     b.inv_len[bb],
                     y,
                     model.s_hist[bb],
+                    crate::forces::TangentKind::Consistent,
+                    crate::forces::stretch_scale(b, bb),
                 );
                 for p in 0..2 {
                     let d = self.tangent.dof[2 * i + p];

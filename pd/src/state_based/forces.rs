@@ -243,16 +243,25 @@ fn merge(a: ForceStats, b: ForceStats) -> ForceStats {
     }
 }
 
-/// Failure factor of bond `b` with the history frozen (`T(max(s, s_hist))`; 1 for
-/// elastic, brittle and no-fail bonds; 0 if broken).
+/// Failure factor of bond `b` of stretch `s` with the history frozen
+/// (`T(max(s / scale, s_hist))`, the law acting on the normalised stretch on mixed spacing,
+/// [`crate::forces::stretch_scale`]; 1 for elastic, brittle and no-fail bonds; 0 if
+/// broken).
 #[inline]
-pub(super) fn frozen_factor(law: BondLaw, intact: u8, s_hist: f64, s: f64) -> f64 {
-    if intact == 0 {
+pub(super) fn frozen_factor(
+    law: BondLaw,
+    bonds: &Bonds,
+    b: usize,
+    (intact, s_hist): (&[u8], &[f64]),
+    s: f64,
+) -> f64 {
+    if intact[b] == 0 {
         return 0.0;
     }
     match law {
-        BondLaw::Degrading { s_m, s_c, beta } if intact != NO_FAIL => {
-            degradation(s.max(s_hist), s_m, s_c, beta).0
+        BondLaw::Degrading { s_m, s_c, beta } if intact[b] != NO_FAIL => {
+            let sn = s / crate::forces::stretch_scale(bonds, b);
+            degradation(sn.max(s_hist[b]), s_m, s_c, beta).0
         }
         _ => 1.0,
     }
@@ -275,7 +284,10 @@ pub(super) fn dilatation_at(
             continue;
         }
         let (s, _, _) = stretch(bonds, u, k, b);
-        sum += sb.omega[b] * frozen_factor(law, intact[b], s_hist[b], s) * s * bonds.vol_factor[b];
+        sum += sb.omega[b]
+            * frozen_factor(law, bonds, b, (intact, s_hist), s)
+            * s
+            * bonds.vol_factor[b];
     }
     sum * volume
 }
@@ -296,7 +308,7 @@ pub fn pair_force(
     volume: f64,
 ) -> P2 {
     let (s, l, y) = stretch(bonds, u, i, b);
-    let t = frozen_factor(law, intact[b], s_hist[b], s);
+    let t = frozen_factor(law, bonds, b, (intact, s_hist), s);
     if t == 0.0 {
         return [0.0; 2];
     }
@@ -332,7 +344,7 @@ pub fn elastic_energy(
                     continue;
                 }
                 let (s, _, _) = stretch(bonds, u, k, b);
-                let t = frozen_factor(law, intact[b], s_hist[b], s);
+                let t = frozen_factor(law, bonds, b, (intact, s_hist), s);
                 let v = bonds.vol_factor[b] * volume;
                 sum_th += sb.omega[b] * t * s * v;
                 sum_dev += sb.beta[b] * t * s * s / bonds.inv_len[b] * v;

@@ -20,7 +20,7 @@
 use super::forces::stretch;
 use super::StateBased;
 use crate::bonds::Bonds;
-use crate::forces::{TangentKind, NO_FAIL};
+use crate::forces::{stretch_scale, TangentKind, NO_FAIL};
 use crate::geometry::P2;
 use crate::material::{degradation, BondLaw};
 use crate::tangent::{Block, Tangent};
@@ -46,22 +46,22 @@ pub struct RowInput<'a> {
     pub kind: TangentKind,
 }
 
-/// `(T, dT/ds)` of an intact bond for the tangent of `kind`; `None` if broken.
+/// `(T, dT/ds)` of intact bond `k` of stretch `s` for the tangent of `r.kind`; `None` if
+/// broken. On mixed spacing the law acts on `s / scale` ([`stretch_scale`]), so
+/// $dT/ds = T'(s/\sigma)/\sigma$.
 #[inline]
-fn bond_factor(
-    law: BondLaw,
-    kind: TangentKind,
-    intact: u8,
-    s_hist: f64,
-    s: f64,
-) -> Option<(f64, f64)> {
+fn bond_factor(r: &RowInput, k: usize, s: f64) -> Option<(f64, f64)> {
+    let (intact, s_hist) = (r.intact[k], r.s_hist[k]);
     if intact == 0 {
         return None;
     }
-    Some(match law {
+    Some(match r.law {
         BondLaw::Degrading { s_m, s_c, beta } if intact != NO_FAIL => {
-            if kind == TangentKind::Consistent && s > s_hist {
-                degradation(s, s_m, s_c, beta)
+            let scale = stretch_scale(r.bonds, k);
+            let sn = s / scale;
+            if r.kind == TangentKind::Consistent && sn > s_hist {
+                let (t, dt) = degradation(sn, s_m, s_c, beta);
+                (t, dt / scale)
             } else {
                 (degradation(s_hist, s_m, s_c, beta).0, 0.0)
             }
@@ -77,7 +77,7 @@ fn family(r: &RowInput, n: usize, w: &mut Vec<(u32, [f64; 2])>) -> (f64, [f64; 2
     let (mut sum, mut diag) = (0.0, [0.0; 2]);
     for k in b.row(n) {
         let (s, l, y) = stretch(b, r.u, n, k);
-        let Some((t, dt)) = bond_factor(r.law, r.kind, r.intact[k], r.s_hist[k], s) else {
+        let Some((t, dt)) = bond_factor(r, k, s) else {
             continue;
         };
         let v = b.vol_factor[k] * r.volume;
@@ -131,7 +131,7 @@ pub fn row_blocks(
     // Pairwise blocks.
     for (m, k) in b.row(i).enumerate() {
         let (s, l, y) = stretch(b, r.u, i, k);
-        let Some((t, dt)) = bond_factor(r.law, r.kind, r.intact[k], r.s_hist[k], s) else {
+        let Some((t, dt)) = bond_factor(r, k, s) else {
             continue;
         };
         let j = b.nbr[k] as usize;

@@ -164,8 +164,8 @@ fn the_force_pass_is_the_sum_of_pair_forces_and_conserves_momentum() {
     // The pass forms each bond's half force on its owner and gathers h_kj - h_jk
     // (forces.rs); the model docs' F_k = sum_j (tau_kj + tau_jk) e_kj V'_j is
     // `pair_force` bond by bond. Uniform and mixed spacing (each half with its own
-    // partial volume), degrading bonds (T between 0 and 1; uniform spacing only, the
-    // tanh law is refused on mixed spacing), broken and cut bonds.
+    // partial volume), degrading bonds (T between 0 and 1, on the normalised stretch on
+    // mixed spacing), broken and cut bonds.
     use crate::problem::Failure;
     use crate::refine_zone::RefineZone;
     for zones in [
@@ -183,14 +183,10 @@ fn the_force_pass_is_the_sum_of_pair_forces_and_conserves_momentum() {
             material: PdMaterial::StateBased { poisson_ratio: 0.2 },
             plane: Plane::Strain,
             cracks: vec![vec![[0.0, 5.2], [5.5, 5.2]]],
-            failure: if zones.is_empty() {
-                Failure::Degradation {
-                    s_m: 0.005,
-                    s_c: 0.05,
-                    beta: 3.0,
-                }
-            } else {
-                Failure::CriticalStretch { s0: 0.05 }
+            failure: Failure::Degradation {
+                s_m: 0.005,
+                s_c: 0.05,
+                beta: 3.0,
             },
             refine_zones: zones.clone(),
             ..Default::default()

@@ -30,7 +30,7 @@ use cholesky::CholeskyFactor;
 
 use crate::bonds::Bonds;
 use crate::error::PdError;
-use crate::forces::{bond_tangent_in, RowPtr, TangentKind};
+use crate::forces::{bond_tangent_scaled, stretch_scale, RowPtr, TangentKind};
 use crate::geometry::P2;
 use crate::material::BondLaw;
 
@@ -212,7 +212,16 @@ impl Tangent {
                         bonds.xi[b][0] + (u[j][0] - u[i][0]),
                         bonds.xi[b][1] + (u[j][1] - u[i][1]),
                     ];
-                    bond_tangent_in(law, bonds.k[b], bonds.inv_len[b], y, s_hist[b], kind)
+                    let scale = stretch_scale(bonds, b);
+                    bond_tangent_scaled(
+                        law,
+                        bonds.k[b],
+                        bonds.inv_len[b],
+                        y,
+                        s_hist[b],
+                        kind,
+                        scale,
+                    )
                 } else {
                     [[0.0; 2]; 2]
                 };

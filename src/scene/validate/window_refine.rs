@@ -1,13 +1,12 @@
 //! Validation of `coupling.refine` (refined PD windows, `pdbem_pd::mixed`).
 
 use super::Checker;
-use crate::scene::{Failure, GrowthMode, Placement, Scene};
+use crate::scene::{GrowthMode, Placement, Scene};
 
 /// `coupling.refine`: a zone of positive size with 1 or 2 levels, two horizons inside an
 /// `AtTips` window (whose tip is its centre; other placements are checked when the
-/// windows are built), with a bond law the mixed grid supports; in PD-BEM growth, a move
-/// distance that keeps the tip in the fine cells from one window to the next
-/// (`pdbem_coupling::growth::fine_zone`).
+/// windows are built); in PD-BEM growth, a move distance that keeps the tip in the fine
+/// cells from one window to the next (`pdbem_coupling::growth::fine_zone`).
 pub(super) fn check(
     c: &mut Checker,
     scene: &Scene,
@@ -23,15 +22,6 @@ pub(super) fn check(
     }
     if !c.positive("coupling.refine.half_size", r.half_size, "zone half side") {
         return;
-    }
-    if matches!(
-        scene.pd.as_ref().map(|p| &p.failure),
-        Some(Failure::Degradation { .. })
-    ) {
-        c.fail_at(
-            "coupling.refine",
-            "refined windows take brittle bonds (critical stretch or fracture energy) or none: the tanh degradation law is not implemented on mixed spacing",
-        );
     }
     let m = scene
         .pd

@@ -223,7 +223,8 @@ fn elastic_fraction(model: &PdModel, u0: &[crate::geometry::P2]) -> f64 {
             b.xi[bb][0] + (u[j][0] - u[i][0]),
             b.xi[bb][1] + (u[j][1] - u[i][1]),
         ];
-        y[0].hypot(y[1]) * b.inv_len[bb] - 1.0
+        // The stretch the law sees (normalised on mixed spacing, crate::mixed).
+        (y[0].hypot(y[1]) * b.inv_len[bb] - 1.0) / crate::forces::stretch_scale(b, bb)
     };
     (0..model.n_nodes())
         .into_par_iter()
