@@ -140,6 +140,30 @@ fn pd_modes_need_a_coupling_section() {
     );
 }
 
+/// PD-BEM growth with the tanh law found runaway window states and reported them with
+/// exit 0 (`growth_tension_edge` with it: CMOD -1.6e58 m); it is refused, in the scene and
+/// when `--growth-mode pd-bem` switches a full-PD scene to it. Full PD keeps the law.
+#[test]
+fn pd_bem_growth_refuses_the_tanh_law() {
+    let tanh =
+        "pd: (failure: Degradation(s_m: 0.01, s_c: 0.03, beta: 3)), coupling: (side: 2, n: 20)";
+    assert_invalid(
+        &scene(MAT_GC, CRACKS, &format!("{tanh}, growth: (mode: PdBem)")),
+        "pd.failure",
+        "the tanh degradation law is not supported in PD-BEM growth",
+    );
+    let full = load(&scene(
+        MAT_GC,
+        CRACKS,
+        &format!("{tanh}, growth: (mode: FullPd)"),
+    ))
+    .expect("full PD takes the tanh law");
+    let e = pdbem::cli::with_growth_mode(&full, GrowthMode::PdBem)
+        .expect_err("switched to PD-BEM")
+        .to_string();
+    assert!(e.contains("pd.failure") && e.contains("tanh"), "{e}");
+}
+
 #[test]
 fn bem_only_needs_the_toughness() {
     let mat = "(E: 1e4, nu: 0.3, plane: Stress)";

@@ -102,6 +102,26 @@ pub enum PdError {
         /// The budget (bytes).
         budget: f64,
     },
+    /// A solve ended with a node farther from its reference position than the body's
+    /// size beyond the largest prescribed displacement ([`crate::solvers::check_bounded`]):
+    /// a small-strain model has no such equilibrium; the nodes are held only by bonds that
+    /// carry no force (softened past `s_c` with the history frozen) and ran away.
+    #[error(
+        "{solver}: a displacement of {displacement:.3e} m at load factor {} exceeds the largest prescribed one ({prescribed:.3e} m) by more than the body's size ({size:.3e} m): a runaway state (nodes held only by bonds that carry no force), not an equilibrium",
+        factor_text(*load)
+    )]
+    Runaway {
+        /// Solver name.
+        solver: &'static str,
+        /// Load factor of the step.
+        load: f64,
+        /// The largest displacement of a real node (m).
+        displacement: f64,
+        /// The largest prescribed displacement (m).
+        prescribed: f64,
+        /// The diagonal of the nodes' bounding box (m).
+        size: f64,
+    },
     /// The sparse linear solve failed (all fallbacks included).
     #[error("linear solve failed ({dofs} free DOFs): {reason}")]
     LinearSolve {

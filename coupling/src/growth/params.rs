@@ -147,9 +147,48 @@ impl GrowthParams {
     }
 }
 
+/// Why PD-BEM growth refuses the tanh degradation law (seed 000 Eq. 12). A window's
+/// equilibria are solved with the bond history frozen, and a softening bond past `s_c`
+/// then carries no force without breaking, so whole groups of window nodes can move
+/// without limit at no residual: the solvers reached such runaway states and the run
+/// reported them. Measured on `growth_tension_edge` with `Degradation(s_m: 0.02, s_c:
+/// 0.06)` from load 2.5: a window displacement of 90 m after the first equilibrium (the
+/// window is 2 m wide), then 1e135 m, a CMOD of -1.6e58 m and exit 0. The seed's PD-BEM
+/// method (seed 002) breaks bonds at a critical stretch.
+pub const TANH_LAW_REFUSED: &str = "the tanh degradation law is not supported in PD-BEM growth: the windows solve their equilibria with the bond history frozen, where a softening bond past s_c carries no force without breaking, and the solvers then find runaway states; use CriticalStretch or FromGc (the seed's PD-BEM method breaks bonds at a critical stretch), or growth.mode FullPd";
+
+/// Refuses a bond law PD-BEM growth cannot solve ([`TANH_LAW_REFUSED`]).
+pub fn check_bond_law(failure: &pdbem_pd::Failure) -> Result<(), CouplingError> {
+    if matches!(failure, pdbem_pd::Failure::Degradation { .. }) {
+        return Err(CouplingError::InvalidGrowth {
+            field: "pd.failure",
+            message: TANH_LAW_REFUSED.into(),
+        });
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_tanh_law_is_refused_and_breaking_laws_pass() {
+        let tanh = pdbem_pd::Failure::Degradation {
+            s_m: 0.01,
+            s_c: 0.03,
+            beta: 3.0,
+        };
+        let e = check_bond_law(&tanh).unwrap_err().to_string();
+        assert!(e.contains("pd.failure") && e.contains("runaway"), "{e}");
+        for ok in [
+            pdbem_pd::Failure::None,
+            pdbem_pd::Failure::CriticalStretch { s0: 0.01 },
+            pdbem_pd::Failure::FractureEnergy { g_c: 1.0 },
+        ] {
+            assert!(check_bond_law(&ok).is_ok());
+        }
+    }
 
     #[test]
     fn bad_parameters_name_the_field() {

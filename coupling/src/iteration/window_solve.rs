@@ -67,13 +67,16 @@ pub fn solve_window_at(
         w.model.set_displacements(&zero)?;
         return Ok(0);
     }
-    let info = match solver {
-        PdSolve::Switching(p) => switching::solve(&mut w.model, p)?,
-        PdSolve::Implicit(p) => implicit::solve(&mut w.model, p)?,
-        PdSolve::Adr(p) => adr::solve(&mut w.model, p)?,
-        PdSolve::Staggered(p) => return staggered(&mut w.model, &mut w.solver, p),
+    let (name, iterations) = match solver {
+        PdSolve::Switching(p) => ("switching", switching::solve(&mut w.model, p)?.iterations),
+        PdSolve::Implicit(p) => ("implicit", implicit::solve(&mut w.model, p)?.iterations),
+        PdSolve::Adr(p) => ("adr", adr::solve(&mut w.model, p)?.iterations),
+        PdSolve::Staggered(p) => ("staggered", staggered(&mut w.model, &mut w.solver, p)?),
     };
-    Ok(info.iterations)
+    // A state no small-strain equilibrium reaches is an error, not a solution
+    // (`pdbem_pd::solvers::check_bounded`).
+    pdbem_pd::solvers::check_bounded(&w.model, name)?;
+    Ok(iterations)
 }
 
 /// No prescribed displacement and no body force: the PD solution is zero.

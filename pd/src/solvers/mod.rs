@@ -29,6 +29,7 @@ pub mod switching;
 
 use serde::Serialize;
 
+use crate::error::PdError;
 use crate::geometry::P2;
 use crate::model::PdModel;
 
@@ -236,4 +237,81 @@ pub(crate) fn norm2_free(u: &[P2], fixed: &[[bool; 2]]) -> f64 {
         }
     }
     s
+}
+
+/// Refuses a state with a real node displaced by more than the body's size (the diagonal
+/// of the nodes' bounding box) beyond the largest prescribed displacement
+/// ([`PdError::Runaway`]). Loads below a strain of 1 (what `pdbem check` allows) move no
+/// node that far at an equilibrium; a solver that reaches such a state has found nodes
+/// held by bonds that carry no force, not an equilibrium of the body.
+pub fn check_bounded(model: &PdModel, solver: &'static str) -> Result<(), PdError> {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for x in &model.grid.pos {
+        for c in 0..2 {
+            lo[c] = lo[c].min(x[c]);
+            hi[c] = hi[c].max(x[c]);
+        }
+    }
+    let size = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+    let norm = |u: &P2| u[0].hypot(u[1]);
+    let prescribed = (0..model.n_nodes())
+        .filter(|&i| model.bc.fixed[i][0] || model.bc.fixed[i][1])
+        .map(|i| norm(&model.u[i]))
+        .fold(0.0, f64::max);
+    let displacement = model.u[..model.n_real()]
+        .iter()
+        .map(norm)
+        .fold(0.0, f64::max);
+    if displacement > prescribed + size {
+        return Err(PdError::Runaway {
+            solver,
+            load: model.load,
+            displacement,
+            prescribed,
+            size,
+        });
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::problem::{BoundaryCondition, Layer, PdProblem, Region, Selection};
+
+    #[test]
+    fn a_node_beyond_the_body_size_is_a_runaway_state() {
+        let mut m = PdModel::new(&PdProblem {
+            region: Region::rectangle([0.0, 0.0], [3.0, 4.0]),
+            dx: 0.5,
+            youngs_modulus: 1.0,
+            boundary: vec![BoundaryCondition::Displacement {
+                on: Selection::Box {
+                    min: [-1.0, -1.0],
+                    max: [0.0, 5.0],
+                },
+                ux: Some(0.0),
+                uy: Some(0.0),
+                layer: Layer::Fictitious,
+            }],
+            ..Default::default()
+        })
+        .unwrap();
+        // A strain of 0.5 moves the far edge by 1.5 m, within the box's diagonal (about
+        // 6 m with the layer): accepted.
+        let strained: Vec<P2> = m.positions().iter().map(|x| [0.5 * x[0], 0.0]).collect();
+        m.set_displacements(&strained).unwrap();
+        check_bounded(&m, "test").unwrap();
+        // One node 100 m away: refused, with the sizes named.
+        let mut far = strained.clone();
+        far[m.n_real() / 2] = [0.0, 100.0];
+        m.set_displacements(&far).unwrap();
+        let e = check_bounded(&m, "test").unwrap_err();
+        assert!(matches!(e, PdError::Runaway { .. }), "{e}");
+        let text = e.to_string();
+        assert!(
+            text.contains("1.000e2 m") && text.contains("runaway"),
+            "{text}"
+        );
+    }
 }

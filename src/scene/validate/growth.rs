@@ -83,6 +83,14 @@ fn check_growth(c: &mut Checker, scene: &Scene, g: &crate::scene::Growth) {
         if let Some(co) = &scene.coupling {
             check_ligaments(c, scene, co);
         }
+        if let Some(pd) = &scene.pd {
+            if matches!(pd.failure, crate::scene::Failure::Degradation { .. }) {
+                c.fail_at(
+                    "pd.failure",
+                    pdbem_coupling::growth::params::TANH_LAW_REFUSED,
+                );
+            }
+        }
     }
     if scene.cracks.is_empty() {
         c.fail_at("growth", "growth needs at least one crack");

@@ -75,7 +75,7 @@ use pdbem_pd::crack_path::CrackPath;
 use crate::error::CouplingError;
 use crate::growth::fine_zone::protect_coarse;
 use crate::growth::merge::resolve_overlaps;
-use crate::growth::params::GrowthParams;
+use crate::growth::params::{check_bond_law, GrowthParams};
 use crate::growth::polyline;
 use crate::growth::records::{GrowthSetup, Scenario};
 use crate::growth::tips::{entry_point, protect_band, towards_tip, track, TipEnd, TipState};
@@ -202,6 +202,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
         params: GrowthParams,
     ) -> Result<Self, CouplingError> {
         params.validate()?;
+        check_bond_law(&setup.layout.pd.failure)?;
         let body = Body {
             outline: setup.layout.outline.points.clone(),
             holes: setup
