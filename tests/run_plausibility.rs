@@ -190,6 +190,46 @@ fn a_window_too_large_for_a_contour_is_noted_by_check_and_run() {
     assert!(s.notes.is_empty(), "{:?}", s.notes);
 }
 
+/// A static coupled solve whose window breaks or softens bonds notes it: the BEM keeps the
+/// scene's crack, so K and the CMOD belong to a body the window cracked further. Measured
+/// on the SENT plate (a/W = 0.5, tension 0.5): `CriticalStretch(0.001)` breaks 1148 pairs
+/// and K_I comes out +129 % against Tada; the tanh law from s_m = 5e-4 breaks 626 and
+/// softens 2040 (+132 %). Elastic bonds: no note.
+#[test]
+fn a_static_window_that_breaks_bonds_is_noted() {
+    use pdbem::scene::Failure;
+    let laws = [
+        (Failure::CriticalStretch(0.001), false),
+        (
+            Failure::Degradation {
+                s_m: 5e-4,
+                s_c: 1.5e-3,
+                beta: 3.0,
+            },
+            true,
+        ),
+    ];
+    for (law, softens) in laws {
+        let mut scene = case("coupled_sent_a5", &[]);
+        scene.pd.as_mut().unwrap().failure = law;
+        let (s, _) = pdbem::run_coupled::solve(&scene).expect("solves");
+        let note = s
+            .notes
+            .iter()
+            .find(|n| n.starts_with("PD window 0 broke ") && n.contains("further-cracked body"))
+            .unwrap_or_else(|| panic!("{:?}", s.notes));
+        let broken: usize = note["PD window 0 broke ".len()..]
+            .split(' ')
+            .next()
+            .and_then(|n| n.parse().ok())
+            .expect("a count");
+        assert!(broken > 300, "{note}");
+        assert_eq!(note.contains("softened"), softens, "{note}");
+    }
+    let (s, _) = pdbem::run_coupled::solve(&case("coupled_sent_a5", &[])).expect("solves");
+    assert!(!has_note(&s, &["PD window 0"]), "{:?}", s.notes);
+}
+
 #[test]
 fn a_window_that_leaves_a_thin_strip_of_bem_body_is_noted_by_check_and_run() {
     // a/W = 0.8: the tip is 2 m from the bottom edge; a 3.6 m window centred on it leaves
