@@ -311,6 +311,11 @@ fn full_pd_coarse_tension_edge_crack_runs_straight_to_failure() {
     // LEFM for a/W = 0.25 puts failure near 6.8 MPa; measured 6.25 MPa.
     let fail = h.failure_load.expect("failure load");
     assert!(fail > 4.5 && fail < 9.0, "failure at {fail} MPa");
+    // No CMOD at the step the body came apart (the full-PD tension plate of
+    // growth_tension_edge reported 1.80 m there until 2026-11-29); the steps before have one.
+    let (last, held) = h.steps.split_last().expect("steps");
+    assert_eq!(last.cmod, None, "failure step");
+    assert!(!held.is_empty() && held.iter().all(|s| s.cmod.is_some_and(|c| c > 0.0)));
     // The K record of the path (BEM solves of the traced path every 5 mm and at the end
     // of every step): from the initial crack (a = 10 mm), K_I > 0 and, at the failure
     // load, growing with the crack as an edge crack's does. Measured: 8 rows at the

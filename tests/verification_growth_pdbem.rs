@@ -114,6 +114,14 @@ fn seed002_tension_edge_crack_runs_straight_to_failure() {
         "{n} relocations, expected {expected:.2}"
     );
     assert!(r.relocations.iter().all(|m| m.elements_added == 5));
+    // CMOD at the steps that held, none at the failure step: the plate has come apart,
+    // its right half turned about the last PD bonds (8.26 m, reported until 2026-11-29).
+    let (last, held) = r.steps.split_last().unwrap();
+    assert!(last.cmod.is_none(), "failure step CMOD {:?}", last.cmod);
+    assert!(!held.is_empty());
+    assert!(held
+        .iter()
+        .all(|s| s.cmod.is_some_and(|c| c > 0.0 && c < 0.1)));
     eprintln!(
         "tension: {} steps, {} relocations, path deviation {dev:.4} m, wall {wall:.1} s",
         r.steps.len(),

@@ -249,14 +249,17 @@ pub fn paths_plot(scene: &Scene, h: &GrowthHistory) -> PathsPlot {
     }
 }
 
-/// Load factor against CMOD (`None` when no step has a CMOD).
+/// Load factor against CMOD (`None` when no step has a CMOD): from the unloaded body (a
+/// linear elastic body opens nothing at load 0) through every step with a CMOD, and the
+/// structural failure load as a horizontal line (its step has no CMOD: the body came
+/// apart).
 fn load_cmod_plot(scene: &Scene, h: &GrowthHistory) -> Option<XyPlot> {
-    let pts: Vec<(f64, f64)> = h
+    let steps: Vec<(f64, f64)> = h
         .steps
         .iter()
         .filter_map(|s| s.cmod.map(|c| (c, s.load)))
         .collect();
-    if pts.is_empty() {
+    if steps.is_empty() {
         return None;
     }
     let mut p = XyPlot::new(
@@ -264,8 +267,18 @@ fn load_cmod_plot(scene: &Scene, h: &GrowthHistory) -> Option<XyPlot> {
         "CMOD (m)",
         "load factor (-)",
     );
+    let mut pts = vec![(0.0, 0.0)];
+    pts.extend(steps);
+    let right = pts.iter().map(|q| q.0).fold(0.0, f64::max);
     p.series
         .push(Series::new(h.mode.clone(), pts, SeriesStyle::LineMarkers));
+    if let Some(f) = h.failure_load.filter(|_| h.failure) {
+        p.series.push(Series::new(
+            format!("structural failure (load {f})"),
+            vec![(0.0, f), (right, f)],
+            SeriesStyle::Line,
+        ));
+    }
     Some(p)
 }
 
@@ -326,7 +339,17 @@ fn snapshot_plot(scene: &Scene, h: &GrowthHistory, s: &FieldSnapshot) -> Scatter
         (format!("{name} ({unit})"), None, scale)
     };
     ScatterField {
-        title: format!("{}: {} ({})", scene.name, snapshot_title(s), h.mode),
+        title: format!(
+            "{}: {}{} ({})",
+            scene.name,
+            snapshot_title(s),
+            if collapse_field(h, s) {
+                " at structural failure (the collapse)"
+            } else {
+                ""
+            },
+            h.mode
+        ),
         unit: "m".into(),
         value_label: label,
         points: s.points.iter().map(|p| (p[0], p[1])).collect(),
@@ -409,6 +432,15 @@ pub fn path_so_far(h: &GrowthHistory, s: &FieldSnapshot) -> (Vec<Polyline>, Vec<
 /// What a snapshot shows, in words, with the 0-based load step of the file names and the
 /// CSVs: `damage_window0_step001_reloc007` is "damage in PD window 0, load step 1, before
 /// window relocation 7" (the state that made the window move for the 7th time).
+/// Whether `s` is a displacement field of the step at which the body came apart: the
+/// collapse (the tension plate's right half turned about the last PD bonds by metres),
+/// not an equilibrium of the body in one piece.
+fn collapse_field(h: &GrowthHistory, s: &FieldSnapshot) -> bool {
+    h.failure
+        && s.label.starts_with("displacement")
+        && h.steps.last().is_some_and(|l| l.step == s.step)
+}
+
 fn snapshot_title(s: &FieldSnapshot) -> String {
     let (mut field, mut window, mut reloc, mut step) = (Vec::new(), None, None, s.step);
     for part in s.label.split('_') {

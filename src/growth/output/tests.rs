@@ -18,6 +18,47 @@ fn snapshot_titles_use_the_file_names_step_numbers() {
     assert_eq!(snapshot_title(&snap("displacement", 0)), "|u|, load step 0");
 }
 
+/// The displacement field of the failure step is titled as the collapse; other steps,
+/// damage fields and runs without failure are not; the load-CMOD plot starts at the
+/// unloaded body and draws the failure load.
+#[test]
+fn the_failure_step_is_shown_as_the_collapse() {
+    let snap = |label: &str, step| FieldSnapshot {
+        step,
+        label: label.into(),
+        points: Vec::new(),
+        values: Vec::new(),
+        tips: Vec::new(),
+    };
+    let step = |k: usize, cmod: Option<f64>| StepRecord {
+        step: k,
+        load: 3.3 + 0.05 * k as f64,
+        cmod,
+        ..Default::default()
+    };
+    let mut h = GrowthHistory {
+        mode: "pd-bem".into(),
+        steps: vec![step(0, Some(0.048)), step(1, None)],
+        failure: true,
+        failure_load: Some(3.35),
+        ..Default::default()
+    };
+    assert!(collapse_field(&h, &snap("displacement", 1)));
+    assert!(!collapse_field(&h, &snap("displacement", 0)));
+    assert!(!collapse_field(&h, &snap("damage_window0_step001", 1)));
+    let scene = Scene::load(format!(
+        "{}/cases/growth_tension_edge.ron",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    let p = load_cmod_plot(&scene, &h).expect("a step has a CMOD");
+    assert_eq!(p.series[0].points, vec![(0.0, 0.0), (0.048, 3.3)]);
+    assert_eq!(p.series[1].points, vec![(0.0, 3.35), (0.048, 3.35)]);
+    h.failure = false;
+    assert!(!collapse_field(&h, &snap("displacement", 1)));
+    assert_eq!(load_cmod_plot(&scene, &h).unwrap().series.len(), 1);
+}
+
 fn pp(x: f64, y: f64, step: usize, load: f64) -> PathPoint {
     PathPoint { x, y, step, load }
 }

@@ -330,8 +330,16 @@ impl<'s, S: Scenario> Growth<'s, S> {
                 converged,
                 broken_bonds: self.broken_bonds(),
                 tips: self.tips.iter().map(TipState::position).collect(),
-                // The last solution of a step whose ligament gave way is not an equilibrium.
-                cmod: if gave_way { None } else { self.first_cmod() },
+                // The last solution of a step whose ligament gave way is not an equilibrium,
+                // and at a structural failure the body has come apart: its last state is
+                // the collapse, outside small-strain BEM (the tension plate's right half
+                // turned about the last PD bonds, CMOD 8.26 m in a 10 m plate). Neither
+                // has a CMOD, as BEM-only reports none at its failure step.
+                cmod: if gave_way || cut.is_some() {
+                    None
+                } else {
+                    self.first_cmod()
+                },
                 relocations: run.relocations,
                 wall_s: t0.elapsed().as_secs_f64(),
                 pd_s: run.pd_s,

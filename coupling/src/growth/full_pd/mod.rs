@@ -421,10 +421,17 @@ pub fn run_from(
         if first_break.is_none() && model.broken_bonds() > 0 {
             first_break = Some(f);
         }
+        // A step that ended in collapse or with the body apart has no CMOD (its state is
+        // not an equilibrium of the body in one piece), as in the other modes.
+        let came_apart = collapsed.is_some() || front.separated() || tr.apart;
         let rec = StepRecord {
             step: k,
             load: f,
-            cmod: cmod(model, &front, dx),
+            cmod: if came_apart {
+                None
+            } else {
+                cmod(model, &front, dx)
+            },
             tips: front.tip_positions(),
             broken_bonds: model.broken_bonds(),
             wall_time_s: t0.elapsed().as_secs_f64(),
