@@ -186,9 +186,10 @@ unsafe fn node_force(
 }
 
 /// The tanh law's factor `T` of an intact bond of (normalised) stretch `s` and the
-/// stretch to report, updating its flags and history `hp` in [`History::Update`].
+/// stretch to report, updating its flags and history `hp` in [`History::Update`]; the
+/// PMB and state-based passes share it.
 #[inline(always)]
-fn degrading(
+pub(crate) fn degrading(
     st: &mut ForceStats,
     h: History,
     (s_m, s_c, beta): (f64, f64, f64),
@@ -319,24 +320,11 @@ pub enum TangentKind {
 /// The 2x2 tangent block `B = dF_i/du_j` of one bond (seed 000 Eqs. 8, 14):
 /// $B = k[g'(s)/L\, e e^T + g(s)/l\,(I - e e^T)]$ with $g = s\,T$,
 /// $g' = T + s T'$ while the bond is loading past its history, else $T(s_{hist})$.
-/// The tangent of the force pass with [`History::Frozen`]; see
-/// [`bond_tangent_in`] for the others.
+/// The tangent of the force pass with [`History::Frozen`] on a uniform grid; see
+/// [`bond_tangent_scaled`] for the other kinds and mixed spacing.
 #[inline]
 pub fn bond_tangent(law: BondLaw, k: f64, inv_len: f64, y: P2, s_hist: f64) -> [[f64; 2]; 2] {
-    bond_tangent_in(law, k, inv_len, y, s_hist, TangentKind::Consistent)
-}
-
-/// [`bond_tangent`] of the given [`TangentKind`].
-#[inline]
-pub fn bond_tangent_in(
-    law: BondLaw,
-    k: f64,
-    inv_len: f64,
-    y: P2,
-    s_hist: f64,
-    kind: TangentKind,
-) -> [[f64; 2]; 2] {
-    bond_tangent_scaled(law, k, inv_len, y, s_hist, kind, 1.0)
+    bond_tangent_scaled(law, k, inv_len, y, s_hist, TangentKind::Consistent, 1.0)
 }
 
 /// The factor of bond `b`'s stretch that its failure law sees: `bonds.s_scale[b]` on
@@ -346,9 +334,9 @@ pub fn stretch_scale(bonds: &Bonds, b: usize) -> f64 {
     bonds.s_scale.get(b).copied().unwrap_or(1.0)
 }
 
-/// [`bond_tangent_in`] of a bond whose law acts on the normalised stretch `s / scale`
-/// (`s_hist` normalised too; [`stretch_scale`]): the tanh law's slope is
-/// $dT/ds = T'(s/\sigma)/\sigma$. `scale = 1` is [`bond_tangent_in`] to the bit.
+/// [`bond_tangent`] of the given [`TangentKind`], for a bond whose law acts on the
+/// normalised stretch `s / scale` (`s_hist` normalised too; [`stretch_scale`]; 1 on a
+/// uniform grid): the tanh law's slope is $dT/ds = T'(s/\sigma)/\sigma$.
 #[inline]
 pub fn bond_tangent_scaled(
     law: BondLaw,

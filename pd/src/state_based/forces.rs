@@ -63,24 +63,7 @@ fn factor(law: BondLaw, h: History, s: f64, ip: &mut u8, hp: &mut f64, st: &mut 
             1.0
         }
         BondLaw::Degrading { s_m, s_c, beta } => {
-            if *ip == NO_FAIL {
-                return 1.0;
-            }
-            let hv = *hp;
-            if s > s_m && s > hv {
-                st.growing += 1;
-                st.max_growth = st.max_growth.max(s - hv.max(s_m));
-                if h == History::Update {
-                    *hp = s;
-                    if s >= s_c {
-                        *ip = 0;
-                        st.newly_broken += 1;
-                        return 0.0;
-                    }
-                }
-            }
-            let arg = if h == History::Secant { hv } else { s.max(hv) };
-            degradation(arg, s_m, s_c, beta).0
+            crate::forces::degrading(st, h, (s_m, s_c, beta), s, ip, hp).0
         }
     }
 }

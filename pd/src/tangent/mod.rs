@@ -165,7 +165,7 @@ impl Tangent {
     }
 
     /// Fill the values at displacement `u` with the bond blocks of `kind`
-    /// ([`crate::forces::bond_tangent_in`]).
+    /// ([`crate::forces::bond_tangent_scaled`]).
     pub fn assemble_in(
         &mut self,
         bonds: &Bonds,

@@ -2,15 +2,19 @@
 use super::*;
 use crate::growth::{PathPoint, StepRecord};
 
-#[test]
-fn snapshot_titles_use_the_file_names_step_numbers() {
-    let snap = |label: &str, step| FieldSnapshot {
+/// An empty field snapshot of `label` at `step`.
+fn snap(label: &str, step: usize) -> FieldSnapshot {
+    FieldSnapshot {
         step,
         label: label.into(),
         points: Vec::new(),
         values: Vec::new(),
         tips: Vec::new(),
-    };
+    }
+}
+
+#[test]
+fn snapshot_titles_use_the_file_names_step_numbers() {
     assert_eq!(
         snapshot_title(&snap("damage_window0_step001_reloc007", 1)),
         "damage in PD window 0, load step 1, before window relocation 7"
@@ -23,13 +27,6 @@ fn snapshot_titles_use_the_file_names_step_numbers() {
 /// unloaded body and draws the failure load.
 #[test]
 fn the_failure_step_is_shown_as_the_collapse() {
-    let snap = |label: &str, step| FieldSnapshot {
-        step,
-        label: label.into(),
-        points: Vec::new(),
-        values: Vec::new(),
-        tips: Vec::new(),
-    };
     let step = |k: usize, cmod: Option<f64>| StepRecord {
         step: k,
         load: 3.3 + 0.05 * k as f64,

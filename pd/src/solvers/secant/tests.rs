@@ -3,7 +3,7 @@
 //! iteration against Newton.
 
 use super::*;
-use crate::forces::bond_tangent_in;
+use crate::forces::bond_tangent_scaled;
 use crate::problem::{BoundaryCondition, Failure, Layer, PdProblem, Region, Selection};
 
 /// 10 x 6 strip, degrading bonds, left end clamped, right end pulled.
@@ -63,13 +63,14 @@ fn dense(m: &PdModel, t: &Tangent, kind: TangentKind) -> Vec<Vec<f64>> {
                 m.bonds.xi[b][0] + (m.u[j][0] - m.u[i][0]),
                 m.bonds.xi[b][1] + (m.u[j][1] - m.u[i][1]),
             ];
-            let blk = bond_tangent_in(
+            let blk = bond_tangent_scaled(
                 m.law,
                 m.bonds.k[b],
                 m.bonds.inv_len[b],
                 y,
                 m.s_hist[b],
                 kind,
+                1.0,
             );
             for p in 0..2 {
                 let r = t.dof[2 * i + p];

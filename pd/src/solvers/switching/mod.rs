@@ -24,7 +24,7 @@
 //!   ([`DamageSolver::Secant`], [`super::secant`]). In round $r$ every
 //!   bond acts with its committed factor $T(s^{(r)}_{hist})$ (seed 000
 //!   Eq. 12), a stable elastic problem with the secant tangent of
-//!   [`crate::forces::bond_tangent_in`] (no softening term); the chord
+//!   [`crate::forces::bond_tangent_scaled`] (no softening term); the chord
 //!   iteration on one Cholesky factor with low-rank updates for the changed
 //!   bonds converges in about four solves per round. Then the history is
 //!   committed, $s^{(r+1)}_{hist} = \max(s^{(r)}_{hist}, s(u^{(r)}))$, bonds
