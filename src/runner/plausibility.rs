@@ -148,8 +148,9 @@ fn j_against_g(t: &TipResult) -> Option<String> {
         format!(
             "tip {}: the contour J-integral ({j:.6e} J/m^2) and G = (K_I^2 + K_II^2) / E' of \
              the reported K ({g:.6e} J/m^2) differ by {:.2} % of G, more than {:.0} %: the \
-             contour field is not resolved; refine the crack mesh or move the contour \
-             (bem.j_contour) off other boundaries",
+             contour field is not resolved (refine the crack mesh or move the contour, \
+             bem.j_contour, off other boundaries), or the contour holds damage besides the \
+             tip's crack (a PD window that broke bonds, which a note names)",
             t.name,
             100.0 * diff / g.abs().max(f64::MIN_POSITIVE),
             100.0 * J_G_DISAGREEMENT
