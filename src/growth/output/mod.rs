@@ -429,9 +429,6 @@ pub fn path_so_far(h: &GrowthHistory, s: &FieldSnapshot) -> (Vec<Polyline>, Vec<
     (paths, marks)
 }
 
-/// What a snapshot shows, in words, with the 0-based load step of the file names and the
-/// CSVs: `damage_window0_step001_reloc007` is "damage in PD window 0, load step 1, before
-/// window relocation 7" (the state that made the window move for the 7th time).
 /// Whether `s` is a displacement field of the step at which the body came apart: the
 /// collapse (the tension plate's right half turned about the last PD bonds by metres),
 /// not an equilibrium of the body in one piece.
@@ -441,6 +438,9 @@ fn collapse_field(h: &GrowthHistory, s: &FieldSnapshot) -> bool {
         && h.steps.last().is_some_and(|l| l.step == s.step)
 }
 
+/// What a snapshot shows, in words, with the 0-based load step of the file names and the
+/// CSVs: `damage_window0_step001_reloc007` is "damage in PD window 0, load step 1, before
+/// window relocation 7" (the state that made the window move for the 7th time).
 fn snapshot_title(s: &FieldSnapshot) -> String {
     let (mut field, mut window, mut reloc, mut step) = (Vec::new(), None, None, s.step);
     for part in s.label.split('_') {
