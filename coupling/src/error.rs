@@ -25,7 +25,7 @@ pub enum CouplingError {
         corner: V2,
     },
     /// The outer boundary crosses the window (only whole window sides may lie on it).
-    #[error("window {window}: the outer boundary crosses the window{}; only axis-aligned windows may touch the outline, and then with whole sides", if *rotated { " (rotated window)" } else { "" })]
+    #[error("window {window}: the outer boundary crosses the window{}; a window may touch the outline only with whole sides lying on it", if *rotated { " (rotated window: an outline edge must run along the side it touches)" } else { "" })]
     CrossesBoundary {
         /// Window index.
         window: usize,

@@ -126,7 +126,9 @@ pub fn bulk_stiffness_factor(dx: f64, horizon_factor: f64, plane: Plane) -> f64 
 }
 
 /// The strip of virtual nodes outside side `k`, grown along the side by delta at ends
-/// whose neighbour side is `grow_kind`; an axis-aligned box (the window must be axis-aligned).
+/// whose neighbour side is `grow_kind`: an axis-aligned box for an axis-aligned window
+/// (its nodes lie half a spacing or more from every face, so both forms select the same
+/// nodes), else the strip's own turned box (a turned window against a turned outline).
 fn side_box(w: &Window, k: usize, grow_kind: SideKind) -> Selection {
     let (a, b) = w.side(k);
     let t = (b - a).normalize();
@@ -134,6 +136,13 @@ fn side_box(w: &Window, k: usize, grow_kind: SideKind) -> Selection {
     let d = w.delta() * (1.0 + 1e-6);
     let grow = |side: usize| if w.sides[side] == grow_kind { d } else { 0.0 };
     let (ga, gb) = (grow((k + 3) % 4), grow((k + 1) % 4));
+    if !w.axis_aligned() {
+        return Selection::OrientedBox {
+            origin: p2(a - ga * t),
+            axes: [p2(t), p2(out)],
+            extent: [(b - a).norm() + ga + gb, d],
+        };
+    }
     let pts = [
         a - ga * t,
         b + gb * t,

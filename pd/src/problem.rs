@@ -180,6 +180,17 @@ pub enum Selection {
         /// Radius (m).
         radius: f64,
     },
+    /// Nodes in a rectangle turned by any angle: $0 \le (p - o)\cdot a_i \le l_i$ for
+    /// its corner `origin` $o$, unit `axes` $a_1 \perp a_2$ and `extent` $l$ (e.g. the
+    /// fictitious strip along a side of a turned coupling window).
+    OrientedBox {
+        /// The corner the extents are measured from (m).
+        origin: P2,
+        /// Unit, orthogonal axes.
+        axes: [P2; 2],
+        /// Extents along the axes (m), >= 0.
+        extent: [f64; 2],
+    },
 }
 
 impl Selection {
@@ -199,6 +210,17 @@ impl Selection {
             }
             Selection::Circle { centre, radius } => {
                 (p[0] - centre[0]).hypot(p[1] - centre[1]) <= radius + eps
+            }
+            Selection::OrientedBox {
+                origin,
+                axes,
+                extent,
+            } => {
+                let d = [p[0] - origin[0], p[1] - origin[1]];
+                axes.iter().zip(extent).all(|(a, l)| {
+                    let s = d[0] * a[0] + d[1] * a[1];
+                    s >= -eps && s <= l + eps
+                })
             }
         }
     }

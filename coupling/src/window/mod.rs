@@ -8,8 +8,8 @@
 //! every other side is an [`SideKind::Interface`] with the BEM body.
 //!
 //! [`Window::place`] checks the rules of issue 4: inside the body, not over a hole, at
-//! least two horizons of real nodes per side, and a rotated window may not touch the
-//! outline. [`Window::hole_loop`] gives the BEM hole whose elements match the PD node rows
+//! least two horizons of real nodes per side, and the outline touched only along whole
+//! sides (a rotated window where an outline edge runs along its side). [`Window::hole_loop`] gives the BEM hole whose elements match the PD node rows
 //! (one element of length dx per boundary node); [`cut_outline`] removes a window touching
 //! the outline from the BEM outline instead.
 //!
@@ -222,6 +222,47 @@ mod tests {
         assert!(
             matches!(over, CouplingError::OverHole { hole: 0, .. }),
             "{over}"
+        );
+    }
+
+    #[test]
+    fn a_turned_window_lies_against_an_outline_edge_along_its_side() {
+        // The 10 m square turned by 30 degrees about the origin; a 2 m window turned with
+        // it, flush against its bottom edge.
+        let a = 30.0_f64.to_radians();
+        let (e1, e2) = (V2::new(a.cos(), a.sin()), V2::new(-a.sin(), a.cos()));
+        let turned = Body {
+            outline: square_body(10.0)
+                .outline
+                .iter()
+                .map(|p| p.x * e1 + p.y * e2)
+                .collect(),
+            holes: vec![],
+        };
+        let flush = spec(5.0 * e1.x + 1.0 * e2.x, 5.0 * e1.y + 1.0 * e2.y, a, 20);
+        let w = Window::place(0, flush.clone(), &turned).unwrap();
+        assert_eq!(
+            w.sides,
+            [
+                SideKind::Outer,
+                SideKind::Interface,
+                SideKind::Interface,
+                SideKind::Interface
+            ]
+        );
+        // Turned against the edge (by 10 degrees more), it reaches across it.
+        let across = Window::place(
+            0,
+            spec(flush.center.x, flush.center.y, a + 0.17, 20),
+            &turned,
+        )
+        .unwrap_err();
+        assert!(
+            matches!(
+                across,
+                CouplingError::OutsideBody { .. } | CouplingError::CrossesBoundary { .. }
+            ),
+            "{across}"
         );
     }
 

@@ -1,6 +1,7 @@
 //! Placing a window (the rules of issue 4): parameter checks, inside the body, not over
-//! a hole, two horizons of real nodes per side, rotated windows off the outline; the
-//! kinds of its sides.
+//! a hole, two horizons of real nodes per side, the outline touched only along whole
+//! sides (a turned window only where an outline edge runs along its side); the kinds of
+//! its sides.
 
 use super::{Body, SideKind, Window, WindowSpec};
 use crate::error::CouplingError;
@@ -61,12 +62,6 @@ impl Window {
             if on {
                 w.sides[k] = SideKind::Outer;
             }
-        }
-        if w.sides.contains(&SideKind::Outer) && !w.axis_aligned() {
-            return Err(CouplingError::CrossesBoundary {
-                window: index,
-                rotated: true,
-            });
         }
         if !w.sides.contains(&SideKind::Interface) {
             return Err(CouplingError::InvalidWindow {

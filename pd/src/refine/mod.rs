@@ -213,11 +213,22 @@ impl Refinement {
                 Selection::Circle { centre, radius } => {
                     centre.iter().all(|v| v.is_finite()) && radius.is_finite() && *radius > 0.0
                 }
+                Selection::OrientedBox {
+                    origin,
+                    axes,
+                    extent,
+                } => {
+                    origin
+                        .iter()
+                        .chain(axes.iter().flatten())
+                        .all(|v| v.is_finite())
+                        && extent.iter().all(|l| l.is_finite() && *l >= 0.0)
+                }
             };
             if !ok {
                 return Err(PdError::invalid(
                     format!("refinement.regions[{k}]"),
-                    "non-finite or empty region (a box needs min <= max, a circle a positive radius)",
+                    "non-finite or empty region (a box needs min <= max, a circle a positive radius, an oriented box non-negative extents)",
                 ));
             }
         }
