@@ -137,7 +137,7 @@ impl Observer for Progress<'_> {
                                 "bonds_copied": r.transfer.bonds_copied},
                    "rebuild_s": r.rebuild_s, "rebuild_shared_by": r.rebuild_shared_by,
                    "bem_assembly_s": r.bem_assembly_s, "bem_factor_s": r.bem_factor_s,
-                   "bem_pairs_reused": r.bem_pairs_reused}),
+                   "bem_pairs_reused": r.bem_pairs_reused, "turned_deg": r.turned_deg}),
         );
     }
 

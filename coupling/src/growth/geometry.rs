@@ -18,7 +18,7 @@ use crate::growth::merge::{cover_box, merge_specs, resolve_overlaps};
 use crate::growth::observer::Observer;
 use crate::growth::polyline;
 use crate::growth::records::{RelocationPlan, RelocationRecord, Scenario};
-use crate::growth::relocate::{extend_crack, moved_spec};
+use crate::growth::relocate::{extend_crack, moved_spec, turned_to_outline};
 use crate::growth::tips::{
     entry_point, hole_name, margins, passed_margin, towards_tip, TipEnd, TipState,
 };
@@ -142,6 +142,9 @@ impl<S: Scenario> Growth<'_, S> {
             reason: "no solution to take the new window's state from".into(),
         })?;
         let old_paths: Vec<Vec<V2>> = self.tips.iter().map(TipState::path_points).collect();
+        let old_windows: Vec<Window> = (self.tips.iter())
+            .map(|tip| self.problem.windows[tip.window].window.clone())
+            .collect();
         let infos = self.install_geometry(layout, problem, bem, &sol, load);
         for (t, &o) in owner.iter().enumerate() {
             self.tips[t].window = o;
@@ -161,6 +164,13 @@ impl<S: Scenario> Growth<'_, S> {
         let mut records = Vec::new();
         for (t, (from, tip_at, added)) in moves {
             let w = self.tips[t].window;
+            let new = &self.problem.windows[w].window;
+            let turned_deg = turned(&old_windows[t], new).then(|| {
+                [
+                    old_windows[t].spec.angle.to_degrees(),
+                    new.spec.angle.to_degrees(),
+                ]
+            });
             let rec = RelocationRecord {
                 step,
                 load,
@@ -172,6 +182,7 @@ impl<S: Scenario> Growth<'_, S> {
                 precrack_deviation: max_distance(&self.tips[t].path_points(), &old_paths[t]),
                 transfer: infos[w],
                 corners: self.problem.windows[w].window.corners(),
+                turned_deg,
                 elements: self.problem.mesh.len(),
                 rebuild_s,
                 rebuild_shared_by: shared_by,
@@ -180,6 +191,9 @@ impl<S: Scenario> Growth<'_, S> {
                 bem_pairs_reused: self.bem.reused_pairs() as f64
                     / (self.problem.mesh.len() as f64).powi(2),
             };
+            if let Some(note) = turn_note(&rec) {
+                observer.note(&note);
+            }
             observer.relocation(&rec);
             records.push(rec);
         }
@@ -316,7 +330,13 @@ impl<S: Scenario> Growth<'_, S> {
                     blocked.push((t, hole_name(&holes, hole)));
                 }
                 Err(CouplingError::OutsideBody { .. } | CouplingError::CrossesBoundary { .. }) => {
-                    at_outline.push(t);
+                    match self.turned_at_outline(w, t, dir) {
+                        Some(s) => {
+                            specs.push(s);
+                            movers.push(t);
+                        }
+                        None => at_outline.push(t),
+                    }
                 }
                 Err(e) => return Err(e),
             }
@@ -367,15 +387,21 @@ impl<S: Scenario> Growth<'_, S> {
             let s_entry = polyline::entry_length(&line, old).unwrap_or(0.0);
             // Until its first extension a crack is meshed by size (capped at dx in windows).
             let base_size = (!crack.segment_elements).then(|| crack.element_size.min(dx));
+            let path = tip.path_points();
             let (mut pts, added) = extend_crack(
                 &line,
                 s_entry,
-                &tip.path_points(),
+                &path,
                 &new,
                 self.params.elements_per_extension,
                 base_size,
                 &tip.spec.name,
             )?;
+            if turned(old, &new) {
+                // No bond state carries over to a turned lattice: the pre-crack runs to
+                // the traced tip ([`turned_to_outline`]).
+                extend_to_tip(&mut pts, &path, dx);
+            }
             if !tip.spec.at_end {
                 pts.reverse();
             }
@@ -385,6 +411,24 @@ impl<S: Scenario> Growth<'_, S> {
         }
         layout.windows[w] = spec;
         Ok((moves, blocked, at_outline))
+    }
+
+    /// The moved window of tip `t` (growing along `dir`) turned to lie against the
+    /// outline ([`turned_to_outline`]), when its window `w` holds no other tip (a window
+    /// of several tips keeps one orientation for them all, [`merge_specs`]).
+    fn turned_at_outline(&self, w: usize, t: usize, dir: V2) -> Option<WindowSpec> {
+        if self.tips.iter().filter(|tip| tip.window == w).count() != 1 {
+            return None;
+        }
+        turned_to_outline(
+            &self.problem.windows[w].window,
+            self.tips[t].position(),
+            dir,
+            self.params.move_distance,
+            self.params.trigger_ratio,
+            &self.body,
+            &self.tips[t].spec.name,
+        )
     }
 
     /// Names of the holes (the BEM group of each hole's edges).
@@ -401,6 +445,36 @@ impl<S: Scenario> Growth<'_, S> {
                     .unwrap_or_else(|| i.to_string())
             })
             .collect()
+    }
+}
+
+/// Whether window `new` is turned against `old` (not by whole quarter turns): its lattice
+/// shares no node with the old one.
+pub(super) fn turned(old: &Window, new: &Window) -> bool {
+    let q = (new.spec.angle - old.spec.angle) / std::f64::consts::FRAC_PI_2;
+    (q - q.round()).abs() > 1e-9
+}
+
+/// The note of a relocation that turned its window to lie against the outline; None for
+/// any other.
+pub(crate) fn turn_note(r: &RelocationRecord) -> Option<String> {
+    let [from, to] = r.turned_deg?;
+    Some(format!(
+        "step {}: the window of tip {} turned from {from:.2} to {to:.2} degrees to lie \
+         against the outline (a window touches it only along whole sides): its state came \
+         from the old nodes' displacements and the BEM field, without bond states, and its \
+         pre-crack runs to the traced tip",
+        r.step, r.tip
+    ))
+}
+
+/// Appends the traced tip (the last point of `path`) to the pre-crack `pts` when it lies
+/// more than a hundredth of `dx` beyond its end.
+fn extend_to_tip(pts: &mut Vec<V2>, path: &[V2], dx: f64) {
+    if let (Some(&end), Some(&tip)) = (pts.last(), path.last()) {
+        if (tip - end).norm() > 1e-2 * dx {
+            pts.push(tip);
+        }
     }
 }
 

@@ -135,6 +135,11 @@ pub struct RelocationRecord {
     pub transfer: TransferInfo,
     /// Corners of the new window, counter-clockwise (m).
     pub corners: [V2; 4],
+    /// The window's angle before and after (degrees) when it turned to lie against the
+    /// outline ([`crate::growth::relocate::turned_to_outline`]); None when it kept its
+    /// orientation.
+    #[serde(default)]
+    pub turned_deg: Option<[f64; 2]>,
     /// BEM elements of the new mesh.
     pub elements: usize,
     /// This relocation's share of the rebuild wall time (mesh, assembly, factorization,

@@ -209,6 +209,82 @@ pub fn moved_spec(
     }
 }
 
+/// The outline edge the tip at `tip` growing along unit `dir` heads for: the first edge
+/// its ray crosses, else (a ray along an edge, or out through a corner) the edge nearest
+/// the tip. Its unit direction.
+fn edge_ahead(tip: V2, dir: V2, outline: &[V2]) -> Option<V2> {
+    let n = outline.len();
+    let edge = |i: usize| (outline[i], outline[(i + 1) % n]);
+    let hit = (0..n)
+        .filter_map(|i| {
+            let (a, b) = edge(i);
+            pdbem_geometry::ray_segment(&tip, &dir, &a, &b).map(|s| (s, i))
+        })
+        .min_by(|x, y| x.0.total_cmp(&y.0))
+        .map(|(_, i)| i);
+    let i = hit.or_else(|| {
+        (0..n).min_by(|&i, &j| {
+            let d = |k: usize| {
+                let (a, b) = edge(k);
+                pdbem_geometry::point_segment_projection(&tip, &a, &b).0
+            };
+            d(i).total_cmp(&d(j))
+        })
+    })?;
+    let (a, b) = edge(i);
+    polyline::unit(a, b)
+}
+
+/// The angle nearest `angle` at which a window's sides run along `edge` (unit): the
+/// edge's angle plus a whole number of quarter turns, snapped to an exact multiple of
+/// 90 degrees when within 1e-12 rad of one (an axis-aligned outline gives an
+/// axis-aligned window, [`Window::axis_aligned`]).
+fn angle_along(edge: V2, angle: f64) -> f64 {
+    use std::f64::consts::FRAC_PI_2;
+    let base = edge.y.atan2(edge.x);
+    let turned = base + ((angle - base) / FRAC_PI_2).round() * FRAC_PI_2;
+    let q = (turned / FRAC_PI_2).round();
+    if (turned - q * FRAC_PI_2).abs() <= 1e-12 {
+        q * FRAC_PI_2
+    } else {
+        turned
+    }
+}
+
+/// The window of the relocation of `w` (tip at `tip`, growing along unit `dir`) turned
+/// so that its sides run along the outline edge the tip heads for, for a turned window
+/// that cannot move on because it would cross the outline ([`moved_spec`] gave
+/// [`CouplingError::CrossesBoundary`] or [`CouplingError::OutsideBody`]): a window lies
+/// against the outline only along whole sides. The turned window then moves as
+/// [`moved_spec`] moves any window, on its own lattice; no node of it coincides with the
+/// old window's, so the state it takes is the old nodes' displacements and the BEM field
+/// ([`crate::growth::transfer`]), and its pre-crack runs to the traced tip. `None` when
+/// the window already runs along that edge, or when the turned window fits no better.
+pub fn turned_to_outline(
+    w: &Window,
+    tip: V2,
+    dir: V2,
+    distance: f64,
+    ratio: f64,
+    body: &Body,
+    tip_name: &str,
+) -> Option<WindowSpec> {
+    let edge = edge_ahead(tip, dir, &body.outline)?;
+    let angle = angle_along(edge, w.spec.angle);
+    let quarter = (angle - w.spec.angle) / std::f64::consts::FRAC_PI_2;
+    if (quarter - quarter.round()).abs() <= 1e-9 {
+        return None;
+    }
+    let turned = Window {
+        spec: WindowSpec {
+            angle,
+            ..w.spec.clone()
+        },
+        sides: w.sides,
+    };
+    moved_spec(&turned, tip, dir, distance, ratio, body, tip_name).ok()
+}
+
 /// The point of the boundary of `w` nearest to `p` that is an interface element end
 /// (a whole number of dx from the side's start corner), at least one dx from the corners.
 pub fn snap_to_element_end(w: &Window, p: V2) -> V2 {
@@ -387,6 +463,78 @@ mod tests {
         let w = window(10.0, 1.3);
         let s = moved_spec(&w, V2::new(10.0, 0.9), down, 0.5, 0.9, &body(), "t").unwrap();
         assert!((s.center.y - 0.8).abs() < 1e-12, "{:?}", s.center);
+    }
+
+    #[test]
+    fn a_turned_window_at_the_outline_turns_to_lie_against_it() {
+        use crate::window::SideKind;
+        // The 1 m window turned by -60 degrees, 0.9 m above the bottom edge, its tip
+        // heading down: moved by 0.5 m it would cross the edge.
+        let spec = WindowSpec {
+            angle: (-60.0_f64).to_radians(),
+            ..crate::growth::fixtures::window_spec(V2::new(10.0, 0.9))
+        };
+        let w = Window::place(0, spec, &body()).unwrap();
+        let (tip, down) = (V2::new(10.0, 0.6), V2::new(0.1, -1.0).normalize());
+        let e = moved_spec(&w, tip, down, 0.5, 0.9, &body(), "t").unwrap_err();
+        assert!(
+            matches!(
+                e,
+                CouplingError::CrossesBoundary { .. } | CouplingError::OutsideBody { .. }
+            ),
+            "{e}"
+        );
+        let s = turned_to_outline(&w, tip, down, 0.5, 0.9, &body(), "t").expect("turned");
+        // The nearest quarter turn along the bottom edge: exactly -90 degrees.
+        assert_eq!(s.angle, -std::f64::consts::FRAC_PI_2);
+        let placed = Window::place(0, s, &body()).unwrap();
+        assert!(placed.axis_aligned());
+        assert_eq!(
+            placed
+                .sides
+                .iter()
+                .filter(|k| **k == SideKind::Outer)
+                .count(),
+            1
+        );
+        assert!(placed.contains(tip, -0.5 * placed.spec.dx));
+        assert!(
+            (placed
+                .corners()
+                .iter()
+                .map(|c| c.y)
+                .fold(f64::INFINITY, f64::min))
+            .abs()
+                < 1e-12
+        );
+        // A window already along the edge is not turned.
+        let flat = window(10.0, 0.9);
+        assert!(turned_to_outline(&flat, tip, down, 0.5, 0.9, &body(), "t").is_none());
+    }
+
+    #[test]
+    fn the_turned_angle_is_the_nearest_quarter_turn_along_the_edge() {
+        let deg = |a: f64| a.to_radians();
+        let edge = V2::new(deg(30.0).cos(), deg(30.0).sin());
+        assert!((angle_along(edge, deg(50.0)) - deg(30.0)).abs() < 1e-12);
+        assert!((angle_along(edge, deg(80.0)) - deg(120.0)).abs() < 1e-12);
+        assert!((angle_along(edge, deg(-100.0)) - deg(-60.0)).abs() < 1e-12);
+        // Axis-aligned edges give exact multiples of 90 degrees.
+        assert_eq!(
+            angle_along(V2::new(0.0, -1.0), deg(-135.0)),
+            -std::f64::consts::PI
+        );
+        assert_eq!(angle_along(V2::new(1.0, 0.0), deg(10.0)), 0.0);
+        // The edge a ray heads for, and the nearest edge for a ray along an edge.
+        let out = body().outline;
+        let left = edge_ahead(V2::new(1.0, 5.0), V2::new(-1.0, 0.2).normalize(), &out).unwrap();
+        assert_eq!(left, V2::new(0.0, -1.0));
+        let along = edge_ahead(V2::new(5.0, 0.5), V2::new(1.0, 0.0), &out).unwrap();
+        assert_eq!(
+            along,
+            V2::new(0.0, 1.0),
+            "the right edge, which the ray meets"
+        );
     }
 
     #[test]

@@ -8,8 +8,9 @@
 //!    were real nodes of that old window, its bond state (broken flag, stretch history) on
 //!    top of the pre-crack cut of the new window; an old virtual node carries the BEM
 //!    displacement it was last given;
-//! 2. else an old node within 0.75 dx (windows pushed against the outline leave the
-//!    lattice): its displacement only;
+//! 2. else an old node within 0.75 dx (windows pushed against the outline, or turned to
+//!    lie against it, leave the lattice) on the same side of the new window's pre-cracks:
+//!    its displacement only;
 //! 3. else the BEM field of the last solution at the node (interior-point evaluation,
 //!    [`pdbem_bem::post::FieldEvaluator`]).
 //!
@@ -103,7 +104,11 @@ impl<'a> OldIndex<'a> {
         ((i as i64, j as i64), (q.x - i).hypot(q.y - j) / sub)
     }
 
-    fn find(&self, p: V2) -> Match {
+    /// The old node for position `p` (module docs): exact, else the nearest lattice node
+    /// of the first old window that has one within 0.75 dx whose segment to `p` crosses
+    /// none of the new window's pre-cracks `cracks` (a node across the crack moved with
+    /// the other face; its displacement would open the crack the wrong way).
+    fn find(&self, p: V2, cracks: &[Vec<[f64; 2]>]) -> Match {
         let mut near = Match::None;
         for (wi, w) in self.windows.iter().enumerate() {
             let (k, err) = Self::key_at(w, p, KEY_SUBDIV);
@@ -112,15 +117,44 @@ impl<'a> OldIndex<'a> {
                     return Match::Exact(wi, node);
                 }
             }
-            let (k, err) = Self::key(w, p);
-            let Some(&node) = self.maps[wi].get(&k) else {
-                continue;
-            };
-            if err < 0.75 && matches!(near, Match::None) {
-                near = Match::Near(wi, node);
+            if matches!(near, Match::None) {
+                if let Some(node) = self.near_node(wi, p, cracks) {
+                    near = Match::Near(wi, node);
+                }
             }
         }
         near
+    }
+
+    /// The node of old window `wi` nearest `p` within 0.75 dx (the rounded lattice index
+    /// first, then its eight neighbours by distance) whose segment to `p` crosses none of
+    /// `cracks`.
+    fn near_node(&self, wi: usize, p: V2, cracks: &[Vec<[f64; 2]>]) -> Option<usize> {
+        let w = &self.windows[wi];
+        let dx = w.window.spec.dx;
+        let pos = w.model.positions();
+        let ((i, j), _) = Self::key(w, p);
+        let clear = |k: usize| {
+            let q = pos[k];
+            !cracks
+                .iter()
+                .any(|c| pdbem_pd::geometry::segment_crosses_polyline([p.x, p.y], q, c))
+        };
+        let dist = |k: usize| V2::new(pos[k][0] - p.x, pos[k][1] - p.y).norm() / dx;
+        let within = |k: &usize| dist(*k) < 0.75;
+        if let Some(&k) = self.maps[wi].get(&(i, j)) {
+            if within(&k) && clear(k) {
+                return Some(k);
+            }
+        }
+        let mut around: Vec<usize> = (-1..=1)
+            .flat_map(|a| (-1..=1).map(move |b| (i + a, j + b)))
+            .filter(|&key| key != (i, j))
+            .filter_map(|key| self.maps[wi].get(&key).copied())
+            .filter(within)
+            .collect();
+        around.sort_by(|&a, &b| dist(a).total_cmp(&dist(b)));
+        around.into_iter().find(|&k| clear(k))
     }
 }
 
@@ -143,7 +177,8 @@ pub fn transfer_state(
         .iter()
         .map(|p| V2::new(p[0], p[1]))
         .collect();
-    let matches: Vec<Match> = pos.iter().map(|p| index.find(*p)).collect();
+    let cracks = &new.problem.cracks;
+    let matches: Vec<Match> = pos.iter().map(|p| index.find(*p, cracks)).collect();
     let mut from_bem = Vec::new();
     for (k, m) in matches.iter().enumerate() {
         match *m {
@@ -258,7 +293,7 @@ mod tests {
             w.model
                 .positions()
                 .iter()
-                .filter(|p| match index.find(V2::new(p[0], p[1])) {
+                .filter(|p| match index.find(V2::new(p[0], p[1]), &[]) {
                     Match::Exact(0, k) => old[0].model.positions()[k] == **p,
                     _ => false,
                 })
@@ -279,7 +314,7 @@ mod tests {
             .enumerate()
             .filter(|(k, p)| {
                 moved[0].model.grid().node_dx(*k) < 0.05
-                    && matches!(index.find(V2::new(p[0], p[1])), Match::Exact(..))
+                    && matches!(index.find(V2::new(p[0], p[1]), &[]), Match::Exact(..))
             })
             .count();
         assert!(children_exact > 0);
@@ -287,8 +322,51 @@ mod tests {
             .model
             .positions()
             .iter()
-            .filter(|p| matches!(index.find(V2::new(p[0], p[1])), Match::Near(..)))
+            .filter(|p| matches!(index.find(V2::new(p[0], p[1]), &[]), Match::Near(..)))
             .count();
         assert!(near > 0 && exact(&moved[0]) > 200);
+    }
+
+    #[test]
+    fn near_matches_stay_on_their_side_of_the_crack() {
+        // The 1 m window on the tip of a crack down from the top edge to (10, 8), and the
+        // same window turned by 45 degrees: no node of the turned lattice coincides with an
+        // old one, and some have their nearest old node across the crack.
+        let tip = V2::new(10.0, 8.0);
+        let old = windows(None, tip);
+        let mut s = plate_setup(
+            (20.0, 10.0),
+            vec![],
+            vec![vec![V2::new(10.0, 10.0), tip]],
+            None,
+        );
+        s.layout.windows[0].angle = std::f64::consts::FRAC_PI_4;
+        let new = build(&s.layout, |_, _| Vec::new()).unwrap().windows;
+        let cracks = &new[0].problem.cracks;
+        let index = OldIndex::new(&old);
+        let old_pos = old[0].model.positions();
+        let across = |p: [f64; 2], k: usize| {
+            cracks
+                .iter()
+                .any(|c| pdbem_pd::geometry::segment_crosses_polyline(p, old_pos[k], c))
+        };
+        let (mut near, mut across_without) = (0, 0);
+        for p in new[0].model.positions() {
+            let v = V2::new(p[0], p[1]);
+            if let Match::Near(0, k) = index.find(v, cracks) {
+                near += 1;
+                assert!(
+                    !across(*p, k),
+                    "{p:?} matched across the crack to {:?}",
+                    old_pos[k]
+                );
+            }
+            if let Match::Near(0, k) = index.find(v, &[]) {
+                across_without += usize::from(across(*p, k));
+            }
+            assert!(!matches!(index.find(v, cracks), Match::Exact(..)));
+        }
+        assert!(near > 300, "{near}");
+        assert!(across_without > 0, "the crack rule is not exercised");
     }
 }

@@ -11,7 +11,10 @@
 //!    window margin or at the outline stops the iteration (step 6).
 //! 2. Tips that reached the outline end the run (structural failure, step 9), as do two
 //!    edge cracks that meet, or a tip past its margin for which no window around it fits
-//!    inside the body (the outline is within the window's reach of a rotated window).
+//!    inside the body. A window touches the outline only along whole sides, so a window
+//!    turned with its crack that would cross the outline is turned to the orientation of
+//!    the outline edge ahead of the tip first ([`crate::growth::relocate::turned_to_outline`]:
+//!    one tip per window; its state from displacements, not bond states).
 //!    A window whose crack runs to it from the outline may move onto the outline: the
 //!    BEM body is then cut apart and the window alone holds the cut-off piece
 //!    ([`crate::floating`]) until the crack crosses the window to the outline. Tips at a

@@ -12,6 +12,7 @@ use super::step::StepRun;
 use super::Growth;
 use crate::error::CouplingError;
 use crate::growth::fine_zone::path_leaves_fine_zone;
+use crate::growth::geometry::turn_note;
 use crate::growth::observer::Observer;
 use crate::growth::overstrain::{self, Hotspot};
 use crate::growth::params::GrowthParams;
@@ -392,6 +393,8 @@ impl<'s, S: Scenario> Growth<'s, S> {
                 out.notes.push(format!("tip {} ended: {e}", t.spec.name));
             }
         }
+        let turns: Vec<String> = out.relocations.iter().filter_map(turn_note).collect();
+        out.notes.extend(turns);
         out.notes.extend(self.damage_beyond_tips());
         if noted_steps > 0 {
             out.notes.push(format!(
