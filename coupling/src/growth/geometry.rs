@@ -165,7 +165,7 @@ impl<S: Scenario> Growth<'_, S> {
         for (t, (from, tip_at, added)) in moves {
             let w = self.tips[t].window;
             let new = &self.problem.windows[w].window;
-            let turned_deg = turned(&old_windows[t], new).then(|| {
+            let turned_deg = new.turned_from(&old_windows[t]).then(|| {
                 [
                     old_windows[t].spec.angle.to_degrees(),
                     new.spec.angle.to_degrees(),
@@ -397,7 +397,7 @@ impl<S: Scenario> Growth<'_, S> {
                 base_size,
                 &tip.spec.name,
             )?;
-            if turned(old, &new) {
+            if new.turned_from(old) {
                 // No bond state carries over to a turned lattice: the pre-crack runs to
                 // the traced tip ([`turned_to_outline`]).
                 extend_to_tip(&mut pts, &path, dx);
@@ -420,15 +420,18 @@ impl<S: Scenario> Growth<'_, S> {
         if self.tips.iter().filter(|tip| tip.window == w).count() != 1 {
             return None;
         }
-        turned_to_outline(
-            &self.problem.windows[w].window,
-            self.tips[t].position(),
+        let tip = self.tips[t].position();
+        let turned = turned_to_outline(&self.problem.windows[w].window, tip, dir, &self.body)?;
+        moved_spec(
+            &turned,
+            tip,
             dir,
             self.params.move_distance,
             self.params.trigger_ratio,
             &self.body,
             &self.tips[t].spec.name,
         )
+        .ok()
     }
 
     /// Names of the holes (the BEM group of each hole's edges).
@@ -446,13 +449,6 @@ impl<S: Scenario> Growth<'_, S> {
             })
             .collect()
     }
-}
-
-/// Whether window `new` is turned against `old` (not by whole quarter turns): its lattice
-/// shares no node with the old one.
-pub(super) fn turned(old: &Window, new: &Window) -> bool {
-    let q = (new.spec.angle - old.spec.angle) / std::f64::consts::FRAC_PI_2;
-    (q - q.round()).abs() > 1e-9
 }
 
 /// The note of a relocation that turned its window to lie against the outline; None for

@@ -251,38 +251,24 @@ fn angle_along(edge: V2, angle: f64) -> f64 {
     }
 }
 
-/// The window of the relocation of `w` (tip at `tip`, growing along unit `dir`) turned
-/// so that its sides run along the outline edge the tip heads for, for a turned window
-/// that cannot move on because it would cross the outline ([`moved_spec`] gave
-/// [`CouplingError::CrossesBoundary`] or [`CouplingError::OutsideBody`]): a window lies
-/// against the outline only along whole sides. The turned window then moves as
-/// [`moved_spec`] moves any window, on its own lattice; no node of it coincides with the
-/// old window's, so the state it takes is the old nodes' displacements and the BEM field
-/// ([`crate::growth::transfer`]), and its pre-crack runs to the traced tip. `None` when
-/// the window already runs along that edge, or when the turned window fits no better.
-pub fn turned_to_outline(
-    w: &Window,
-    tip: V2,
-    dir: V2,
-    distance: f64,
-    ratio: f64,
-    body: &Body,
-    tip_name: &str,
-) -> Option<WindowSpec> {
+/// The window `w` turned so that its sides run along the outline edge its tip at `tip`,
+/// growing along unit `dir`, heads for: for a turned window that cannot move on because it
+/// would cross the outline ([`moved_spec`] gave [`CouplingError::CrossesBoundary`] or
+/// [`CouplingError::OutsideBody`]), since a window lies against the outline only along
+/// whole sides. The turned window then moves as any window does ([`moved_spec`] on its
+/// own lattice); no node of it coincides with the old window's, so the state it takes is
+/// the old nodes' displacements and the BEM field ([`crate::growth::transfer`]), and its
+/// pre-crack runs to the traced tip. `None` when `w` already runs along that edge.
+pub fn turned_to_outline(w: &Window, tip: V2, dir: V2, body: &Body) -> Option<Window> {
     let edge = edge_ahead(tip, dir, &body.outline)?;
-    let angle = angle_along(edge, w.spec.angle);
-    let quarter = (angle - w.spec.angle) / std::f64::consts::FRAC_PI_2;
-    if (quarter - quarter.round()).abs() <= 1e-9 {
-        return None;
-    }
     let turned = Window {
         spec: WindowSpec {
-            angle,
+            angle: angle_along(edge, w.spec.angle),
             ..w.spec.clone()
         },
         sides: w.sides,
     };
-    moved_spec(&turned, tip, dir, distance, ratio, body, tip_name).ok()
+    turned.turned_from(w).then_some(turned)
 }
 
 /// The point of the boundary of `w` nearest to `p` that is an interface element end
@@ -484,7 +470,8 @@ mod tests {
             ),
             "{e}"
         );
-        let s = turned_to_outline(&w, tip, down, 0.5, 0.9, &body(), "t").expect("turned");
+        let turned = turned_to_outline(&w, tip, down, &body()).expect("turned");
+        let s = moved_spec(&turned, tip, down, 0.5, 0.9, &body(), "t").unwrap();
         // The nearest quarter turn along the bottom edge: exactly -90 degrees.
         assert_eq!(s.angle, -std::f64::consts::FRAC_PI_2);
         let placed = Window::place(0, s, &body()).unwrap();
@@ -509,7 +496,7 @@ mod tests {
         );
         // A window already along the edge is not turned.
         let flat = window(10.0, 0.9);
-        assert!(turned_to_outline(&flat, tip, down, 0.5, 0.9, &body(), "t").is_none());
+        assert!(turned_to_outline(&flat, tip, down, &body()).is_none());
     }
 
     #[test]

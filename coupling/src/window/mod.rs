@@ -129,6 +129,13 @@ impl Window {
         GEOM_TOL * w.max(h)
     }
 
+    /// Whether this window is turned against `other` by other than whole quarter turns:
+    /// their lattices then share no node.
+    pub fn turned_from(&self, other: &Window) -> bool {
+        let q = (self.spec.angle - other.spec.angle) / std::f64::consts::FRAC_PI_2;
+        (q - q.round()).abs() > 1e-9
+    }
+
     /// Whether the rotation is a multiple of 90 degrees.
     pub fn axis_aligned(&self) -> bool {
         let q = self.spec.angle / std::f64::consts::FRAC_PI_2;
