@@ -18,6 +18,9 @@
 //!   that cannot be placed either way because a hole is in the way gives
 //!   [`CouplingError::OverHole`] (the tip then ends at the hole); other failures give
 //!   [`CouplingError::Relocation`].
+//! - [`turned_to_outline`]: a window turned with its crack whose move would cross the
+//!   outline turns to the orientation of the outline edge ahead of its tip (a window lies
+//!   against the outline only along whole sides) and then moves as [`moved_spec`] says.
 //! - [`extend_crack`]: the macro crack is the old polyline up to the old window entry,
 //!   then the smoothed PD path: from the old entry to where the path enters the new window
 //!   it becomes BEM crack, split into `elements_per_extension` straight elements per face,
