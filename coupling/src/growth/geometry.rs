@@ -414,15 +414,17 @@ impl<S: Scenario> Growth<'_, S> {
     }
 
     /// The moved window of tip `t` (growing along `dir`) turned to lie against the
-    /// outline ([`turned_to_outline`]), when its window `w` holds no other tip (a window
-    /// of several tips keeps one orientation for them all, [`merge_specs`]).
+    /// outline ([`turned_to_outline`]), when its window `w` holds no other tip and the
+    /// turned window overlaps no other window: windows merge only at one orientation
+    /// ([`merge_specs`]), so a turn into another window would end the run with an error
+    /// where the tip can instead end at the outline.
     fn turned_at_outline(&self, w: usize, t: usize, dir: V2) -> Option<WindowSpec> {
         if self.tips.iter().filter(|tip| tip.window == w).count() != 1 {
             return None;
         }
         let tip = self.tips[t].position();
         let turned = turned_to_outline(&self.problem.windows[w].window, tip, dir, &self.body)?;
-        moved_spec(
+        let spec = moved_spec(
             &turned,
             tip,
             dir,
@@ -431,7 +433,11 @@ impl<S: Scenario> Growth<'_, S> {
             &self.body,
             &self.tips[t].spec.name,
         )
-        .ok()
+        .ok()?;
+        let placed = Window::place(w, spec.clone(), &self.body).ok()?;
+        let clear = (self.problem.windows.iter().enumerate())
+            .all(|(i, o)| i == w || !placed.overlaps(&o.window));
+        clear.then_some(spec)
     }
 
     /// Names of the holes (the BEM group of each hole's edges).

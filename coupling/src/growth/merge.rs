@@ -15,8 +15,7 @@ use crate::window::{Body, Window, WindowSpec};
 /// the reason when their lattices differ in orientation (other than by a multiple of 90
 /// degrees, which maps a square lattice onto itself), spacing or horizon.
 pub fn merge_specs(a: &WindowSpec, b: &WindowSpec) -> Result<WindowSpec, String> {
-    let quarter = (a.angle - b.angle) / std::f64::consts::FRAC_PI_2;
-    if (quarter - quarter.round()).abs() > 1e-9 {
+    if !crate::window::quarter_turns_apart(a.angle, b.angle) {
         return Err(format!(
             "orientations differ ({:.3} vs {:.3} degrees)",
             a.angle.to_degrees(),

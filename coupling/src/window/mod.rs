@@ -9,9 +9,10 @@
 //!
 //! [`Window::place`] checks the rules of issue 4: inside the body, not over a hole, at
 //! least two horizons of real nodes per side, and the outline touched only along whole
-//! sides (a rotated window where an outline edge runs along its side). [`Window::hole_loop`] gives the BEM hole whose elements match the PD node rows
-//! (one element of length dx per boundary node); [`cut_outline`] removes a window touching
-//! the outline from the BEM outline instead.
+//! sides (a rotated window where an outline edge runs along its side).
+//! [`Window::hole_loop`] gives the BEM hole whose elements match the PD node rows (one
+//! element of length dx per boundary node); [`cut_outline`] removes a window touching the
+//! outline from the BEM outline instead.
 //!
 //! Files of the module:
 //! - `mod.rs`: [`WindowSpec`], [`Window`], [`Body`], [`SideKind`], the window frame
@@ -132,15 +133,20 @@ impl Window {
     /// Whether this window is turned against `other` by other than whole quarter turns:
     /// their lattices then share no node.
     pub fn turned_from(&self, other: &Window) -> bool {
-        let q = (self.spec.angle - other.spec.angle) / std::f64::consts::FRAC_PI_2;
-        (q - q.round()).abs() > 1e-9
+        !quarter_turns_apart(self.spec.angle, other.spec.angle)
     }
 
     /// Whether the rotation is a multiple of 90 degrees.
     pub fn axis_aligned(&self) -> bool {
-        let q = self.spec.angle / std::f64::consts::FRAC_PI_2;
-        (q - q.round()).abs() < 1e-9
+        quarter_turns_apart(self.spec.angle, 0.0)
     }
+}
+
+/// Whether angles `a` and `b` (radians) differ by a whole number of quarter turns (to
+/// 1e-9 of one): windows at such angles share their lattice directions.
+pub fn quarter_turns_apart(a: f64, b: f64) -> bool {
+    let q = (a - b) / std::f64::consts::FRAC_PI_2;
+    (q - q.round()).abs() <= 1e-9
 }
 
 #[cfg(test)]
