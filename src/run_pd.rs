@@ -14,6 +14,10 @@
 //! - damage with the tanh degradation (seed 000): the scene's solver drives the load to the
 //!   final factor.
 //!
+//! With `pd.refine_zones` the grid's cells inside the zones are split (`pdbem_pd::mixed`,
+//! dual-horizon forces between the sizes, seed 004 Eq. 13) and every path above runs on
+//! the mixed grid; `refined_nodes` counts the children.
+//!
 //! Pure-traction scenes get two pins (the real node at the bottom middle: both components;
 //! the one at the top middle: x) so the implicit tangent is regular; the loads are
 //! self-equilibrated, so the pins carry no reaction.
@@ -191,6 +195,11 @@ pub fn solve_recorded(scene: &Scene) -> Result<(RunSummary, PdModel, LoadDisplac
         .insert("load_unit".into(), json!(load_unit(scene)));
     summary.extra.insert("traction".into(), json!(pd.traction));
     summary.extra.insert("nodes".into(), json!(model.n_real()));
+    if !pd.refine_zones.is_empty() {
+        let g = model.grid();
+        let fine = (0..model.n_real()).filter(|&i| g.node_dx(i) < g.dx).count();
+        summary.extra.insert("refined_nodes".into(), json!(fine));
+    }
     summary
         .extra
         .insert("bonds".into(), json!(model.n_bonds() / 2));

@@ -237,3 +237,49 @@ fn pd_refinement_rules() {
     let src = make(MAT, BODY, CRACKS, displaced, dynamic);
     load(&src.replace(&format!("material: {MAT}, "), "")).expect("valid");
 }
+
+#[test]
+fn pd_refine_zones_rules() {
+    let z = "refine_zones: [(centre: (3, 10), half_size: 1.5)]";
+    load(&base_with(&format!("pd: (dx: 0.5, {z})"))).expect("a zone at the tip");
+    load(&base_with(&format!(
+        "pd: (dx: 0.5, model: StateBased, failure: Degradation(s_m: 0.01, s_c: 0.02, beta: 3), {z})"
+    )))
+    .expect("the tanh law on a zone");
+    assert_invalid(
+        &base_with(&format!("pd: (dx: 0.5, {z}), coupling: (side: 4, n: 20)")),
+        "pd.refine_zones",
+        "coupling.refine",
+    );
+    assert_invalid(
+        &base_with(&format!(
+            "pd: (dx: 0.5, model: StateBased, refinement: (), {z})"
+        )),
+        "pd.refine_zones",
+        "not both",
+    );
+    assert_invalid(
+        &base_with(&format!("pd: (dx: 0.5, traction: TransferFunction, {z})")),
+        "pd.traction",
+        "uniform grid",
+    );
+    let dynamic = format!("pd: (dx: 0.5, solver: Explicit(end_time: 1e-3), {z}), material: (E: 1e4, nu: 0.3, plane: Stress, density: 1000)");
+    let src = base_with(&dynamic).replace(&format!("material: {MAT}, "), "");
+    assert_invalid(&src, "pd.refine_zones", "explicit dynamics");
+    assert_invalid(
+        &base_with("pd: (dx: 0.5, refine_zones: [(centre: (3, 10), half_size: 0)])"),
+        "pd.refine_zones.0.half_size",
+        "must be > 0",
+    );
+    assert_invalid(
+        &base_with("pd: (dx: 0.5, refine_zones: [(centre: (3, 10), half_size: 1, levels: 3)])"),
+        "pd.refine_zones.0.levels",
+        "1 (4 children",
+    );
+    let many = vec!["(centre: (3, 10), half_size: 1)"; 101].join(", ");
+    assert_invalid(
+        &base_with(&format!("pd: (dx: 0.5, refine_zones: [{many}])")),
+        "pd.refine_zones",
+        "at most 100",
+    );
+}

@@ -44,9 +44,9 @@ pub struct BcGroup {
     /// it prescribes that no earlier condition prescribed (so that no reaction is
     /// counted twice). Empty for a load.
     pub claimed: Vec<[bool; 2]>,
-    /// Mean body force density of the load over `nodes` at load factor 1 (N/m^3), so
-    /// that the load's resultant is its node count times this times the node volume;
-    /// zero for a displacement condition.
+    /// Mean body force density of the load over `nodes` at load factor 1 (N/m^3, per
+    /// reference volume on a mixed grid), so that the load's resultant is its node count
+    /// times this times the grid's node volume; zero for a displacement condition.
     pub body: P2,
 }
 
@@ -106,7 +106,7 @@ pub fn resolve(p: &PdProblem, grid: &Grid) -> Result<Boundary, PdError> {
                 let sel: Vec<usize> = (0..grid.n_real)
                     .filter(|&i| on.contains(grid.pos[i], delta))
                     .collect();
-                spread(&mut bd, &sel, *force, grid.volume, k)?;
+                spread(&mut bd, &sel, *force, grid, k)?;
             }
             BoundaryCondition::Traction {
                 edge,
@@ -122,7 +122,7 @@ pub fn resolve(p: &PdProblem, grid: &Grid) -> Result<Boundary, PdError> {
                     &mut bd,
                     &sel,
                     [traction[0] * scale, traction[1] * scale],
-                    grid.volume,
+                    grid,
                     k,
                 )?;
             }
@@ -146,11 +146,16 @@ pub fn resolve(p: &PdProblem, grid: &Grid) -> Result<Boundary, PdError> {
     Ok(bd)
 }
 
+/// Spreads the load `force` (N) over the real nodes `sel` in proportion to their volumes
+/// (all equal on a uniform grid; a child of a refinement zone, [`crate::mixed`], carries a
+/// quarter of its parent's share per level, so a layer crossing a zone is loaded
+/// uniformly). `bd.body` holds densities per reference volume `grid.volume`, as every
+/// per-node force of a mixed model does.
 fn spread(
     bd: &mut Boundary,
     sel: &[usize],
     force: P2,
-    volume: f64,
+    grid: &Grid,
     k: usize,
 ) -> Result<(), PdError> {
     if sel.is_empty() {
@@ -159,17 +164,24 @@ fn spread(
             "the loaded boundary layer holds no real node",
         ));
     }
-    let v = sel.len() as f64 * volume;
+    let weight = |i: usize| {
+        let r = grid.node_dx(i) / grid.dx;
+        r * r
+    };
+    let total: f64 = sel.iter().map(|&i| weight(i)).sum();
+    let v = total * grid.volume;
     let b = [force[0] / v, force[1] / v];
     for &i in sel {
-        bd.body[i][0] += b[0];
-        bd.body[i][1] += b[1];
+        let w = weight(i);
+        bd.body[i][0] += b[0] * w;
+        bd.body[i][1] += b[1] * w;
     }
+    let mean = sel.len() as f64 * grid.volume;
     bd.groups.push(BcGroup {
         fixed: [false; 2],
         nodes: sel.to_vec(),
         claimed: Vec::new(),
-        body: b,
+        body: [force[0] / mean, force[1] / mean],
     });
     Ok(())
 }

@@ -7,7 +7,8 @@
 //! reaction of a displacement condition is the sum of $R_{i,c}$ over its nodes and
 //! prescribed components (a component prescribed twice counts for the first condition); the force of a load is $\lambda \sum_i V b_i$ over its layer
 //! (seed 000 section 2.3), $\lambda$ the load factor. The displacement of either is the
-//! mean displacement of its nodes. In equilibrium the reactions and the loads sum to
+//! mean displacement of its nodes, weighted by their volumes on a mixed grid
+//! ([`crate::mixed`]). In equilibrium the reactions and the loads sum to
 //! zero (up to the solver's residual): [`BcResultant`] lets a caller check it.
 
 use serde::Serialize;
@@ -44,15 +45,26 @@ impl PdModel {
     pub fn bc_resultants(&mut self) -> Vec<BcResultant> {
         let f = self.internal_forces();
         let (u, lam, v) = (self.displacements(), self.load_factor(), self.grid().volume);
+        let grid = self.grid();
+        // Volume weights: all 1 on a uniform grid (then `u / n` to the bit).
+        let weight = |i: usize| {
+            let r = grid.node_dx(i) / grid.dx;
+            r * r
+        };
         let bc = self.boundary();
         bc.groups
             .iter()
             .map(|g| {
                 let n = g.nodes.len().max(1) as f64;
+                let total = match g.nodes.iter().map(|&i| weight(i)).sum::<f64>() {
+                    t if t > 0.0 => t,
+                    _ => 1.0,
+                };
                 let mut disp = [0.0; 2];
                 for &i in &g.nodes {
-                    disp[0] += u[i][0] / n;
-                    disp[1] += u[i][1] / n;
+                    let w = weight(i);
+                    disp[0] += u[i][0] * w / total;
+                    disp[1] += u[i][1] * w / total;
                 }
                 let support = g.fixed != [false; 2];
                 let mut force = [0.0; 2];

@@ -64,7 +64,7 @@ pub use material::{Fracture, Material, Plane};
 pub use outputs::{Grid, Line, Outputs, PlotFormat};
 pub use pd::{
     AdrParams, ExplicitParams, Failure, ImplicitParams, PdModelKind, PdRefinement, PdSettings,
-    PdSolver, PdTraction, RefineCircle, RegionVelocity, SwitchingParams,
+    PdSolver, PdTraction, PdZone, RefineCircle, RegionVelocity, SwitchingParams,
 };
 pub use reference::Reference;
 

@@ -53,6 +53,30 @@ pub struct PdSettings {
     /// dynamics. Default: none (a uniform grid).
     #[serde(default)]
     pub refinement: Option<PdRefinement>,
+    /// Squares of finer cells on the stand-alone grid (`pdbem_pd::mixed`: each cell whose
+    /// centre lies in a zone is split into 4 children per level, the sizes interacting
+    /// through dual horizons, seed 004 Eq. 13), for either model and every quasi-static
+    /// solver, bond breaking and the tanh law. Default none (a uniform grid).
+    #[serde(default)]
+    pub refine_zones: Vec<PdZone>,
+}
+
+/// A square zone of finer cells on a stand-alone PD grid (`pdbem_pd::RefineZone`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PdZone {
+    /// Centre (x, y) (m).
+    pub centre: (f64, f64),
+    /// Half the side (m), > 0: the cells whose centres lie within this distance of the
+    /// centre along x and along y are split.
+    pub half_size: f64,
+    /// Splits per cell, 1 (4 children, dx / 2) or 2 (16 children, dx / 4). Default 1.
+    #[serde(default = "one_level")]
+    pub levels: u32,
+}
+
+fn one_level() -> u32 {
+    1
 }
 
 /// Adaptive particle refinement (seed 004 section 3, `pdbem_pd::refine`).

@@ -241,6 +241,27 @@ fn pd_and_geometry(scene: &Scene) -> Result<(&ScenePd, SceneGeometry)> {
     Ok((pd, SceneGeometry::of(scene)))
 }
 
+/// A pure-traction scene's pins hold one coarse node each: a `pd.refine_zones` zone that
+/// splits a pin's cell is refused (its children would all be held, or none).
+fn refuse_zones_on_pins(scene: &Scene, pd: &ScenePd, pins: &[P]) -> Result<()> {
+    for (i, z) in pd.refine_zones.iter().enumerate() {
+        let zone = pdbem_pd::refine_zone::RefineZone {
+            centre: [z.centre.0, z.centre.1],
+            half_size: z.half_size,
+            levels: z.levels,
+        };
+        if let Some(p) = pins.iter().find(|&&p| zone.contains(p, (1.0, 0.0))) {
+            bail!(
+                "{}: pd.refine_zones.{i}: the zone splits the cell at ({}, {}), where a pure-traction scene pins the body (the middle of the bottom and top rows): keep the zones off the pins, or hold the body with a displacement condition",
+                scene.file_label().display(),
+                p[0],
+                p[1]
+            );
+        }
+    }
+    Ok(())
+}
+
 /// The PD problem of a scene at grid spacing `dx` (m).
 pub fn problem_at(scene: &Scene, dx: f64) -> Result<PdProblem> {
     Ok(labelled_problem_at(scene, dx)?.0)
@@ -348,6 +369,7 @@ fn labelled_problem_at(scene: &Scene, dx: f64) -> Result<(PdProblem, Vec<String>
         let xc = snap(0.5 * (lo[0] + hi[0]), lo[0]);
         let (yb, yt) = (snap(lo[1] + 0.5 * dx, lo[1]), snap(hi[1] - 0.5 * dx, lo[1]));
         let r = 0.25 * dx;
+        refuse_zones_on_pins(scene, pd, &[[xc, yb], [xc, yt]])?;
         labels.extend(["pin".to_string(), "pin".to_string()]);
         boundary.push(PdBc::Displacement {
             on: Selection::Circle {
@@ -388,6 +410,15 @@ fn labelled_problem_at(scene: &Scene, dx: f64) -> Result<(PdProblem, Vec<String>
             PdTraction::BodyForceLayer => TractionLoad::BodyForceLayer,
             PdTraction::TransferFunction => TractionLoad::TransferFunction,
         },
+        refine_zones: pd
+            .refine_zones
+            .iter()
+            .map(|z| pdbem_pd::refine_zone::RefineZone {
+                centre: [z.centre.0, z.centre.1],
+                half_size: z.half_size,
+                levels: z.levels,
+            })
+            .collect(),
         ..Default::default()
     };
     Ok((problem, labels))

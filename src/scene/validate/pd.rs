@@ -93,6 +93,7 @@ fn check_pd(c: &mut Checker, scene: &Scene, pd: &crate::scene::PdSettings) {
     if let Some(r) = &pd.refinement {
         check_refinement(c, scene, pd, r);
     }
+    super::pd_zones::check(c, scene, pd);
     if let Some(names) = &pd.pre_cracks {
         for (i, n) in names.iter().enumerate() {
             if !scene.cracks.iter().any(|cr| &cr.name == n) {
