@@ -114,8 +114,37 @@ fn zones_on_a_pin_or_outside_the_grid_are_refused_before_the_run() {
     let text = format!("{:#}", pdbem::setup::footprint::of(&outside).unwrap_err());
     assert!(
         text.contains("pd_edge_crack_zone.ron")
-            && text.contains("refine_zones[0]")
-            && text.contains("holds no real node"),
+            && text.contains(
+                "pd.refine_zones.0: the zone holds no grid cell with a point in the body"
+            ),
         "{text}"
     );
+}
+
+#[test]
+fn a_two_level_zone_against_coarse_cells_gets_a_note() {
+    let lone = with(
+        &case(),
+        &[(
+            "pd.refine_zones",
+            "[{\"centre\": [0.015, 0.05], \"half_size\": 0.004, \"levels\": 2}]",
+        )],
+    );
+    assert!(
+        lone.notes
+            .iter()
+            .any(|n| n.contains("pd.refine_zones.0") && n.contains("size jump of 4")),
+        "{:?}",
+        lone.notes
+    );
+    // Nested as in docs/seed004.md: 1 mm within 8 mm, 0.5 mm within 4 mm (46 MPa, the
+    // uniform 0.5 mm grid's initiation load).
+    let nested = with(
+        &case(),
+        &[(
+            "pd.refine_zones",
+            "[{\"centre\": [0.015, 0.05], \"half_size\": 0.008, \"levels\": 1}, {\"centre\": [0.015, 0.05], \"half_size\": 0.004, \"levels\": 2}]",
+        )],
+    );
+    assert!(nested.notes.is_empty(), "{:?}", nested.notes);
 }

@@ -63,6 +63,75 @@ impl Grid {
     }
 }
 
+/// The cell lattice of a problem: cell `(i, j)` has its centre at `origin + (i + 1/2,
+/// j + 1/2) dx` in the grid frame (turned by the grid angle), and the cells `i0..=i1`,
+/// `j0..=j1` cover the outline's bounding box padded by a horizon and a cell.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Lattice {
+    /// Origin in the grid frame (a cell corner).
+    pub origin: P2,
+    /// Cell index range along the grid's x axis.
+    pub i: (i64, i64),
+    /// Cell index range along the grid's y axis.
+    pub j: (i64, i64),
+    /// Spacing (m).
+    pub dx: f64,
+    /// Grid angle (radians, counter-clockwise).
+    pub angle: f64,
+}
+
+impl Lattice {
+    /// The lattice of a validated problem.
+    pub fn of(p: &PdProblem) -> Lattice {
+        let (dx, angle) = (p.dx, p.grid_angle);
+        // Grid frame: local = R(-angle) x.
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for &q in &p.region.outline {
+            let q = rotate(q, -angle);
+            for d in 0..2 {
+                lo[d] = lo[d].min(q[d]);
+                hi[d] = hi[d].max(q[d]);
+            }
+        }
+        let origin = match p.grid_origin {
+            Some(o) => rotate(o, -angle),
+            None => lo,
+        };
+        let pad = p.horizon() + dx;
+        Lattice {
+            origin,
+            i: (
+                ((lo[0] - pad - origin[0]) / dx).floor() as i64,
+                ((hi[0] + pad - origin[0]) / dx).ceil() as i64,
+            ),
+            j: (
+                ((lo[1] - pad - origin[1]) / dx).floor() as i64,
+                ((hi[1] + pad - origin[1]) / dx).ceil() as i64,
+            ),
+            dx,
+            angle,
+        }
+    }
+
+    /// Centre of cell `(i, j)` in the global frame.
+    pub fn centre(&self, i: i64, j: i64) -> P2 {
+        let q = [
+            self.origin[0] + (i as f64 + 0.5) * self.dx,
+            self.origin[1] + (j as f64 + 0.5) * self.dx,
+        ];
+        rotate(q, self.angle)
+    }
+
+    /// The cell whose centre is nearest to `x` (global frame).
+    pub fn cell_of(&self, x: P2) -> (i64, i64) {
+        let q = rotate(x, -self.angle);
+        (
+            ((q[0] - self.origin[0]) / self.dx - 0.5).round() as i64,
+            ((q[1] - self.origin[1]) / self.dx - 0.5).round() as i64,
+        )
+    }
+}
+
 /// Build the uniform grid of a validated problem (refinement zones are applied by
 /// [`crate::mixed::build_grid`]).
 pub fn build_uniform(p: &PdProblem) -> Result<Grid, PdError> {
@@ -70,24 +139,8 @@ pub fn build_uniform(p: &PdProblem) -> Result<Grid, PdError> {
     let delta = p.horizon();
     let angle = p.grid_angle;
     let region = &p.region;
-    // Grid frame: local = R(-angle) (x - origin).
-    let local: Vec<P2> = region.outline.iter().map(|&q| rotate(q, -angle)).collect();
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for q in &local {
-        for d in 0..2 {
-            lo[d] = lo[d].min(q[d]);
-            hi[d] = hi[d].max(q[d]);
-        }
-    }
-    let origin_local = match p.grid_origin {
-        Some(o) => rotate(o, -angle),
-        None => lo,
-    };
-    let pad = delta + dx;
-    let i0 = ((lo[0] - pad - origin_local[0]) / dx).floor() as i64;
-    let i1 = ((hi[0] + pad - origin_local[0]) / dx).ceil() as i64;
-    let j0 = ((lo[1] - pad - origin_local[1]) / dx).floor() as i64;
-    let j1 = ((hi[1] + pad - origin_local[1]) / dx).ceil() as i64;
+    let lattice = Lattice::of(p);
+    let ((i0, i1), (j0, j1)) = (lattice.i, lattice.j);
     let ncells = (i1 - i0 + 1) as f64 * (j1 - j0 + 1) as f64;
     if ncells > 5.0e7 {
         return Err(PdError::invalid(
@@ -111,11 +164,7 @@ pub fn build_uniform(p: &PdProblem) -> Result<Grid, PdError> {
     let mut fict = Vec::new();
     for j in j0..=j1 {
         for i in i0..=i1 {
-            let q = [
-                origin_local[0] + (i as f64 + 0.5) * dx,
-                origin_local[1] + (j as f64 + 0.5) * dx,
-            ];
-            let x = rotate(q, angle);
+            let x = lattice.centre(i, j);
             if region.contains(x) {
                 real.push(x);
             } else if !fict_sel.is_empty() {

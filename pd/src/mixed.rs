@@ -75,7 +75,11 @@ pub fn build_grid(p: &PdProblem) -> Result<Grid, PdError> {
 
 /// Split the real nodes of `grid` inside the zones of `p` (see the module docs): the
 /// children replace their parent in place; `grid.spacing` gets every node's spacing.
-/// Children outside the region (a hole, a slanted side) are dropped.
+/// Children outside the region (a hole, a slanted side) are dropped. A zone also splits
+/// the cells it holds whose centres lie outside the region (by a hole or a slanted side)
+/// but not on a fictitious node: their children inside the region join the real nodes,
+/// so a zone over a curved edge resolves it at the children's spacing, as the finer
+/// uniform grid does, instead of keeping the coarse grid's staircase.
 pub fn refine_grid(grid: &mut Grid, p: &PdProblem) -> Result<(), PdError> {
     if p.refine_zones.is_empty() {
         return Ok(());
@@ -85,48 +89,117 @@ pub fn refine_grid(grid: &mut Grid, p: &PdProblem) -> Result<(), PdError> {
     let mut spacing = Vec::with_capacity(grid.pos.len());
     let mut used = vec![false; p.refine_zones.len()];
     let axes = crate::surface::lattice_axes(grid.angle);
-    for (i, &x) in grid.pos.iter().enumerate() {
+    let level_at = |x: P2, used: &mut [bool]| {
         let mut level = 0;
-        if i < grid.n_real {
-            for (z, zone) in p.refine_zones.iter().enumerate() {
-                if zone.contains(x, axes) {
-                    used[z] = true;
-                    level = level.max(zone.levels);
-                }
+        for (z, zone) in p.refine_zones.iter().enumerate() {
+            if zone.contains(x, axes) {
+                used[z] = true;
+                level = level.max(zone.levels);
             }
         }
-        if level == 0 {
-            pos.push(x);
-            spacing.push(dx);
-            continue;
-        }
-        let n = 1usize << level;
-        let h = dx / n as f64;
-        for b in 0..n {
-            for a in 0..n {
-                let o = [
-                    (a as f64 + 0.5) * h - 0.5 * dx,
-                    (b as f64 + 0.5) * h - 0.5 * dx,
-                ];
-                let r = rotate(o, grid.angle);
-                let c = [x[0] + r[0], x[1] + r[1]];
-                if p.region.contains(c) {
-                    pos.push(c);
-                    spacing.push(h);
-                }
+        level
+    };
+    for &x in &grid.pos[..grid.n_real] {
+        match level_at(x, &mut used) {
+            0 => {
+                pos.push(x);
+                spacing.push(dx);
             }
+            level => push_children(&mut pos, &mut spacing, x, level, grid, p),
+        }
+    }
+    for (x, level) in edge_cells(grid, p) {
+        let before = pos.len();
+        push_children(&mut pos, &mut spacing, x, level, grid, p);
+        if pos.len() > before {
+            level_at(x, &mut used);
         }
     }
     if let Some(z) = used.iter().position(|u| !u) {
         return Err(PdError::invalid(
             format!("refine_zones[{z}]"),
-            "the zone holds no real node centre of the coarse grid",
+            "the zone holds no grid cell with a point in the body",
         ));
     }
-    grid.n_real += pos.len() - grid.pos.len();
+    let n_real = pos.len();
+    for &x in &grid.pos[grid.n_real..] {
+        pos.push(x);
+        spacing.push(dx);
+    }
+    grid.n_real = n_real;
     grid.pos = pos;
     grid.spacing = spacing;
     Ok(())
+}
+
+/// The children of the cell centred at `x`, `4^level` of them at the centres of its
+/// sub-cells, those inside the region.
+fn push_children(
+    pos: &mut Vec<P2>,
+    spacing: &mut Vec<f64>,
+    x: P2,
+    level: u32,
+    grid: &Grid,
+    p: &PdProblem,
+) {
+    let dx = grid.dx;
+    let n = 1usize << level;
+    let h = dx / n as f64;
+    for b in 0..n {
+        for a in 0..n {
+            let o = [
+                (a as f64 + 0.5) * h - 0.5 * dx,
+                (b as f64 + 0.5) * h - 0.5 * dx,
+            ];
+            let r = rotate(o, grid.angle);
+            let c = [x[0] + r[0], x[1] + r[1]];
+            if p.region.contains(c) {
+                pos.push(c);
+                spacing.push(h);
+            }
+        }
+    }
+}
+
+/// The cells a zone splits whose centres lie outside the region and on no fictitious
+/// node of `grid` (cut by a hole or a slanted side), with the deepest level of the zones
+/// holding them, in lattice order.
+fn edge_cells(grid: &Grid, p: &PdProblem) -> Vec<(P2, u32)> {
+    use std::collections::{BTreeMap, HashSet};
+    let lattice = crate::grid::Lattice::of(p);
+    let axes = crate::surface::lattice_axes(grid.angle);
+    let fictitious: HashSet<(i64, i64)> = grid.pos[grid.n_real..]
+        .iter()
+        .map(|&x| lattice.cell_of(x))
+        .collect();
+    let mut cells: BTreeMap<(i64, i64), u32> = BTreeMap::new();
+    for zone in &p.refine_zones {
+        let (ci, cj) = lattice.cell_of(zone.centre);
+        // Cells whose centres can lie within half_size (plus a cell for the tie band).
+        let reach = (zone.half_size / grid.dx).ceil().min(1e7) as i64 + 1;
+        let (i0, i1) = (
+            ci.saturating_sub(reach).max(lattice.i.0),
+            ci.saturating_add(reach).min(lattice.i.1),
+        );
+        let (j0, j1) = (
+            cj.saturating_sub(reach).max(lattice.j.0),
+            cj.saturating_add(reach).min(lattice.j.1),
+        );
+        for j in j0..=j1 {
+            for i in i0..=i1 {
+                let x = lattice.centre(i, j);
+                if !zone.contains(x, axes) || p.region.contains(x) || fictitious.contains(&(i, j)) {
+                    continue;
+                }
+                let level = cells.entry((j, i)).or_insert(0);
+                *level = (*level).max(zone.levels);
+            }
+        }
+    }
+    cells
+        .into_iter()
+        .map(|((j, i), level)| (lattice.centre(i, j), level))
+        .collect()
 }
 
 /// Neighbour rows: `j` with `|x_j - x_k| <= max(delta_k, delta_j)`, not through a hole,

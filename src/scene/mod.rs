@@ -204,10 +204,14 @@ impl Scene {
         }
     }
 
-    /// Every note a loaded or edited scene carries: [`Self::note_inert_fields`] and a
-    /// reference the body departs from ([`Reference::scope_note`]).
+    /// Every note a loaded or edited scene carries: [`Self::note_inert_fields`], a
+    /// reference the body departs from ([`Reference::scope_note`]) and a size jump of 4 at
+    /// a refinement zone's edge ([`PdSettings::zone_notes`]).
     pub fn add_notes(&mut self) {
         self.note_inert_fields();
+        if let Some(pd) = &self.pd {
+            self.notes.extend(pd.zone_notes());
+        }
         if let Some(note) = self.reference.as_ref().and_then(|r| r.scope_note(self)) {
             self.notes.push(note);
         }

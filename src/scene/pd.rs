@@ -61,6 +61,36 @@ pub struct PdSettings {
     pub refine_zones: Vec<PdZone>,
 }
 
+impl PdSettings {
+    /// Notes on `refine_zones`: a zone of 2 levels that no 1-level zone surrounds by a
+    /// coarse cell puts a size jump of 4 at its edge, where dual horizons are least
+    /// accurate (docs/seed004.md, "Fixed zones on the grid").
+    pub fn zone_notes(&self) -> Vec<String> {
+        let margin = self.dx.unwrap_or(0.0);
+        let zones = &self.refine_zones;
+        let graded = |z: &PdZone| {
+            zones.iter().any(|o| {
+                o.levels == 1
+                    && (o.centre.0 - z.centre.0)
+                        .abs()
+                        .max((o.centre.1 - z.centre.1).abs())
+                        + z.half_size
+                        + margin
+                        <= o.half_size
+            })
+        };
+        zones
+            .iter()
+            .enumerate()
+            .filter(|(_, z)| z.levels >= 2 && !graded(z))
+            .map(|(i, _)| format!(
+                "pd.refine_zones.{i}: 2 levels against coarse cells put a size jump of 4 at the zone's edge, where dual horizons are least accurate (seed 004's plate: initiation 47 MPa with such a zone, 46 MPa on the uniform 0.5 mm grid and with a 1-level zone around it); nest it in a 1-level zone reaching a coarse cell{} beyond it",
+                if margin > 0.0 { format!(" ({margin:.4e} m)") } else { String::new() }
+            ))
+            .collect()
+    }
+}
+
 /// A square zone of finer cells on a stand-alone PD grid (`pdbem_pd::RefineZone`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -145,7 +175,7 @@ impl PdRefinement {
                 _ => "Switching",
             };
             notes.push(format!(
-                "pd.solver ({name}) is not read: a refined body's quasi-static solves are conjugate gradients on its linearised energy, to the relative residual pd.refinement.tolerance = {:e} (pd.solver: Explicit runs adaptive dynamics)",
+                "pd.solver ({name}) is not read: a refined body's quasi-static solves are conjugate gradients on its linearised energy, to the relative residual pd.refinement.tolerance = {:e} (pd.solver: Explicit runs adaptive dynamics; fixed zones of finer cells solved by this solver: pd.refine_zones instead of pd.refinement)",
                 self.tolerance
             ));
         }

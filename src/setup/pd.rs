@@ -262,6 +262,29 @@ fn refuse_zones_on_pins(scene: &Scene, pd: &ScenePd, pins: &[P]) -> Result<()> {
     Ok(())
 }
 
+/// The zones of `pd.refine_zones` on the problem's grid: a zone that holds no grid cell
+/// with a point in the body is an error naming the scene's field (the library names its
+/// own, `refine_zones[k]`). Other problems with the grid are left to the model's build.
+fn zones_on_the_grid(scene: &Scene, problem: &PdProblem) -> Result<()> {
+    if problem.refine_zones.is_empty() || problem.validate().is_err() {
+        return Ok(());
+    }
+    match pdbem_pd::mixed::build_grid(problem) {
+        Err(pdbem_pd::PdError::InvalidInput { field, reason })
+            if field.starts_with("refine_zones[") =>
+        {
+            let k = field
+                .trim_start_matches("refine_zones[")
+                .trim_end_matches(']');
+            bail!(
+                "{}: pd.refine_zones.{k}: {reason}",
+                scene.file_label().display()
+            )
+        }
+        _ => Ok(()),
+    }
+}
+
 /// The PD problem of a scene at grid spacing `dx` (m).
 pub fn problem_at(scene: &Scene, dx: f64) -> Result<PdProblem> {
     Ok(labelled_problem_at(scene, dx)?.0)
@@ -421,5 +444,6 @@ fn labelled_problem_at(scene: &Scene, dx: f64) -> Result<(PdProblem, Vec<String>
             .collect(),
         ..Default::default()
     };
+    zones_on_the_grid(scene, &problem)?;
     Ok((problem, labels))
 }

@@ -193,7 +193,7 @@ fn check_refinement_law(
             Failure::Elastic => {}
             Failure::Degradation { .. } => c.fail_at(
                 "pd.failure",
-                "a refined body breaks bonds at a critical stretch (it has no tanh degradation): use CriticalStretch or FromGc, or `failure: Elastic`",
+                "a refined body breaks bonds at a critical stretch (it has no tanh degradation): use CriticalStretch or FromGc, or `failure: Elastic` (the tanh law on fixed zones of finer cells: `pd.refine_zones` instead of `pd.refinement`)",
             ),
             Failure::CriticalStretch(_) | Failure::FromGc => {
                 if scene.cracks.is_empty() || scene.load.factors().len() < 2 {
