@@ -143,10 +143,40 @@ impl From<GrowthModeArg> for GrowthMode {
     }
 }
 
-/// Exit code of a growth run that ended early (`complete: false`): its outputs are
-/// written. 1 is any error (bad scene, failed setup, a folder in use, nothing written),
-/// 2 a command line clap refuses.
+/// Exit code of a growth run that ended early (`complete: false`) or a sweep with failed
+/// runs: the outputs are written. 1 is any error (bad scene, failed setup, a folder in
+/// use, nothing written), 2 a command line clap refuses.
 pub const EXIT_INCOMPLETE: u8 = 3;
+
+/// The error of a sweep (run whole, or joined by `--collect`) some of whose runs failed:
+/// every row is in the table, the failed ones with their `error` (exit code
+/// [`EXIT_INCOMPLETE`]).
+#[derive(Debug)]
+pub struct FailedRuns {
+    /// The sweep folder.
+    pub out: PathBuf,
+    /// Failed runs.
+    pub failed: usize,
+    /// All runs.
+    pub total: usize,
+    /// The first failure's message.
+    pub first: String,
+}
+
+impl std::fmt::Display for FailedRuns {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} of {} runs failed (their rows in {} carry the error; the other runs' outputs are written); first: {}",
+            self.failed,
+            self.total,
+            self.out.display(),
+            self.first
+        )
+    }
+}
+
+impl std::error::Error for FailedRuns {}
 
 /// The error of a growth run that ended early with its outputs written (exit code
 /// [`EXIT_INCOMPLETE`]).
@@ -173,12 +203,12 @@ impl std::error::Error for IncompleteRun {}
 
 /// Parses the command line, runs the command, prints errors; returns the exit code: 0
 /// done, 1 error, 2 bad command line (clap), [`EXIT_INCOMPLETE`] a growth run that ended
-/// early with its outputs written.
+/// early or a sweep with failed runs, its outputs written.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     match execute(cli.command) {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) if e.downcast_ref::<IncompleteRun>().is_some() => {
+        Err(e) if is_incomplete(&e) => {
             eprintln!("error: {e:#}");
             ExitCode::from(EXIT_INCOMPLETE)
         }
@@ -187,6 +217,12 @@ pub fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// Whether `e` is a run that ended early or a sweep with failed runs, outputs written
+/// (exit code [`EXIT_INCOMPLETE`]).
+pub fn is_incomplete(e: &anyhow::Error) -> bool {
+    e.downcast_ref::<IncompleteRun>().is_some() || e.downcast_ref::<FailedRuns>().is_some()
 }
 
 /// Runs one command.
@@ -495,6 +531,8 @@ fn sweep(
                 rows.len(),
                 out.display()
             );
+            // A shard's failed runs are rows of the table `--collect` joins, and its exit
+            // code: a scheduler's `afterok` dependency still starts the collect job.
             return Ok(());
         }
         SweepPart::Collect => crate::sweep::shard::collect(&scene, &varies, &out)?,
@@ -506,8 +544,20 @@ fn sweep(
         failed,
         out.join("sweep.csv").display()
     );
-    if let Some(e) = rows.iter().find_map(|r| r.error.as_ref()) {
-        crate::outln!("first failure: {e}");
+    failed_runs(&rows, out.join("sweep.csv"))
+}
+
+/// [`FailedRuns`] when a run of `rows` failed (its table, or shard folder, at `out`).
+fn failed_runs(rows: &[crate::sweep::SweepRow], out: PathBuf) -> anyhow::Result<()> {
+    let failed = rows.iter().filter(|r| r.error.is_some()).count();
+    match rows.iter().find_map(|r| r.error.as_ref()) {
+        None => Ok(()),
+        Some(first) => Err(FailedRuns {
+            out,
+            failed,
+            total: rows.len(),
+            first: first.clone(),
+        }
+        .into()),
     }
-    Ok(())
 }

@@ -2,7 +2,7 @@
 //! `--collect`, give the table of the sweep run in one piece (wall times aside), failed
 //! runs included; a missing shard or a shard of another sweep is refused by name.
 
-use pdbem::cli::{execute, Command};
+use pdbem::cli::{execute, Command, FailedRuns};
 use pdbem::sweep::shard::Shard;
 
 const SRC: &str = r#"(
@@ -36,6 +36,19 @@ fn sweep(
     })
 }
 
+/// The failed runs of a sweep or shard whose failures are rows (the error of exit code 3,
+/// [`FailedRuns`]); any other error fails the test.
+fn failed(r: anyhow::Result<()>, what: &str) -> usize {
+    match r {
+        Ok(()) => 0,
+        Err(e) => {
+            e.downcast_ref::<FailedRuns>()
+                .unwrap_or_else(|| panic!("{what}: {e:#}"))
+                .failed
+        }
+    }
+}
+
 /// sweep.csv without its wall-time column.
 fn table(dir: &std::path::Path) -> Vec<Vec<String>> {
     let text = std::fs::read_to_string(dir.join("sweep.csv")).expect("sweep.csv");
@@ -63,8 +76,10 @@ fn shards_joined_equal_the_serial_sweep() {
     let scene = root.join("shard.ron");
     std::fs::write(&scene, SRC).unwrap();
 
-    sweep(&scene, &root.join("serial"), None, false).expect("serial sweep");
+    let serial = sweep(&scene, &root.join("serial"), None, false);
+    assert_eq!(failed(serial, "serial sweep"), 2, "the 1.5 m cracks fail");
     let sharded = root.join("sharded");
+    // A shard's failed runs are rows, not its exit: `--collect` reports them.
     for i in [3, 1] {
         sweep(&scene, &sharded, Some(Shard { index: i, count: 3 }), false).expect("shard");
     }
@@ -72,7 +87,7 @@ fn shards_joined_equal_the_serial_sweep() {
     assert!(format!("{missing:#}").contains("shards 2/3"), "{missing:#}");
     assert!(!sharded.join("sweep.csv").exists());
     sweep(&scene, &sharded, Some(Shard { index: 2, count: 3 }), false).expect("shard");
-    sweep(&scene, &sharded, None, true).expect("collect");
+    assert_eq!(failed(sweep(&scene, &sharded, None, true), "collect"), 2);
 
     let (a, b) = (table(&root.join("serial")), table(&sharded));
     assert_eq!(a.len(), 7, "6 runs and a header");

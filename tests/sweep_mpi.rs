@@ -1,10 +1,10 @@
 //! MPI sweeps (issue 22). With `--features mpi` (`.ci/run` installs OpenMPI and runs
 //! this file so): `mpirun --oversubscribe -np 2 pdbem sweep ...` gives the serial sweep's
-//! table (wall times aside), failed runs included, with every run done exactly once and
-//! both ranks working; a sweep folder in use stops every rank before any run; the
-//! README's mpirun command runs as written. Without the feature:
-//! a pdbem started as one of several MPI ranks refuses the sweep instead of letting every
-//! rank run all of it.
+//! table (wall times aside), failed runs included (exit code 3 on both), with every run
+//! done exactly once and both ranks working; a sweep folder in use stops every rank before
+//! any run; the README's mpirun command runs as written. Without the feature: a pdbem
+//! started as one of several MPI ranks refuses the sweep instead of letting every rank
+//! run all of it.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -60,16 +60,17 @@ fn without_the_feature_a_rank_refuses_the_sweep() {
     assert_eq!(out.status.code(), Some(1), "{err}");
     assert!(err.contains("built without the `mpi` feature"), "{err}");
     assert!(!root.join("out/sweep.csv").exists());
-    // One rank is a plain sweep.
+    // One rank is a plain sweep: its two failed runs are rows, and exit code 3 says so.
     let one = Command::new(BIN)
         .args(sweep_args(&scene, &root.join("one")))
         .env("OMPI_COMM_WORLD_SIZE", "1")
         .output()
         .expect("pdbem starts");
+    let err = String::from_utf8_lossy(&one.stderr);
     assert!(
-        one.status.success(),
-        "{}",
-        String::from_utf8_lossy(&one.stderr)
+        one.status.code() == Some(3) && err.contains("2 of 10 runs failed"),
+        "{:?}: {err}",
+        one.status
     );
     assert!(root.join("one/sweep.csv").exists());
     let _ = std::fs::remove_dir_all(&root);
@@ -115,6 +116,18 @@ mod with_mpi {
         );
     }
 
+    /// A sweep whose two failed runs are rows: exit code 3 (`pdbem::cli::EXIT_INCOMPLETE`;
+    /// under mpirun, rank 0's), with the count in the message.
+    fn check_two_failed(out: std::process::Output, what: &str) {
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            out.status.code() == Some(3) && err.contains("2 of 10 runs failed"),
+            "{what}: {:?}\n{}\n{err}",
+            out.status,
+            String::from_utf8_lossy(&out.stdout),
+        );
+    }
+
     #[test]
     fn mpirun_two_ranks_equals_the_serial_sweep() {
         let root = scratch("mpi_sweep");
@@ -124,13 +137,13 @@ mod with_mpi {
             .args(sweep_args(&scene, &root.join("serial")))
             .output()
             .expect("pdbem starts");
-        check_ok(serial, "serial sweep");
+        check_two_failed(serial, "serial sweep");
         let par = mpirun()
             .args(["--oversubscribe", "-np", "2", BIN])
             .args(sweep_args(&scene, &root.join("mpi")))
             .output()
             .expect("mpirun starts (OpenMPI installed?)");
-        check_ok(par, "mpirun sweep");
+        check_two_failed(par, "mpirun sweep");
 
         let (a, b) = (table(&root.join("serial")), table(&root.join("mpi")));
         assert_eq!(a.len(), 11, "10 runs and a header");
