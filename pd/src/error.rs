@@ -144,14 +144,30 @@ fn size_text(bytes: f64) -> String {
     format!("{v:.3} {unit}")
 }
 
-/// A load factor as the messages show it: as it prints when short (0.6, 3.3, 8.1), in
-/// exponent form when its decimal form runs past 12 characters (1e300 prints 301 digits).
+/// A load factor as the messages show it: as it prints when short (0.6, 3.3, 8.1);
+/// otherwise to 7 significant digits, trailing zeros dropped, in decimal form from 1e-3
+/// to 1e6 (0.1 + 0.2 is 0.3, 2.7600000000000002 is 2.76) and in exponent form outside
+/// (1e300 prints 301 digits: 1e300).
 fn factor_text(load: f64) -> String {
     let plain = load.to_string();
-    if plain.len() > 12 {
-        format!("{load:.6e}")
+    if plain.len() <= 12 || !load.is_finite() {
+        return plain;
+    }
+    let trim = |m: &str| -> String {
+        if m.contains('.') {
+            m.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            m.to_string()
+        }
+    };
+    let a = load.abs();
+    if (1e-3..1e6).contains(&a) {
+        let decimals = (6 - a.log10().floor() as i32).max(0) as usize;
+        trim(&format!("{load:.decimals$}"))
     } else {
-        plain
+        let e = format!("{load:.6e}");
+        let (m, x) = e.split_once('e').unwrap_or((&e, "0"));
+        format!("{}e{x}", trim(m))
     }
 }
 
@@ -177,9 +193,19 @@ mod tests {
             load,
         };
         assert!(e(0.6).to_string().ends_with("(load factor 0.6)"));
-        assert!(e(1e300).to_string().ends_with("(load factor 1.000000e300)"));
-        assert!(e(0.1 + 0.2)
+        assert!(e(1e300).to_string().ends_with("(load factor 1e300)"));
+        assert!(e(0.1 + 0.2).to_string().ends_with("(load factor 0.3)"));
+        assert!(e(2.7600000000000002)
             .to_string()
-            .ends_with("(load factor 3.000000e-1)"));
+            .ends_with("(load factor 2.76)"));
+        assert!(e(7.0 / 9.0)
+            .to_string()
+            .ends_with("(load factor 0.7777778)"));
+        assert!(e(-1.0 / 3.0e9)
+            .to_string()
+            .ends_with("(load factor -3.333333e-10)"));
+        assert!(e(123456.78901234)
+            .to_string()
+            .ends_with("(load factor 123456.8)"));
     }
 }
