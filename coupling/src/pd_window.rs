@@ -262,6 +262,17 @@ fn zone_reach(w: &Window, half_size: f64) -> f64 {
     half_size + 0.5 * w.spec.dx
 }
 
+/// How far (m) the refinement zone of window `w` (setting `r`) may sit off the window
+/// centre along both axes while it keeps two horizons from every side
+/// ([`zone_centre`], all sides closed): zero when the zone takes the whole room.
+pub fn zone_room(w: &Window, r: WindowRefine) -> f64 {
+    let m = zone_reach(w, r.half_size) + 2.0 * w.delta();
+    let dx = w.spec.dx;
+    let (lx, ly) = w.size();
+    let lo = (m / dx - 1e-9).ceil() * dx;
+    (0.5 * lx.min(ly) - lo).max(0.0)
+}
+
 /// Centre of the refinement zone of window `w` for the tip `tip`: the cell corner nearest
 /// the tip, moved along the window's axes (if needed) so that the zone keeps two horizons
 /// from every side but the `open` ones ([`open_sides`]; a window pushed against the

@@ -20,6 +20,11 @@
 //!   between two coarse nodes (those would seal the crack, unbreakable and not copied as
 //!   broken). Otherwise the move is refused with the largest move distance that works
 //!   ([`max_move_distance`], which `pdbem check` also applies).
+//! - [`follow_tip`]: a window moves along the growth direction, so it keeps its lateral
+//!   place, and its sides hold its zone within [`crate::pd_window::zone_room`] of its
+//!   centre; a moved refined window whose tip lies further aside than that also moves
+//!   sideways to the tip (whole cells), so a tip drifting off a window's centre line stays
+//!   in the fine cells.
 //! - Windows against the outline whose outer sides are free
 //!   ([`crate::pd_window::open_sides`]) keep the rules, with three differences: their
 //!   zone may reach those sides (the crack must run through fine cells to the edge); the
@@ -47,9 +52,11 @@
 use pdbem_bem::V2;
 use pdbem_pd::crack_path::CrackPath;
 
-use crate::pd_window::{open_sides, tip_of, zone_centre, WindowRefine};
+use crate::growth::relocate::snap;
+use crate::growth::tips::{margins, near_interface_side};
+use crate::pd_window::{open_sides, tip_of, zone_centre, zone_room, WindowRefine};
 use crate::setup::WindowModel;
-use crate::window::SideKind;
+use crate::window::{Body, SideKind, Window, WindowSpec};
 
 /// Distance (in finest spacings, to the nearest coarser cell's edge) at which a tip has
 /// reached the end of its fine zone: the tip node is the farthest node with phi above the
@@ -95,6 +102,73 @@ pub fn zone_moves_on(wm: &WindowModel, r: WindowRefine, path: &[V2]) -> Option<V
     let open = open_sides(&wm.window, &wm.problem.boundary);
     let c = zone_centre(&wm.window, end, r, open);
     ((c - V2::new(now[0], now[1])).norm() >= fine).then_some(c)
+}
+
+/// The window `moved` (window `old` moved along the growth direction `dir`,
+/// [`super::relocate::moved_spec`]) also moved sideways to its tip at `tip`, when the tip
+/// lies further off the window's centre line than the zone `r` can follow it
+/// ([`zone_room`]) by half a cell or more, and the window so moved still fits (in the body,
+/// the tip clear of its interface margin). A move along the growth direction alone keeps
+/// the window's lateral place (each move's sideways part rounds to no cell), so a tip
+/// drifting sideways left a zone that its sides hold at the window centre: on
+/// `growth_hole_edge` with a 4 mm window of 20 cells and a 0.6 mm zone, the tip 0.36 mm
+/// off the line ran the window on without the zone until the run ended at load step 72.
+pub fn follow_tip(
+    old: &Window,
+    moved: WindowSpec,
+    tip: V2,
+    dir: V2,
+    r: WindowRefine,
+    body: &Body,
+    ratio: f64,
+) -> WindowSpec {
+    let dx = old.spec.dx;
+    let across = V2::new(-dir.y, dir.x);
+    let off = (tip - moved.center).dot(&across);
+    if off.abs() < zone_room(old, r) + 0.5 * dx {
+        return moved;
+    }
+    let (e1, e2) = old.axes();
+    let mut spec = moved.clone();
+    spec.center += snap(off * across, e1, e2, dx);
+    match Window::place(0, spec.clone(), body) {
+        Ok(w)
+            if w.contains(tip, -0.5 * dx)
+                && !near_interface_side(&w, tip, margins(&w, ratio).1) =>
+        {
+            spec
+        }
+        _ => moved,
+    }
+}
+
+/// Why the pre-crack of a moved window `w` (zone `r`, moved by `move_distance`) ends at
+/// `end`, outside its fine cells ([`precrack_in_fine_cells`]): a move longer than
+/// [`max_move_distance`], or else a tip where the zone cannot reach from where the
+/// window's sides hold it.
+pub fn outside_reason(w: &Window, end: V2, r: WindowRefine, move_distance: f64) -> String {
+    let max = max_move_distance(
+        w.spec.nx.min(w.spec.ny),
+        w.spec.dx,
+        w.delta(),
+        r.half_size,
+        r.levels,
+    );
+    let cause = if move_distance > max {
+        format!(
+            "move_distance {move_distance} m is too long for coupling.refine (half_size {} m, levels {}); at most {max:.4} m for this window",
+            r.half_size, r.levels
+        )
+    } else {
+        format!(
+            "the zone (coupling.refine half_size {} m, levels {}) cannot reach it from where the window's sides hold it; a larger window (coupling.side, n) gives the zone room",
+            r.half_size, r.levels
+        )
+    };
+    format!(
+        "the moved window's pre-crack ends at ({:.4}, {:.4}), outside its refinement zone's fine cells, so unbreakable coarse bonds would seal the crack behind the tip: {cause}",
+        end.x, end.y
+    )
 }
 
 /// Pre-crack ends of `wm` more than half a spacing inside the window: its crack tips.
@@ -422,5 +496,60 @@ mod tests {
             V2::new(10.0, 0.4),
             V2::new(0.0, -1.0)
         ));
+    }
+}
+
+#[cfg(test)]
+mod follow_tests {
+    use super::*;
+    use crate::growth::fixtures::{body, plate_setup};
+    use crate::setup::build;
+
+    /// A window moved along the growth direction keeps its lateral place; when the zone
+    /// cannot follow the tip (the 1 m window of 20 cells leaves a 0.15 m zone no room) the
+    /// window moves sideways to the tip, by whole cells.
+    #[test]
+    fn a_moved_window_follows_a_tip_that_drifts_sideways() {
+        let pts = vec![V2::new(10.0, 10.0), V2::new(10.0, 8.0)];
+        let mut s = plate_setup((20.0, 10.0), vec![], vec![pts], None);
+        let r = WindowRefine {
+            half_size: 0.15,
+            levels: 1,
+        };
+        s.layout.pd.refine = Some(r);
+        let w = build(&s.layout, |_, _| Vec::new())
+            .unwrap()
+            .windows
+            .remove(0)
+            .window;
+        assert_eq!(zone_room(&w, r), 0.0);
+        let down = V2::new(0.0, -1.0);
+        let mut moved = w.spec.clone();
+        moved.center += V2::new(0.0, -0.4);
+        let at = |x: f64| follow_tip(&w, moved.clone(), V2::new(x, 7.7), down, r, &body(), 0.9);
+        // Within half a cell of the centre line: the window stays on it.
+        assert_eq!(at(w.spec.center.x + 0.024).center, moved.center);
+        // 0.12 m (2.4 cells) aside: the window follows by 2 cells, to either side.
+        let c = at(w.spec.center.x + 0.12).center - moved.center;
+        assert!((c - V2::new(0.1, 0.0)).norm() < 1e-12, "{c:?}");
+        let c = at(w.spec.center.x - 0.12).center - moved.center;
+        assert!((c - V2::new(-0.1, 0.0)).norm() < 1e-12, "{c:?}");
+        // A zone with room to follow (a 0.05 m zone in the same window) leaves it.
+        let small = WindowRefine {
+            half_size: 0.05,
+            levels: 1,
+        };
+        let room = zone_room(&w, small);
+        assert!(room > 0.09, "{room}");
+        let stay = follow_tip(
+            &w,
+            moved.clone(),
+            V2::new(w.spec.center.x + 0.12, 7.7),
+            down,
+            small,
+            &body(),
+            0.9,
+        );
+        assert_eq!(stay.center, moved.center);
     }
 }

@@ -201,8 +201,7 @@ impl<S: Scenario> Growth<'_, S> {
     }
 
     /// A moved refined window's pre-crack must end in its fine cells
-    /// ([`fine_zone::precrack_in_fine_cells`]); else the move distance was too long for
-    /// the zone.
+    /// ([`fine_zone::precrack_in_fine_cells`]; the reason: [`fine_zone::outside_reason`]).
     fn check_precrack_in_fine_cells(&self, t: usize) -> Result<(), CouplingError> {
         let tip = &self.tips[t];
         let wm = &self.problem.windows[tip.window];
@@ -212,23 +211,13 @@ impl<S: Scenario> Growth<'_, S> {
         ) else {
             return Ok(());
         };
-        let w = &wm.window;
-        let max = fine_zone::max_move_distance(
-            w.spec.nx.min(w.spec.ny),
-            w.spec.dx,
-            w.delta(),
-            r.half_size,
-            r.levels,
-        );
         Err(CouplingError::Relocation {
             tip: tip.spec.name.clone(),
-            reason: format!(
-                "the moved window's pre-crack ends at ({:.4}, {:.4}), outside its refinement zone's fine cells, so unbreakable coarse bonds would seal the crack behind the tip: move_distance {} m is too long for coupling.refine (half_size {} m, levels {}); at most {max:.4} m for this window",
-                tip.macro_tip.x,
-                tip.macro_tip.y,
+            reason: fine_zone::outside_reason(
+                &wm.window,
+                tip.macro_tip,
+                r,
                 self.params.move_distance,
-                r.half_size,
-                r.levels
             ),
         })
     }
@@ -323,7 +312,18 @@ impl<S: Scenario> Growth<'_, S> {
                 &tip.spec.name,
             ) {
                 Ok(s) => {
-                    specs.push(s);
+                    specs.push(match self.setup.layout.pd.refine {
+                        Some(r) => fine_zone::follow_tip(
+                            old,
+                            s,
+                            tip.position(),
+                            dir,
+                            r,
+                            &self.body,
+                            self.params.trigger_ratio,
+                        ),
+                        None => s,
+                    });
                     movers.push(t);
                 }
                 Err(CouplingError::OverHole { hole, .. }) => {

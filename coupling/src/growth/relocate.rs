@@ -38,7 +38,7 @@ use crate::growth::tips::{margins, near_interface_side};
 use crate::window::{Body, Window, WindowSpec};
 
 /// Snaps `v` to whole multiples of `dx` along the window axes `(e1, e2)`.
-fn snap(v: V2, e1: V2, e2: V2, dx: f64) -> V2 {
+pub(crate) fn snap(v: V2, e1: V2, e2: V2, dx: f64) -> V2 {
     let a = (v.dot(&e1) / dx).round() * dx;
     let b = (v.dot(&e2) / dx).round() * dx;
     a * e1 + b * e2
