@@ -5,7 +5,9 @@
 //! **Grid.** A real node whose coarse cell centre lies in a [`RefineZone`] of `levels`
 //! `L` is replaced by its `4^L` children at the centres of the sub-cells of side
 //! $\Delta_k = \Delta x/2^L$ (as [`crate::refine`] splits a parent into quadrants);
-//! fictitious nodes stay coarse. Node `k` owns $V_k = \Delta_k^2 t$ and the horizon
+//! a cell a hole or a slanted side cuts is split likewise where its centre falls outside
+//! the region, its children inside the region joining the real nodes (so a zone follows a
+//! curved edge at its children's spacing); fictitious nodes stay coarse. Node `k` owns $V_k = \Delta_k^2 t$ and the horizon
 //! $\delta_k = m\Delta_k$; its family is $H_k = \{j : |x_j - x_k| \le \delta_k\}$.
 //!
 //! **Bonds.** Every node lies on the lattice of dx/8 (offset dx/2), so bond vectors are

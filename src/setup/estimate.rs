@@ -344,38 +344,20 @@ fn add_pd(e: &mut Estimate, nodes: f64, m: f64, setting: String, advice: &str) {
     });
 }
 
-/// Adds the children of `pd.refine_zones` to `e`: per zone its cells (at most the body's)
-/// times `4^levels - 1`, overlapping zones counted in each (an upper bound); they name
-/// the size's driver when they add more nodes than the grid has.
-fn add_zones(
-    e: &mut Estimate,
-    zones: &[crate::scene::PdZone],
-    (w, h): (f64, f64),
-    dx: f64,
-    m: f64,
-) {
-    let cells = |side: f64, body: f64| (side / dx + 1.0).floor().min(body / dx + 1.0).max(0.0);
-    let extra: f64 = zones
-        .iter()
-        .map(|z| {
-            let per_cell = 4f64.powi(z.levels.min(8) as i32) - 1.0;
-            cells(2.0 * z.half_size, w) * cells(2.0 * z.half_size, h) * per_cell
-        })
-        .sum();
-    if extra.is_nan() || extra <= 0.0 {
-        return;
-    }
+/// Adds [`super::refined_size::zone_children`] to `e`; the zones name the size's driver
+/// when they add more nodes than the grid has.
+fn add_zones(e: &mut Estimate, zones: &[crate::scene::PdZone], body: (f64, f64), dx: f64, m: f64) {
+    let extra = super::refined_size::zone_children(zones, body, dx);
     let drives = extra > e.pd_nodes;
     e.pd_nodes += extra;
     e.pd_bonds += extra * std::f64::consts::PI * m * m;
-    if !drives {
-        return;
+    if drives {
+        e.pd_driver = Some(Driver {
+            setting: format!("pd.refine_zones ({} zone(s))", zones.len()),
+            advice: "shrink the zones or lower their levels".into(),
+            count: extra,
+        });
     }
-    e.pd_driver = Some(Driver {
-        setting: format!("pd.refine_zones ({} zone(s))", zones.len()),
-        advice: "shrink the zones or lower their levels".into(),
-        count: extra,
-    });
 }
 
 /// Adds [`super::refined_size::refined_children`] to `e`. The whole body is then refined

@@ -63,3 +63,22 @@ fn disc_in_box(centre: (f64, f64), radius: f64, (lo, hi): ([f64; 2], [f64; 2])) 
         })
         .sum()
 }
+
+/// The nodes `pd.refine_zones` add to a stand-alone grid of spacing `dx` over a body of
+/// bounding box `(w, h)`: per zone its cells (at most the body's) times `4^levels - 1`,
+/// overlapping zones counted in each (an upper bound; 0 for values validation refuses).
+pub fn zone_children(zones: &[crate::scene::PdZone], (w, h): (f64, f64), dx: f64) -> f64 {
+    let cells = |side: f64, body: f64| (side / dx + 1.0).floor().min(body / dx + 1.0).max(0.0);
+    let extra: f64 = zones
+        .iter()
+        .map(|z| {
+            let per_cell = 4f64.powi(z.levels.min(8) as i32) - 1.0;
+            cells(2.0 * z.half_size, w) * cells(2.0 * z.half_size, h) * per_cell
+        })
+        .sum();
+    if extra.is_nan() {
+        0.0
+    } else {
+        extra
+    }
+}
