@@ -52,7 +52,7 @@
 use pdbem_bem::V2;
 use pdbem_pd::crack_path::CrackPath;
 
-use crate::growth::relocate::snap;
+use crate::growth::relocate::{snap, thin_strips};
 use crate::growth::tips::{margins, near_interface_side};
 use crate::pd_window::{open_sides, tip_of, zone_centre, zone_room, WindowRefine};
 use crate::setup::WindowModel;
@@ -108,7 +108,8 @@ pub fn zone_moves_on(wm: &WindowModel, r: WindowRefine, path: &[V2]) -> Option<V
 /// [`super::relocate::moved_spec`]) also moved sideways to its tip at `tip`, when the tip
 /// lies further off the window's centre line than the zone `r` can follow it
 /// ([`zone_room`]) by half a cell or more, and the window so moved still fits (in the body,
-/// the tip clear of its interface margin). A move along the growth direction alone keeps
+/// the tip clear of its interface margin, no strip of BEM body thinner than
+/// [`super::relocate::MIN_STRIP`] sides that `moved` did not leave). A move along the growth direction alone keeps
 /// the window's lateral place (each move's sideways part rounds to no cell), so a tip
 /// drifting sideways left a zone that its sides hold at the window centre: on
 /// `growth_hole_edge` with a 4 mm window of 20 cells and a 0.6 mm zone, the tip 0.36 mm
@@ -131,10 +132,12 @@ pub fn follow_tip(
     let (e1, e2) = old.axes();
     let mut spec = moved.clone();
     spec.center += snap(off * across, e1, e2, dx);
+    let strips = |s: &WindowSpec| thin_strips(s, &body.outline).len();
     match Window::place(0, spec.clone(), body) {
         Ok(w)
             if w.contains(tip, -0.5 * dx)
-                && !near_interface_side(&w, tip, margins(&w, ratio).1) =>
+                && !near_interface_side(&w, tip, margins(&w, ratio).1)
+                && strips(&spec) <= strips(&moved) =>
         {
             spec
         }
@@ -551,5 +554,15 @@ mod follow_tests {
             0.9,
         );
         assert_eq!(stay.center, moved.center);
+        // Following would leave 0.2 m of BEM body (a fifth of the side, below MIN_STRIP)
+        // between the window and the left edge: the window stays where its move put it.
+        let mut near = w.spec.clone();
+        near.center = V2::new(1.0, 7.6);
+        let kept = follow_tip(&w, near.clone(), V2::new(0.7, 7.7), down, r, &body(), 0.9);
+        assert_eq!(kept.center, near.center);
+        // Away from the edge the same sideways drift is followed.
+        near.center.x = 3.0;
+        let c = follow_tip(&w, near.clone(), V2::new(2.7, 7.7), down, r, &body(), 0.9).center;
+        assert!((c - V2::new(2.7, 7.6)).norm() < 1e-12, "{c:?}");
     }
 }
