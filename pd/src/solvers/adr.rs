@@ -433,15 +433,55 @@ impl Adr {
     }
 }
 
+impl Adr {
+    /// The solver of [`solve`] for `params`: the bond history secant between converged
+    /// states (committed at them) unless `params` step a fixed number of iterations or
+    /// break bonds inside the iterations.
+    pub fn for_params(model: &PdModel, params: &AdrParams) -> Self {
+        let mut adr = Adr::new(model, params.safety);
+        if params.iters_per_step.is_none() && !params.break_during_iterations {
+            adr.history = History::Secant;
+            adr.growth_tol = params.growth_tol * model.law().softening_range();
+        }
+        adr
+    }
+
+    /// One load step of [`solve`] at load factor `lam`: equilibrium with the breaking
+    /// rounds, recorded in `info.steps`. Returns the iterations.
+    pub fn load_step(
+        &mut self,
+        model: &mut PdModel,
+        lam: f64,
+        params: &AdrParams,
+        info: &mut SolveInfo,
+    ) -> Result<usize, PdError> {
+        model.set_load_factor(lam);
+        let (iters, m, st, _) = self.equilibrate(
+            model,
+            params.convergence,
+            params.min_iters,
+            params.max_iters,
+            params.max_break_rounds,
+            &mut info.residual_history,
+        )?;
+        info.steps.push(StepRecord {
+            load: lam,
+            iterations: iters,
+            broken_bonds: model.broken_bonds(),
+            max_stretch: st.max_stretch,
+            measure: m,
+            kind: PhaseKind::Explicit,
+            resultants: model.bc_resultants(),
+        });
+        Ok(iters)
+    }
+}
+
 /// Solve by ADR from the model's current state to `params.target_load`.
 pub fn solve(model: &mut PdModel, params: &AdrParams) -> Result<SolveInfo, PdError> {
     let t0 = Instant::now();
     let mut info = SolveInfo::default();
-    let mut adr = Adr::new(model, params.safety);
-    if params.iters_per_step.is_none() && !params.break_during_iterations {
-        adr.history = History::Secant;
-        adr.growth_tol = params.growth_tol * model.law().softening_range();
-    }
+    let mut adr = Adr::for_params(model, params);
     let lam0 = model.load;
     let steps = params.steps.max(1);
     let broken0 = model.broken_bonds();
@@ -471,19 +511,12 @@ pub fn solve(model: &mut PdModel, params: &AdrParams) -> Result<SolveInfo, PdErr
                 (it + n.max(1), m, st)
             }
             None => {
-                let (it, m, st, _) = adr.equilibrate(
-                    model,
-                    params.convergence,
-                    params.min_iters,
-                    params.max_iters,
-                    params.max_break_rounds,
-                    &mut info.residual_history,
-                )?;
-                (it, m, st)
+                info.iterations += adr.load_step(model, lam, params, &mut info)?;
+                continue;
             }
         };
         info.iterations += iters;
-        if params.iters_per_step.is_none() || k == steps {
+        if k == steps {
             info.steps.push(StepRecord {
                 load: lam,
                 iterations: iters,

@@ -24,6 +24,8 @@ pub mod adr;
 pub mod anderson;
 pub mod frozen;
 pub mod implicit;
+pub mod limit;
+pub mod limit_solvers;
 pub mod secant;
 pub mod switching;
 
@@ -173,6 +175,30 @@ impl SolveInfo {
         self.wall_time_s = dt;
     }
 
+    /// Adds the record of a later solve from this one's end state: its counters and
+    /// times, its steps, switch points and phases (a phase continuing this one's last of
+    /// the same kind joins it). The final load is the later solve's.
+    pub fn absorb(&mut self, later: SolveInfo) {
+        self.iterations += later.iterations;
+        self.residual_history.extend(later.residual_history);
+        self.bonds_broken += later.bonds_broken;
+        self.final_load = later.final_load;
+        self.steps.extend(later.steps);
+        self.switch_points.extend(later.switch_points);
+        for ph in later.phases {
+            self.join_phase(ph);
+        }
+        self.time_implicit_s += later.time_implicit_s;
+        self.time_explicit_s += later.time_explicit_s;
+        self.time_assembly_s += later.time_assembly_s;
+        self.time_factorization_s += later.time_factorization_s;
+        self.factorizations += later.factorizations;
+        self.lu_fallbacks += later.lu_fallbacks;
+        self.secant_rounds += later.secant_rounds;
+        self.adr_fallbacks += later.adr_fallbacks;
+        self.wall_time_s += later.wall_time_s;
+    }
+
     pub(crate) fn push_phase(
         &mut self,
         kind: PhaseKind,
@@ -185,21 +211,27 @@ impl SolveInfo {
             PhaseKind::Implicit | PhaseKind::Secant => self.time_implicit_s += time_s,
             PhaseKind::Explicit => self.time_explicit_s += time_s,
         }
-        if let Some(last) = self.phases.last_mut() {
-            if last.kind == kind {
-                last.load_end = load_end;
-                last.iterations += iterations;
-                last.time_s += time_s;
-                return;
-            }
-        }
-        self.phases.push(Phase {
+        self.join_phase(Phase {
             kind,
             load_start,
             load_end,
             iterations,
             time_s,
         });
+    }
+
+    /// Appends `phase`, or extends the last phase when it is of the same kind (the
+    /// totals of time are the caller's).
+    fn join_phase(&mut self, phase: Phase) {
+        if let Some(last) = self.phases.last_mut() {
+            if last.kind == phase.kind {
+                last.load_end = phase.load_end;
+                last.iterations += phase.iterations;
+                last.time_s += phase.time_s;
+                return;
+            }
+        }
+        self.phases.push(phase);
     }
 }
 

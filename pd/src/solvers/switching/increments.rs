@@ -19,8 +19,10 @@ impl<'p> Switcher<'p> {
         let ts = Instant::now();
         let (lam, next) = (self.load_at(k), self.load_at(k + 1));
         let mut inc = None;
+        // The state the increment starts from: the secant rounds' fallback, and where
+        // a failed increment leaves the model ([`super::solve_partial`]).
+        model.save_into(&mut self.saved);
         if self.secant_enabled() {
-            model.save_into(&mut self.saved);
             match self.secant_rounds(model, next) {
                 Ok(out) => inc = Some(out),
                 Err(e) => {

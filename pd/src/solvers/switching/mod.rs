@@ -168,15 +168,36 @@ impl SwitchingParams {
 
 /// Solve with the explicit-implicit switch from the current state.
 pub fn solve(model: &mut PdModel, p: &SwitchingParams) -> Result<SolveInfo, PdError> {
+    let (info, end) = solve_partial(model, p);
+    end.map(|()| info)
+}
+
+/// [`solve`], keeping what it reached when an increment fails: the model is then left at
+/// the converged state the failing increment started from (`info.final_load`, its steps
+/// in `info.steps`), and the error is returned beside the record. An error of the set-up
+/// (the tangent's storage) leaves the model untouched.
+pub fn solve_partial(model: &mut PdModel, p: &SwitchingParams) -> (SolveInfo, Result<(), PdError>) {
     let t0 = Instant::now();
     let broken0 = model.broken_bonds();
-    let mut sw = Switcher::new(model, p)?;
-    sw.run(model)?;
+    let lam0 = model.load;
+    let mut sw = match Switcher::new(model, p) {
+        Ok(sw) => sw,
+        Err(e) => return (SolveInfo::default(), Err(e)),
+    };
+    let end = sw.run(model);
+    if end.is_err() {
+        // Every error of `run` comes from a damage increment, which saved its start.
+        model.restore(&sw.saved);
+    }
     let mut info = sw.info;
-    info.final_load = p.target_load;
+    info.final_load = if end.is_ok() {
+        p.target_load
+    } else {
+        model.load.max(lam0)
+    };
     info.bonds_broken = model.broken_bonds() - broken0;
     info.wall_time_s = t0.elapsed().as_secs_f64();
-    Ok(info)
+    (info, end)
 }
 
 /// Which kind of step the solver takes next.

@@ -1,0 +1,155 @@
+//! The quasi-static solvers as ramp segments of [`super::limit::to_limit`]: Newton and
+//! ADR take one load step per segment (the halved steps of a retry included), the
+//! switching solver the rest of its ramp per segment with its increments halved at each
+//! retry. Without a failure every solver does exactly what its `solve` does.
+
+use std::time::Instant;
+
+use super::adr::{Adr, AdrParams};
+use super::implicit::{ImplicitParams, Newton};
+use super::limit::{to_limit, LimitedSolve, Segment, SegmentFailure};
+use super::switching::{self, SwitchingParams};
+use super::{PhaseKind, SolveInfo};
+use crate::error::PdError;
+use crate::model::PdModel;
+
+/// A quasi-static solver and its parameters.
+#[derive(Clone, Debug, PartialEq)]
+pub enum QuasiStatic {
+    /// Newton-Raphson ([`super::implicit`]).
+    Implicit(ImplicitParams),
+    /// Adaptive dynamic relaxation ([`super::adr`]) to equilibrium at every step
+    /// (`iters_per_step: None`).
+    Adr(AdrParams),
+    /// The explicit-implicit switch ([`super::switching`]).
+    Switching(SwitchingParams),
+}
+
+impl QuasiStatic {
+    /// The solver's name in errors.
+    pub fn name(&self) -> &'static str {
+        match self {
+            QuasiStatic::Implicit(_) => "implicit",
+            QuasiStatic::Adr(_) => "adr",
+            QuasiStatic::Switching(_) => "switching",
+        }
+    }
+}
+
+/// The load factors `lam0 + (target - lam0) k / steps`, k = 1..=steps, of a solver's
+/// equal steps.
+fn equal_steps(lam0: f64, target: f64, steps: usize) -> Vec<f64> {
+    let steps = steps.max(1);
+    (1..=steps)
+        .map(|k| lam0 + (target - lam0) * k as f64 / steps as f64)
+        .collect()
+}
+
+/// Solves from the model's state to the solver's target load by
+/// [`super::limit::to_limit`], halving a failed step up to `max_cutbacks` times, and
+/// closes the record (phases of Newton and ADR, bonds broken, wall time).
+pub fn solve_to_limit(
+    model: &mut PdModel,
+    solver: &QuasiStatic,
+    max_cutbacks: u32,
+) -> Result<LimitedSolve, PdError> {
+    let t0 = Instant::now();
+    let (lam0, broken0) = (model.load, model.broken_bonds());
+    let mut out = match solver {
+        QuasiStatic::Implicit(p) => {
+            let mut newton = Newton::new(model)?;
+            let loads = equal_steps(lam0, p.target_load, p.steps);
+            to_limit(model, &loads, max_cutbacks, solver.name(), |m, s, info| {
+                info.iterations += newton.load_step(m, s.target, p, info)?;
+                Ok(())
+            })?
+        }
+        QuasiStatic::Adr(p) => {
+            if p.iters_per_step.is_some() {
+                return Err(PdError::invalid(
+                    "iters_per_step",
+                    "a ramp to the limit needs an equilibrium at every step: set None",
+                ));
+            }
+            let mut adr = Adr::for_params(model, p);
+            let loads = equal_steps(lam0, p.target_load, p.steps);
+            to_limit(model, &loads, max_cutbacks, solver.name(), |m, s, info| {
+                if s.restored {
+                    adr.reset();
+                }
+                info.iterations += adr.load_step(m, s.target, p, info)?;
+                Ok(())
+            })?
+        }
+        QuasiStatic::Switching(p) => {
+            let whole = p.target_load - lam0;
+            let increment = whole / p.increments() as f64;
+            to_limit(
+                model,
+                &[p.target_load],
+                max_cutbacks,
+                solver.name(),
+                |m, s, info| switching_segment(m, s, p, whole, increment, info),
+            )?
+        }
+    };
+    let kind = match solver {
+        QuasiStatic::Implicit(_) => Some(PhaseKind::Implicit),
+        QuasiStatic::Adr(_) => Some(PhaseKind::Explicit),
+        QuasiStatic::Switching(_) => None,
+    };
+    let dt = t0.elapsed().as_secs_f64();
+    let broken = model.broken_bonds() - broken0;
+    match kind {
+        Some(kind) => out
+            .info
+            .finish_single_phase(kind, lam0, model.load, dt, broken),
+        None => {
+            out.info.final_load = model.load;
+            out.info.bonds_broken = broken;
+            out.info.wall_time_s = dt;
+        }
+    }
+    Ok(out)
+}
+
+/// One segment of the switching solver: from the model's load to `s.target` with
+/// increments of `increment / 2^level` and as many elastic Newton steps as the share of
+/// the `whole` ramp the segment covers (so the first segment is the solver's own solve);
+/// its record joins `info`.
+fn switching_segment(
+    model: &mut PdModel,
+    s: Segment,
+    p: &SwitchingParams,
+    whole: f64,
+    increment: f64,
+    info: &mut SolveInfo,
+) -> Result<(), SegmentFailure> {
+    let start = model.load;
+    let span = s.target - start;
+    let size = increment / f64::from(1u32 << s.level);
+    // Rounding guard: a span of exactly n increments is n, not n + 1.
+    let explicit_steps = ((span / size) * (1.0 - 1e-12)).ceil().max(1.0) as usize;
+    let implicit_steps = ((p.implicit_steps as f64 * span / whole) * (1.0 - 1e-12))
+        .ceil()
+        .max(1.0) as usize;
+    let sp = SwitchingParams {
+        target_load: s.target,
+        explicit_steps,
+        implicit_steps,
+        ..p.clone()
+    };
+    let actual = span / sp.increments() as f64;
+    let (part, end) = switching::solve_partial(model, &sp);
+    info.absorb(part);
+    // A failed increment leaves the model where it started.
+    end.map_err(|error| SegmentFailure {
+        error,
+        reached: (model.load > start).then_some(model.load),
+        failed_at: Some((model.load + actual).min(s.target)),
+    })
+}
+
+#[cfg(test)]
+#[path = "limit_solvers_tests.rs"]
+mod tests;
