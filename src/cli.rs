@@ -167,7 +167,7 @@ impl std::fmt::Display for FailedRuns {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "{} of {} runs failed (their rows in {} carry the error; the other runs' outputs are written); first: {}",
+            "{} of {} runs failed or ended early (their rows in {} carry the error or the reason; the other runs' outputs are written); first: {}",
             self.failed,
             self.total,
             self.out.display(),
@@ -523,9 +523,9 @@ fn sweep(
         }
         SweepPart::Shard(s) => {
             let rows = crate::sweep::shard::run_shard(&scene, &varies, &out, s, quiet)?;
-            let failed = rows.iter().filter(|r| r.error.is_some()).count();
+            let failed = rows.iter().filter(|r| r.problem().is_some()).count();
             crate::outln!(
-                "shard {}/{}: {} runs ({failed} failed) in {}; join the shards with --collect",
+                "shard {}/{}: {} runs ({failed} failed or ended early) in {}; join the shards with --collect",
                 s.index,
                 s.count,
                 rows.len(),
@@ -537,9 +537,9 @@ fn sweep(
         }
         SweepPart::Collect => crate::sweep::shard::collect(&scene, &varies, &out)?,
     };
-    let failed = rows.iter().filter(|r| r.error.is_some()).count();
+    let failed = rows.iter().filter(|r| r.problem().is_some()).count();
     crate::outln!(
-        "{} runs ({} failed); table in {}",
+        "{} runs ({} failed or ended early); table in {}",
         rows.len(),
         failed,
         out.join("sweep.csv").display()
@@ -547,16 +547,17 @@ fn sweep(
     failed_runs(&rows, out.join("sweep.csv"))
 }
 
-/// [`FailedRuns`] when a run of `rows` failed (its table, or shard folder, at `out`).
+/// [`FailedRuns`] when a run of `rows` failed or ended early (its table, or shard
+/// folder, at `out`).
 fn failed_runs(rows: &[crate::sweep::SweepRow], out: PathBuf) -> anyhow::Result<()> {
-    let failed = rows.iter().filter(|r| r.error.is_some()).count();
-    match rows.iter().find_map(|r| r.error.as_ref()) {
+    let failed = rows.iter().filter(|r| r.problem().is_some()).count();
+    match rows.iter().find_map(|r| r.problem()) {
         None => Ok(()),
         Some(first) => Err(FailedRuns {
             out,
             failed,
             total: rows.len(),
-            first: first.clone(),
+            first,
         }
         .into()),
     }

@@ -355,7 +355,12 @@ pub fn write(
         ctx.writer.write_csv("load_displacement.csv", &ld.table())?;
     }
     if scene.outputs.plots {
-        if let Some(p) = ld.plot(&format!("{}: load-displacement", scene.name)) {
+        // A ramp that stopped early (`complete: false`) says so where its curve ends.
+        let end = match summary.incomplete() {
+            Some(_) => ", stopped at the last point",
+            None => "",
+        };
+        if let Some(p) = ld.plot(&format!("{}: load-displacement{end}", scene.name)) {
             crate::runner::report::save_plot(
                 &ctx.writer,
                 "load_displacement",

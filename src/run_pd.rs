@@ -32,6 +32,8 @@ use crate::scene::{Failure, PdSolver, Scene};
 use crate::setup::pd::labelled_problem_from_scene;
 use anyhow::{Context, Result};
 use pdbem_pd::measure::{kink_angle, ramp_to_initiation};
+use pdbem_pd::solvers::limit::Stop;
+use pdbem_pd::solvers::limit_solvers::{solve_to_limit, QuasiStatic};
 use pdbem_pd::solvers::{adr, implicit, switching, Convergence};
 use pdbem_pd::PdModel;
 use serde_json::json;
@@ -126,55 +128,28 @@ pub fn solve_recorded(scene: &Scene) -> Result<(RunSummary, PdModel, LoadDisplac
         );
         init.info
     } else {
-        let conv = |tol: f64| Convergence::Displacement { e0: tol };
         // Elastic bonds: one equilibrium at the final load (module docs). A ramp of
         // `load.count` increments changes nothing but the cost: 70 Newton steps took
         // 230 s on the 200 x 200 seed 001 plate, one step 2.9 s.
-        let steps = if pd.failure == Failure::Elastic {
-            1
-        } else {
-            factors.len().max(1)
-        };
-        match &pd.solver {
-            PdSolver::Explicit(_) => Err(pdbem_pd::PdError::invalid(
-                "pd.solver",
-                "Explicit dynamics runs through `pdbem run` (crate::run_dynamic)",
-            )),
-            PdSolver::Implicit(p) => implicit::solve(
-                &mut model,
-                &implicit::ImplicitParams {
-                    target_load: last,
-                    steps,
-                    convergence: conv(p.tolerance),
-                    max_iters: p.max_iter,
-                    ..Default::default()
-                },
-            ),
-            PdSolver::Adr(p) => adr::solve(
-                &mut model,
-                &adr::AdrParams {
-                    target_load: last,
-                    steps,
-                    convergence: conv(p.tolerance),
-                    max_iters: p.max_iter,
-                    safety: p.safety_factor.max(1.0),
-                    ..Default::default()
-                },
-            ),
-            PdSolver::Switching(p) => switching::solve(
-                &mut model,
-                &switching::SwitchingParams {
-                    target_load: last,
-                    implicit_steps: p.implicit_steps,
-                    explicit_steps: p.explicit_steps,
-                    convergence: conv(p.tolerance),
-                    max_newton_iters: p.max_newton,
-                    max_adr_iters: p.max_adr,
-                    ..Default::default()
-                },
-            ),
+        let elastic = pd.failure == Failure::Elastic;
+        let steps = if elastic { 1 } else { factors.len().max(1) };
+        let solver = quasi_static(&pd.solver, last, steps)
+            .with_context(|| format!("{}: PD solve", file.display()))?;
+        // An elastic solve that fails is an error; a ramp with damage stops at the last
+        // load the solver brings to equilibrium after halving the failed step.
+        let cutbacks = if elastic { 0 } else { RAMP_CUTBACKS };
+        let out = solve_to_limit(&mut model, &solver, cutbacks)
+            .with_context(|| format!("{}: PD solve", file.display()))?;
+        if let Some(stop) = &out.stop {
+            if elastic {
+                return Err(anyhow::Error::new(stop.error.clone()))
+                    .with_context(|| format!("{}: PD solve", file.display()));
+            }
+            report_stop(scene, stop, &mut summary);
+        } else if !elastic {
+            summary.extra.insert("complete".into(), json!(true));
         }
-        .with_context(|| format!("{}: PD solve", file.display()))?
+        out.info
     };
     let first_break = info
         .steps
@@ -221,4 +196,78 @@ pub fn solve_recorded(scene: &Scene) -> Result<(RunSummary, PdModel, LoadDisplac
     let ld = LoadDisplacement::from_pd(&labels, &info.steps);
     summary.wall_time_s = t0.elapsed().as_secs_f64();
     Ok((summary, model, ld))
+}
+
+/// Halvings of a failed load step before a damage ramp stops (a bracket of the last
+/// converged load to 1/16 of the step).
+pub const RAMP_CUTBACKS: u32 = 4;
+
+/// The scene's quasi-static solver driving the load to `last` in `steps` equal steps
+/// (Newton and ADR; the switching solver takes its own increments).
+fn quasi_static(solver: &PdSolver, last: f64, steps: usize) -> Result<QuasiStatic> {
+    let conv = |tol: f64| Convergence::Displacement { e0: tol };
+    Ok(match solver {
+        PdSolver::Explicit(_) => anyhow::bail!(
+            "pd.solver: Explicit dynamics runs through `pdbem run` (crate::run_dynamic)"
+        ),
+        PdSolver::Implicit(p) => QuasiStatic::Implicit(implicit::ImplicitParams {
+            target_load: last,
+            steps,
+            convergence: conv(p.tolerance),
+            max_iters: p.max_iter,
+            ..Default::default()
+        }),
+        PdSolver::Adr(p) => QuasiStatic::Adr(adr::AdrParams {
+            target_load: last,
+            steps,
+            convergence: conv(p.tolerance),
+            max_iters: p.max_iter,
+            safety: p.safety_factor.max(1.0),
+            ..Default::default()
+        }),
+        PdSolver::Switching(p) => QuasiStatic::Switching(switching::SwitchingParams {
+            target_load: last,
+            implicit_steps: p.implicit_steps,
+            explicit_steps: p.explicit_steps,
+            convergence: conv(p.tolerance),
+            max_newton_iters: p.max_newton,
+            max_adr_iters: p.max_adr,
+            ..Default::default()
+        }),
+    })
+}
+
+/// A damage ramp that stopped before its last load (docs/outputs.md): `complete: false`,
+/// `failure_reason` and `limit` (the last converged and the failed load in the scene's
+/// load unit, the halvings tried) into the summary; the outputs are those of the last
+/// converged state and the run exits with code 3.
+fn report_stop(scene: &Scene, stop: &Stop, summary: &mut RunSummary) {
+    let scale = traction_scale(scene).unwrap_or(1.0);
+    let unit = load_unit(scene);
+    let load = |f: f64| round12(f * scale);
+    let text = |f: f64| {
+        if unit == "Pa" {
+            format!("load factor {} ({:.6e} Pa)", round12(f), load(f))
+        } else {
+            format!("load factor {}", round12(f))
+        }
+    };
+    let reason = format!(
+        "no equilibrium at {} after {} halvings of the load step ({}); the outputs hold the last converged state, at {}. Under prescribed loads a softening body has no equilibrium past its peak load, which then lies between these two loads; prescribed displacements follow the softening branch beyond it",
+        text(stop.failed_load),
+        stop.cutbacks,
+        stop.error,
+        text(stop.last_load),
+    );
+    summary.extra.insert("complete".into(), json!(false));
+    summary.extra.insert("failure_reason".into(), json!(reason));
+    summary.extra.insert(
+        "limit".into(),
+        json!({
+            "last_converged_load": load(stop.last_load),
+            "failed_load": load(stop.failed_load),
+            "load_unit": unit,
+            "cutbacks": stop.cutbacks,
+        }),
+    );
 }

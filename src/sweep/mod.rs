@@ -123,6 +123,16 @@ pub struct SweepRow {
     pub error: Option<String>,
 }
 
+impl SweepRow {
+    /// Why the run did not give a complete result: its error, or the `failure_reason`
+    /// of a run that ended early with its outputs written (`complete: false`).
+    pub fn problem(&self) -> Option<String> {
+        self.error
+            .clone()
+            .or_else(|| self.summary.as_ref().and_then(|s| s.incomplete()))
+    }
+}
+
 /// Runs the sweep; returns the rows (also written to `<out>/sweep.csv`).
 pub fn run_sweep(
     scene: &Scene,
@@ -341,8 +351,14 @@ pub fn table(varies: &[Vary], rows: &[SweepRow]) -> CsvTable {
         row.extend(r.params.iter().cloned());
         match &r.summary {
             Some(s) => {
+                let incomplete = s.incomplete();
                 row.extend([
-                    "ok".to_string(),
+                    if incomplete.is_some() {
+                        "incomplete"
+                    } else {
+                        "ok"
+                    }
+                    .to_string(),
                     num(s.wall_time_s),
                     s.elements.map(|e| e.to_string()).unwrap_or_default(),
                 ]);
@@ -364,7 +380,7 @@ pub fn table(varies: &[Vary], rows: &[SweepRow]) -> CsvTable {
                     row.push(opt(c.and_then(|x| x.cmod_err)));
                     row.push(opt(c.and_then(|x| x.cmod_err_est)));
                 }
-                row.push(String::new());
+                row.push(incomplete.unwrap_or_default().replace('\n', " | "));
             }
             None => {
                 row.extend(["failed".to_string(), String::new(), String::new()]);
