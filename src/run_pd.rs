@@ -32,7 +32,7 @@ use crate::scene::{Failure, PdSolver, Scene};
 use crate::setup::pd::labelled_problem_from_scene;
 use anyhow::{Context, Result};
 use pdbem_pd::measure::{kink_angle, ramp_to_initiation};
-use pdbem_pd::solvers::limit::Stop;
+use pdbem_pd::solvers::limit::{RampEvent, Stop};
 use pdbem_pd::solvers::limit_solvers::{solve_to_limit, QuasiStatic};
 use pdbem_pd::solvers::{adr, implicit, switching, Convergence};
 use pdbem_pd::PdModel;
@@ -61,7 +61,12 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     }
     let t0 = Instant::now();
     ctx.log(&format!("{}: PD solve", scene.name));
-    let (mut summary, model, ld) = solve_recorded(scene)?;
+    let bar = ramp_bar(ctx);
+    let last = scene.load.factors().last().copied().unwrap_or(1.0);
+    let mut observe = |e: &RampEvent| show_progress(&bar, last, e);
+    let solved = solve_observed(scene, &mut observe);
+    bar.finish_and_clear();
+    let (mut summary, model, ld) = solved?;
     ctx.log(&format!(
         "{}: {} real nodes, {} bonds, {} broken",
         scene.name,
@@ -86,6 +91,55 @@ pub fn solve(scene: &Scene) -> Result<(RunSummary, PdModel)> {
 
 /// [`solve`] and the load-displacement record of its load steps.
 pub fn solve_recorded(scene: &Scene) -> Result<(RunSummary, PdModel, LoadDisplacement)> {
+    solve_observed(scene, &mut |_| {})
+}
+
+/// Steps of the progress bar of a damage ramp: its load in thousandths of the last.
+const PROGRESS_LEN: u64 = 1000;
+
+/// A damage ramp's progress bar (hidden with `--quiet`): on a terminal a bar over the load
+/// with the message; in lines (a log file) the message alone, one line per change.
+fn ramp_bar(ctx: &RunContext) -> indicatif::ProgressBar {
+    let bar = ctx.progress(PROGRESS_LEN);
+    let template = if crate::runner::context::stderr_is_terminal() {
+        "{elapsed_precise} [{bar:30}] {msg}"
+    } else {
+        "{msg}"
+    };
+    if let Ok(style) = indicatif::ProgressStyle::with_template(template) {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar
+}
+
+/// The progress of a damage ramp driven to the load factor `last`.
+fn show_progress(bar: &indicatif::ProgressBar, last: f64, e: &RampEvent) {
+    match e {
+        RampEvent::Converged { load } => {
+            let at = (load / last * PROGRESS_LEN as f64).clamp(0.0, PROGRESS_LEN as f64);
+            bar.set_position(at as u64);
+            bar.set_message(format!(
+                "load factor {} of {} converged",
+                round12(*load),
+                round12(last)
+            ));
+        }
+        RampEvent::Halving {
+            failed_load,
+            level,
+            max,
+        } => bar.set_message(format!(
+            "no equilibrium at load factor {}: step halved ({level} of at most {max})",
+            round12(*failed_load)
+        )),
+    }
+}
+
+/// [`solve_recorded`], with the events of a damage ramp to `observe`.
+pub fn solve_observed(
+    scene: &Scene,
+    observe: &mut dyn FnMut(&RampEvent),
+) -> Result<(RunSummary, PdModel, LoadDisplacement)> {
     let t0 = Instant::now();
     let file = scene.file_label();
     let (problem, labels) = labelled_problem_from_scene(scene)?;
@@ -138,7 +192,7 @@ pub fn solve_recorded(scene: &Scene) -> Result<(RunSummary, PdModel, LoadDisplac
         // An elastic solve that fails is an error; a ramp with damage stops at the last
         // load the solver brings to equilibrium after halving the failed step.
         let cutbacks = if elastic { 0 } else { RAMP_CUTBACKS };
-        let out = solve_to_limit(&mut model, &solver, cutbacks)
+        let out = solve_to_limit(&mut model, &solver, cutbacks, observe)
             .with_context(|| format!("{}: PD solve", file.display()))?;
         if let Some(stop) = &out.stop {
             if elastic {

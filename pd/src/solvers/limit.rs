@@ -86,6 +86,25 @@ pub struct Segment {
     pub restored: bool,
 }
 
+/// What a ramp reports as it goes (observers draw progress from it).
+#[derive(Clone, Debug, PartialEq)]
+pub enum RampEvent {
+    /// A segment converged at this load factor.
+    Converged {
+        /// Load factor reached.
+        load: f64,
+    },
+    /// A segment failed; it is tried again with the increment halved `level` times.
+    Halving {
+        /// Load factor the segment failed at.
+        failed_load: f64,
+        /// Halvings from now on.
+        level: u32,
+        /// The most allowed.
+        max: u32,
+    },
+}
+
 /// Whether `e` is a failed equilibrium (no convergence, divergence, a non-finite value,
 /// bond history that did not settle, a runaway state, a failed linear solve), which a
 /// smaller increment may cure, rather than an input or budget error.
@@ -104,12 +123,14 @@ pub fn is_equilibrium_failure(e: &PdError) -> bool {
 /// Drives `model` from its current load through `loads` (increasing load factors) by
 /// `segment`, halving a failed segment's increment up to `max_cutbacks` times (module
 /// docs). `segment` records its converged steps in the [`SolveInfo`] it is given; a
-/// halving is kept for the rest of the ramp. `solver` names the solver in a runaway error.
+/// halving is kept for the rest of the ramp. `solver` names the solver in a runaway error;
+/// `observe` hears of every converged segment and every halving.
 pub fn to_limit<F>(
     model: &mut PdModel,
     loads: &[f64],
     max_cutbacks: u32,
     solver: &'static str,
+    observe: &mut dyn FnMut(&RampEvent),
     mut segment: F,
 ) -> Result<LimitedSolve, PdError>
 where
@@ -144,6 +165,7 @@ where
             };
             restored = false;
             let Some(f) = failure else {
+                observe(&RampEvent::Converged { load: model.load });
                 continue;
             };
             if !is_equilibrium_failure(&f.error) {
@@ -165,6 +187,11 @@ where
             }
             level += 1;
             out.retries += 1;
+            observe(&RampEvent::Halving {
+                failed_load: f.failed_at.unwrap_or(target),
+                level,
+                max: max_cutbacks,
+            });
         }
         prev = goal;
     }

@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use super::adr::{Adr, AdrParams};
 use super::implicit::{ImplicitParams, Newton};
-use super::limit::{to_limit, LimitedSolve, Segment, SegmentFailure};
+use super::limit::{to_limit, LimitedSolve, RampEvent, Segment, SegmentFailure};
 use super::switching::{self, SwitchingParams};
 use super::{PhaseKind, SolveInfo};
 use crate::error::PdError;
@@ -47,11 +47,13 @@ fn equal_steps(lam0: f64, target: f64, steps: usize) -> Vec<f64> {
 
 /// Solves from the model's state to the solver's target load by
 /// [`super::limit::to_limit`], halving a failed step up to `max_cutbacks` times, and
-/// closes the record (phases of Newton and ADR, bonds broken, wall time).
+/// closes the record (phases of Newton and ADR, bonds broken, wall time); `observe`
+/// hears the ramp's events.
 pub fn solve_to_limit(
     model: &mut PdModel,
     solver: &QuasiStatic,
     max_cutbacks: u32,
+    observe: &mut dyn FnMut(&RampEvent),
 ) -> Result<LimitedSolve, PdError> {
     let t0 = Instant::now();
     let (lam0, broken0) = (model.load, model.broken_bonds());
@@ -59,10 +61,17 @@ pub fn solve_to_limit(
         QuasiStatic::Implicit(p) => {
             let mut newton = Newton::new(model)?;
             let loads = equal_steps(lam0, p.target_load, p.steps);
-            to_limit(model, &loads, max_cutbacks, solver.name(), |m, s, info| {
-                info.iterations += newton.load_step(m, s.target, p, info)?;
-                Ok(())
-            })?
+            to_limit(
+                model,
+                &loads,
+                max_cutbacks,
+                solver.name(),
+                observe,
+                |m, s, info| {
+                    info.iterations += newton.load_step(m, s.target, p, info)?;
+                    Ok(())
+                },
+            )?
         }
         QuasiStatic::Adr(p) => {
             if p.iters_per_step.is_some() {
@@ -73,13 +82,20 @@ pub fn solve_to_limit(
             }
             let mut adr = Adr::for_params(model, p);
             let loads = equal_steps(lam0, p.target_load, p.steps);
-            to_limit(model, &loads, max_cutbacks, solver.name(), |m, s, info| {
-                if s.restored {
-                    adr.reset();
-                }
-                info.iterations += adr.load_step(m, s.target, p, info)?;
-                Ok(())
-            })?
+            to_limit(
+                model,
+                &loads,
+                max_cutbacks,
+                solver.name(),
+                observe,
+                |m, s, info| {
+                    if s.restored {
+                        adr.reset();
+                    }
+                    info.iterations += adr.load_step(m, s.target, p, info)?;
+                    Ok(())
+                },
+            )?
         }
         QuasiStatic::Switching(p) => {
             let whole = p.target_load - lam0;
@@ -89,6 +105,7 @@ pub fn solve_to_limit(
                 &[p.target_load],
                 max_cutbacks,
                 solver.name(),
+                observe,
                 |m, s, info| switching_segment(m, s, p, whole, increment, info),
             )?
         }

@@ -41,7 +41,7 @@ fn without_a_failure_every_solver_does_what_its_solve_does() {
         }
         .unwrap();
         let mut ramped = PdModel::new(&case.problem).unwrap();
-        let out = solve_to_limit(&mut ramped, solver, 4).unwrap();
+        let out = solve_to_limit(&mut ramped, solver, 4, &mut |_| {}).unwrap();
         let name = solver.name();
         assert!(out.stop.is_none() && out.retries == 0, "{name}");
         let s_max = info.steps.last().unwrap().max_stretch;
@@ -82,7 +82,10 @@ fn the_switching_solver_stops_where_newton_brackets_the_capacity() {
         max_iters: 25,
         ..Default::default()
     });
-    let n = solve_to_limit(&mut m, &newton, 4).unwrap().stop.unwrap();
+    let n = solve_to_limit(&mut m, &newton, 4, &mut |_| {})
+        .unwrap()
+        .stop
+        .unwrap();
     // The switching solver from 0.25 increments, with smaller ADR budgets than its
     // defaults (ADR fails past the limit only at its caps).
     let mut m = PdModel::new(&notched_bar()).unwrap();
@@ -94,7 +97,7 @@ fn the_switching_solver_stops_where_newton_brackets_the_capacity() {
         max_break_rounds: 10,
         ..Default::default()
     });
-    let out = solve_to_limit(&mut m, &solver, 4).unwrap();
+    let out = solve_to_limit(&mut m, &solver, 4, &mut |_| {}).unwrap();
     let stop = out
         .stop
         .expect("5 times the bar's 2000 N is past its capacity");
@@ -126,7 +129,10 @@ fn adr_stops_where_newton_brackets_the_capacity() {
         ..Default::default()
     });
     let mut m = PdModel::new(&notched_bar()).unwrap();
-    let n = solve_to_limit(&mut m, &newton, 4).unwrap().stop.unwrap();
+    let n = solve_to_limit(&mut m, &newton, 4, &mut |_| {})
+        .unwrap()
+        .stop
+        .unwrap();
     // Steps of 1.0 halved 4 times: a bracket of 0.0625 (125 N).
     let adr = QuasiStatic::Adr(AdrParams {
         target_load: 5.0,
@@ -136,7 +142,7 @@ fn adr_stops_where_newton_brackets_the_capacity() {
         ..Default::default()
     });
     let mut m = PdModel::new(&notched_bar()).unwrap();
-    let out = solve_to_limit(&mut m, &adr, 4).unwrap();
+    let out = solve_to_limit(&mut m, &adr, 4, &mut |_| {}).unwrap();
     let stop = out.stop.expect("past the capacity");
     eprintln!("{n:?}\n{stop:?} {}", out.retries);
     // Measured: Newton 4.1875-4.203125, ADR 4.1875-4.25 (a converged state at 4.1875

@@ -74,10 +74,17 @@ fn a_load_controlled_ramp_stops_at_the_capacity_the_displacement_controlled_bar_
     let mut m = PdModel::new(&notched_softening_bar()).unwrap();
     let mut newton = Newton::new(&m).unwrap();
     let p = newton_params();
-    let out = to_limit(&mut m, &ramp(10.0, 40), 4, "implicit", |m, s, info| {
-        newton.load_step(m, s.target, &p, info)?;
-        Ok(())
-    })
+    let out = to_limit(
+        &mut m,
+        &ramp(10.0, 40),
+        4,
+        "implicit",
+        &mut |_| {},
+        |m, s, info| {
+            newton.load_step(m, s.target, &p, info)?;
+            Ok(())
+        },
+    )
     .unwrap();
     let stop = out.stop.expect("the ramp passes the bar's capacity");
     let (last, failed) = (stop.last_load * BAR_FORCE, stop.failed_load * BAR_FORCE);
@@ -123,24 +130,33 @@ fn a_failed_segment_is_halved_from_the_kept_state_until_the_limit_is_bracketed()
     // moving the model, which the ramp undoes.
     let mut m = small_model();
     let mut asked = Vec::new();
-    let out = to_limit(&mut m, &ramp(5.0, 5), 3, "fake", |m, s, info| {
-        asked.push((s.target, s.level, s.restored));
-        m.set_load_factor(s.target);
-        if s.target > 3.3 {
-            m.set_displacements(&vec![[1.0, 0.0]; m.n_nodes()]).unwrap();
-            return Err(no_convergence(s.target).into());
-        }
-        info.steps.push(crate::solvers::StepRecord {
-            load: s.target,
-            iterations: 1,
-            broken_bonds: 0,
-            max_stretch: 0.0,
-            measure: 0.0,
-            kind: crate::solvers::PhaseKind::Implicit,
-            resultants: Vec::new(),
-        });
-        Ok(())
-    })
+    let mut events = Vec::new();
+    let mut observe = |e: &RampEvent| events.push(e.clone());
+    let out = to_limit(
+        &mut m,
+        &ramp(5.0, 5),
+        3,
+        "fake",
+        &mut observe,
+        |m, s, info| {
+            asked.push((s.target, s.level, s.restored));
+            m.set_load_factor(s.target);
+            if s.target > 3.3 {
+                m.set_displacements(&vec![[1.0, 0.0]; m.n_nodes()]).unwrap();
+                return Err(no_convergence(s.target).into());
+            }
+            info.steps.push(crate::solvers::StepRecord {
+                load: s.target,
+                iterations: 1,
+                broken_bonds: 0,
+                max_stretch: 0.0,
+                measure: 0.0,
+                kind: crate::solvers::PhaseKind::Implicit,
+                resultants: Vec::new(),
+            });
+            Ok(())
+        },
+    )
     .unwrap();
     let stop = out.stop.unwrap();
     // 1, 2, 3 converge; 4 fails; 3.5 (half the step) fails; 3.25 (a quarter)
@@ -166,6 +182,25 @@ fn a_failed_segment_is_halved_from_the_kept_state_until_the_limit_is_bracketed()
         (3.25, 3.375, 3)
     );
     assert_eq!(m.load_factor(), 3.25);
+    // Every converged segment and every halving is reported, in order.
+    let halving = |failed_load, level| RampEvent::Halving {
+        failed_load,
+        level,
+        max: 3,
+    };
+    let converged = |load| RampEvent::Converged { load };
+    assert_eq!(
+        events,
+        [
+            converged(1.0),
+            converged(2.0),
+            converged(3.0),
+            halving(4.0, 1),
+            halving(3.5, 2),
+            converged(3.25),
+            halving(3.5, 3),
+        ]
+    );
     assert!(m.displacements().iter().all(|u| *u == [0.0, 0.0]));
     assert_eq!(out.info.steps.len(), 4);
 }
@@ -175,7 +210,7 @@ fn a_segment_that_failed_part_way_keeps_what_it_reached() {
     // A solver of several increments that fails at 2.5 after converging at 2.0.
     let mut m = small_model();
     let mut asked = Vec::new();
-    let out = to_limit(&mut m, &[4.0], 1, "fake", |m, s, _| {
+    let out = to_limit(&mut m, &[4.0], 1, "fake", &mut |_| {}, |m, s, _| {
         asked.push(s.target);
         if s.target > 2.5 {
             m.set_load_factor(2.0);
@@ -200,14 +235,14 @@ fn a_segment_that_failed_part_way_keeps_what_it_reached() {
 #[test]
 fn errors_that_are_not_a_failed_equilibrium_end_the_ramp_as_errors() {
     let mut m = small_model();
-    let e = to_limit(&mut m, &[1.0, 2.0], 4, "fake", |_, _, _| {
+    let e = to_limit(&mut m, &[1.0, 2.0], 4, "fake", &mut |_| {}, |_, _, _| {
         Err(PdError::invalid("failure.s_c", "test").into())
     })
     .unwrap_err();
     assert!(matches!(e, PdError::InvalidInput { .. }), "{e}");
     // A converged runaway state is a failed equilibrium: halved, then the stop.
     let mut m = small_model();
-    let out = to_limit(&mut m, &[1.0], 1, "fake", |m, s, _| {
+    let out = to_limit(&mut m, &[1.0], 1, "fake", &mut |_| {}, |m, s, _| {
         m.set_load_factor(s.target);
         m.set_displacements(&vec![[100.0, 0.0]; m.n_nodes()])
             .unwrap();
