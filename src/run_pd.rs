@@ -306,8 +306,16 @@ fn report_stop(scene: &Scene, stop: &Stop, summary: &mut RunSummary) {
             format!("load factor {}", round12(f))
         }
     };
+    // Under prescribed loads the usual cause is the peak load; under prescribed
+    // displacements alone a snap-back or an unstable crack (the load drops as the
+    // displacement is held).
+    let cause = if unit == "Pa" {
+        "Under prescribed loads a softening body has no equilibrium past its peak load, which then lies between these two loads; prescribed displacements follow the softening branch beyond it"
+    } else {
+        "Under prescribed displacements this is a snap-back or a crack running unstably (the equilibrium path turns back in the displacement); a smaller load.step or another pd.solver may pass it"
+    };
     let reason = format!(
-        "no equilibrium at {} after {} halvings of the load step ({}); the outputs hold the last converged state, at {}. Under prescribed loads a softening body has no equilibrium past its peak load, which then lies between these two loads; prescribed displacements follow the softening branch beyond it",
+        "no equilibrium at {} after {} halvings of the load step ({}); the outputs hold the last converged state, at {}. {cause}",
         text(stop.failed_load),
         stop.cutbacks,
         stop.error,
