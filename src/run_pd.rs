@@ -31,6 +31,7 @@ use crate::runner::summary::RunSummary;
 use crate::scene::{Failure, PdSolver, Scene};
 use crate::setup::pd::labelled_problem_from_scene;
 use anyhow::{Context, Result};
+use pdbem_pd::error::factor_text;
 use pdbem_pd::measure::{kink_angle, ramp_to_initiation};
 use pdbem_pd::solvers::limit::{RampEvent, Stop};
 use pdbem_pd::solvers::limit_solvers::{solve_to_limit, QuasiStatic};
@@ -120,8 +121,8 @@ fn show_progress(bar: &indicatif::ProgressBar, last: f64, e: &RampEvent) {
             bar.set_position(at as u64);
             bar.set_message(format!(
                 "load factor {} of {} converged",
-                round12(*load),
-                round12(last)
+                factor_text(*load),
+                factor_text(last)
             ));
         }
         RampEvent::Halving {
@@ -130,7 +131,7 @@ fn show_progress(bar: &indicatif::ProgressBar, last: f64, e: &RampEvent) {
             max,
         } => bar.set_message(format!(
             "no equilibrium at load factor {}: step halved ({level} of at most {max})",
-            round12(*failed_load)
+            factor_text(*failed_load)
         )),
     }
 }

@@ -148,7 +148,7 @@ fn size_text(bytes: f64) -> String {
 /// otherwise to 7 significant digits, trailing zeros dropped, in decimal form from 1e-3
 /// to 1e6 (0.1 + 0.2 is 0.3, 2.7600000000000002 is 2.76) and in exponent form outside
 /// (1e300 prints 301 digits: 1e300).
-fn factor_text(load: f64) -> String {
+pub fn factor_text(load: f64) -> String {
     let plain = load.to_string();
     if plain.len() <= 12 || !load.is_finite() {
         return plain;

@@ -3,6 +3,7 @@
 //! switching solver the rest of its ramp per segment with its increments halved at each
 //! retry. Without a failure every solver does exactly what its `solve` does.
 
+use std::cell::RefCell;
 use std::time::Instant;
 
 use super::adr::{Adr, AdrParams};
@@ -100,13 +101,21 @@ pub fn solve_to_limit(
         QuasiStatic::Switching(p) => {
             let whole = p.target_load - lam0;
             let increment = whole / p.increments() as f64;
+            // The ramp hears of segments, the segment of its increments: one observer,
+            // never called by both at once.
+            let observe = RefCell::new(observe);
+            let mut ramp_events = |e: &RampEvent| (observe.borrow_mut())(e);
             to_limit(
                 model,
                 &[p.target_load],
                 max_cutbacks,
                 solver.name(),
-                observe,
-                |m, s, info| switching_segment(m, s, p, whole, increment, info),
+                &mut ramp_events,
+                |m, s, info| {
+                    let mut increments =
+                        |load: f64| (observe.borrow_mut())(&RampEvent::Converged { load });
+                    switching_segment(m, s, p, (whole, increment), info, &mut increments)
+                },
             )?
         }
     };
@@ -133,14 +142,15 @@ pub fn solve_to_limit(
 /// One segment of the switching solver: from the model's load to `s.target` with
 /// increments of `increment / 2^level` and as many elastic Newton steps as the share of
 /// the `whole` ramp the segment covers (so the first segment is the solver's own solve);
-/// its record joins `info`.
+/// its record joins `info`, the load of every accepted step or increment goes to
+/// `observe`.
 fn switching_segment(
     model: &mut PdModel,
     s: Segment,
     p: &SwitchingParams,
-    whole: f64,
-    increment: f64,
+    (whole, increment): (f64, f64),
     info: &mut SolveInfo,
+    observe: &mut dyn FnMut(f64),
 ) -> Result<(), SegmentFailure> {
     let start = model.load;
     let span = s.target - start;
@@ -157,7 +167,7 @@ fn switching_segment(
         ..p.clone()
     };
     let actual = span / sp.increments() as f64;
-    let (part, end) = switching::solve_partial(model, &sp);
+    let (part, end) = switching::solve_observed(model, &sp, observe);
     info.absorb(part);
     // A failed increment leaves the model where it started.
     end.map_err(|error| SegmentFailure {

@@ -1,6 +1,7 @@
 use super::*;
 use crate::cases::{bar_tension, plate_hole, BAR_FORCE};
 use crate::problem::Failure;
+use crate::solvers::limit::RampEvent;
 use crate::solvers::{adr, implicit, Convergence};
 
 /// Seed 000's plate with a hole on a 12 x 12 grid, pulled to 0.8 of the seed's end
@@ -97,7 +98,13 @@ fn the_switching_solver_stops_where_newton_brackets_the_capacity() {
         max_break_rounds: 10,
         ..Default::default()
     });
-    let out = solve_to_limit(&mut m, &solver, 4, &mut |_| {}).unwrap();
+    let mut heard = Vec::new();
+    let mut observe = |e: &RampEvent| {
+        if let RampEvent::Converged { load } = e {
+            heard.push(*load);
+        }
+    };
+    let out = solve_to_limit(&mut m, &solver, 4, &mut observe).unwrap();
     let stop = out
         .stop
         .expect("5 times the bar's 2000 N is past its capacity");
@@ -116,6 +123,11 @@ fn the_switching_solver_stops_where_newton_brackets_the_capacity() {
     assert_eq!(out.info.steps.last().unwrap().load, stop.last_load);
     // The record of the segments reads as one solve's: the steps in order.
     assert!(out.info.steps.windows(2).all(|w| w[0].load < w[1].load));
+    // Every accepted step or increment was reported as it converged.
+    assert!(
+        out.info.steps.iter().all(|st| heard.contains(&st.load)),
+        "{heard:?}"
+    );
 }
 
 /// ADR through the ramp: equilibria at every step (rest restarts after a restore), and

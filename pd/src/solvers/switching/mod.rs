@@ -177,6 +177,16 @@ pub fn solve(model: &mut PdModel, p: &SwitchingParams) -> Result<SolveInfo, PdEr
 /// in `info.steps`), and the error is returned beside the record. An error of the set-up
 /// (the tangent's storage) leaves the model untouched.
 pub fn solve_partial(model: &mut PdModel, p: &SwitchingParams) -> (SolveInfo, Result<(), PdError>) {
+    solve_observed(model, p, &mut |_| {})
+}
+
+/// [`solve_partial`], with the load factor of every accepted step or increment to
+/// `observe`.
+pub fn solve_observed(
+    model: &mut PdModel,
+    p: &SwitchingParams,
+    observe: &mut dyn FnMut(f64),
+) -> (SolveInfo, Result<(), PdError>) {
     let t0 = Instant::now();
     let broken0 = model.broken_bonds();
     let lam0 = model.load;
@@ -184,7 +194,7 @@ pub fn solve_partial(model: &mut PdModel, p: &SwitchingParams) -> (SolveInfo, Re
         Ok(sw) => sw,
         Err(e) => return (SolveInfo::default(), Err(e)),
     };
-    let end = sw.run(model);
+    let end = sw.run(model, observe);
     if end.is_err() {
         // Every error of `run` comes from a damage increment, which saved its start.
         model.restore(&sw.saved);

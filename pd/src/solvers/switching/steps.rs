@@ -71,7 +71,13 @@ impl<'p> Switcher<'p> {
         }
     }
 
-    pub(super) fn run(&mut self, model: &mut PdModel) -> Result<(), PdError> {
+    /// The switching loop from increment 0 to the last; `observe` hears the load factor
+    /// of every accepted elastic step and damage increment.
+    pub(super) fn run(
+        &mut self,
+        model: &mut PdModel,
+        observe: &mut dyn FnMut(f64),
+    ) -> Result<(), PdError> {
         let mut mode = Mode::Elastic;
         let mut k = 0usize;
         let mut m = self.m_max;
@@ -80,7 +86,10 @@ impl<'p> Switcher<'p> {
                 Mode::Elastic => {
                     let m_eff = m.min(self.n_inc - k);
                     match self.elastic_step(model, k, m_eff) {
-                        Ok(()) => k += m_eff,
+                        Ok(()) => {
+                            k += m_eff;
+                            observe(self.load_at(k));
+                        }
                         Err(rejection) => {
                             // Retry with the increments that stay elastic
                             // by linear interpolation (at most m - 1);
@@ -98,6 +107,7 @@ impl<'p> Switcher<'p> {
                 Mode::Damage => {
                     let grew = self.damage_increment(model, k)?;
                     k += 1;
+                    observe(self.load_at(k));
                     if !grew && k < self.n_inc {
                         mode = Mode::Elastic;
                         m = self.m_max;
