@@ -120,7 +120,8 @@ pub fn is_equilibrium_failure(e: &PdError) -> bool {
     )
 }
 
-/// Drives `model` from its current load through `loads` (increasing load factors) by
+/// Drives `model` from its current load through `loads` (load factors in order, rising or
+/// falling) by
 /// `segment`, halving a failed segment's increment up to `max_cutbacks` times (module
 /// docs). `segment` records its converged steps in the [`SolveInfo`] it is given; a
 /// halving is kept for the rest of the ramp. `solver` names the solver in a runaway error;
@@ -141,14 +142,21 @@ where
     let (mut level, mut restored) = (0u32, false);
     let mut prev = model.load;
     for &goal in loads {
+        // Loads may fall as well as rise (a compressive ramp): `sign` is the direction.
         let step = goal - prev;
+        let sign = if step < 0.0 { -1.0 } else { 1.0 };
         let close = 1e-12 * goal.abs().max(step.abs());
-        while goal - model.load > close {
+        while sign * (goal - model.load) > close {
             let start = model.load;
             let target = if level == 0 {
                 goal
             } else {
-                (start + step / f64::from(1u32 << level)).min(goal)
+                let halved = start + step / f64::from(1u32 << level);
+                if sign > 0.0 {
+                    halved.min(goal)
+                } else {
+                    halved.max(goal)
+                }
             };
             model.save_into(&mut saved);
             let ask = Segment {
@@ -171,7 +179,7 @@ where
             if !is_equilibrium_failure(&f.error) {
                 return Err(f.error);
             }
-            if !f.reached.is_some_and(|l| l > start) {
+            if !f.reached.is_some_and(|l| sign * (l - start) > 0.0) {
                 model.restore(&saved);
                 restored = true;
             }

@@ -257,3 +257,23 @@ fn errors_that_are_not_a_failed_equilibrium_end_the_ramp_as_errors() {
     );
     assert_eq!(stop.last_load, 0.0);
 }
+
+#[test]
+fn a_falling_ramp_is_driven_and_halved_like_a_rising_one() {
+    // Compression: load factors 0 -> -1 -> -2, the fake limit at -1.3.
+    let mut m = small_model();
+    let mut asked = Vec::new();
+    let out = to_limit(&mut m, &[-1.0, -2.0], 2, "fake", &mut |_| {}, |m, s, _| {
+        asked.push(s.target);
+        m.set_load_factor(s.target);
+        if s.target < -1.3 {
+            return Err(no_convergence(s.target).into());
+        }
+        Ok(())
+    })
+    .unwrap();
+    assert_eq!(asked, [-1.0, -2.0, -1.5, -1.25, -1.5]);
+    let stop = out.stop.unwrap();
+    assert_eq!((stop.last_load, stop.failed_load), (-1.25, -1.5));
+    assert_eq!(m.load_factor(), -1.25);
+}
