@@ -423,7 +423,9 @@ mod tests {
         assert!(b.coarse.error.is_none() && b.fine.error.is_none());
         assert!(b.adaptive.error.is_none() && b.adaptive.steps == 20);
         assert!(b.adaptive.nodes > 4000 && b.adaptive.nodes_max >= b.adaptive.nodes);
-        assert!(b.ratio.is_finite() && b.ratio > 1.0, "{}", b.ratio);
+        // Ratios of wall times: measured by the bench, not asserted here (a test shares
+        // the machine with others; the order of two 20-step timings is not a property).
+        assert!(b.ratio.is_finite() && b.ratio > 0.0, "{}", b.ratio);
         // Without a criterion the particle kernel runs the coarse grid unsplit.
         let c = &b.coarse_particles;
         assert!(c.error.is_none() && c.steps == 20, "{c:?}");
@@ -437,7 +439,7 @@ mod tests {
         let p = &b.path_refined;
         assert!(p.error.is_none() && p.steps == 20, "{p:?}");
         assert_eq!(p.nodes, 10168);
-        assert!(b.path_ratio > 1.0 && b.path_fine_ratio.is_finite());
+        assert!(b.path_ratio.is_finite() && b.path_ratio > 0.0 && b.path_fine_ratio.is_finite());
         assert!(table(&b).contains("5.72x") && table(&b).contains("1.23x"));
         // Nothing is damaged near the loaded edges 0.2 us after the load is applied.
         assert!([&b.coarse, &b.fine, &b.adaptive]
