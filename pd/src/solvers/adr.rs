@@ -464,15 +464,8 @@ impl Adr {
             params.max_break_rounds,
             &mut info.residual_history,
         )?;
-        info.steps.push(StepRecord {
-            load: lam,
-            iterations: iters,
-            broken_bonds: model.broken_bonds(),
-            max_stretch: st.max_stretch,
-            measure: m,
-            kind: PhaseKind::Explicit,
-            resultants: model.bc_resultants(),
-        });
+        let record = StepRecord::of(model, lam, iters, st.max_stretch, m, PhaseKind::Explicit);
+        info.steps.push(record);
         Ok(iters)
     }
 }
@@ -517,15 +510,8 @@ pub fn solve(model: &mut PdModel, params: &AdrParams) -> Result<SolveInfo, PdErr
         };
         info.iterations += iters;
         if k == steps {
-            info.steps.push(StepRecord {
-                load: lam,
-                iterations: iters,
-                broken_bonds: model.broken_bonds(),
-                max_stretch: st.max_stretch,
-                measure: m,
-                kind: PhaseKind::Explicit,
-                resultants: model.bc_resultants(),
-            });
+            let record = StepRecord::of(model, lam, iters, st.max_stretch, m, PhaseKind::Explicit);
+            info.steps.push(record);
         }
     }
     let dt = t0.elapsed().as_secs_f64();

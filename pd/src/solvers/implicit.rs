@@ -300,15 +300,9 @@ impl Newton {
             iters += it;
             let st = model.commit_history();
             if st.newly_broken == 0 {
-                info.steps.push(StepRecord {
-                    load: lam,
-                    iterations: iters,
-                    broken_bonds: model.broken_bonds(),
-                    max_stretch: st.max_stretch,
-                    measure: m,
-                    kind: PhaseKind::Implicit,
-                    resultants: model.bc_resultants(),
-                });
+                let kind = PhaseKind::Implicit;
+                let record = StepRecord::of(model, lam, iters, st.max_stretch, m, kind);
+                info.steps.push(record);
                 return Ok(iters);
             }
         }

@@ -209,4 +209,4 @@ where
 
 #[cfg(test)]
 #[path = "limit_tests.rs"]
-mod tests;
+pub(crate) mod tests;

@@ -58,21 +58,15 @@ pub fn solve_to_limit(
 ) -> Result<LimitedSolve, PdError> {
     let t0 = Instant::now();
     let (lam0, broken0) = (model.load, model.broken_bonds());
+    let name = solver.name();
     let mut out = match solver {
         QuasiStatic::Implicit(p) => {
             let mut newton = Newton::new(model)?;
             let loads = equal_steps(lam0, p.target_load, p.steps);
-            to_limit(
-                model,
-                &loads,
-                max_cutbacks,
-                solver.name(),
-                observe,
-                |m, s, info| {
-                    info.iterations += newton.load_step(m, s.target, p, info)?;
-                    Ok(())
-                },
-            )?
+            to_limit(model, &loads, max_cutbacks, name, observe, |m, s, info| {
+                info.iterations += newton.load_step(m, s.target, p, info)?;
+                Ok(())
+            })?
         }
         QuasiStatic::Adr(p) => {
             if p.iters_per_step.is_some() {
@@ -83,20 +77,14 @@ pub fn solve_to_limit(
             }
             let mut adr = Adr::for_params(model, p);
             let loads = equal_steps(lam0, p.target_load, p.steps);
-            to_limit(
-                model,
-                &loads,
-                max_cutbacks,
-                solver.name(),
-                observe,
-                |m, s, info| {
-                    if s.restored {
-                        adr.reset();
-                    }
-                    info.iterations += adr.load_step(m, s.target, p, info)?;
-                    Ok(())
-                },
-            )?
+            // A restored state starts ADR from rest.
+            to_limit(model, &loads, max_cutbacks, name, observe, |m, s, info| {
+                if s.restored {
+                    adr.reset();
+                }
+                info.iterations += adr.load_step(m, s.target, p, info)?;
+                Ok(())
+            })?
         }
         QuasiStatic::Switching(p) => {
             let whole = p.target_load - lam0;

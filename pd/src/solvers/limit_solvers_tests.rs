@@ -1,6 +1,5 @@
 use super::*;
-use crate::cases::{bar_tension, plate_hole, BAR_FORCE};
-use crate::problem::Failure;
+use crate::cases::{plate_hole, BAR_FORCE};
 use crate::solvers::limit::RampEvent;
 use crate::solvers::{adr, implicit, Convergence};
 
@@ -57,20 +56,10 @@ fn without_a_failure_every_solver_does_what_its_solve_does() {
     }
 }
 
-/// The bar of [`bar_tension`] on a 4 mm grid, pulled by its end load, with a notch at
-/// mid-length (a 10 mm ligament) and tanh bonds.
+/// The notched tanh bar of the ramp's tests on a 4 mm grid with 5 mm notches (a 10 mm
+/// ligament), pulled by its end load.
 fn notched_bar() -> crate::PdProblem {
-    let mut p = bar_tension(0.004).problem;
-    p.failure = Failure::Degradation {
-        s_m: 4e-5,
-        s_c: 4e-4,
-        beta: 3.0,
-    };
-    p.cracks = vec![
-        vec![[0.1, -0.001], [0.1, 0.005]],
-        vec![[0.1, 0.015], [0.1, 0.021]],
-    ];
-    p
+    crate::solvers::limit::tests::notched_bar(0.004, 0.005)
 }
 
 #[test]

@@ -3,21 +3,26 @@ use crate::cases::{bar_tension, BAR_FORCE};
 use crate::problem::{BoundaryCondition, Failure, Layer, PdProblem, Selection};
 use crate::solvers::implicit::{ImplicitParams, Newton};
 
-/// The bar of [`bar_tension`] (0.2 x 0.02 m, dx 2 mm, 2000 N at load factor 1) with tanh
-/// bonds and a notch at mid-length (cracks 6 mm deep from both sides, an 8 mm ligament),
-/// so that it softens at the notch, away from both ends.
-fn notched_softening_bar() -> PdProblem {
-    let mut p = bar_tension(0.002).problem;
+/// The bar of [`bar_tension`] (0.2 x 0.02 m, 2000 N at load factor 1) on a grid of
+/// spacing `dx` with tanh bonds and a notch at mid-length (cracks `depth` deep from both
+/// sides), so that it softens at the notch, away from both ends.
+pub(crate) fn notched_bar(dx: f64, depth: f64) -> PdProblem {
+    let mut p = bar_tension(dx).problem;
     p.failure = Failure::Degradation {
         s_m: 4e-5,
         s_c: 4e-4,
         beta: 3.0,
     };
     p.cracks = vec![
-        vec![[0.1, -0.001], [0.1, 0.006]],
-        vec![[0.1, 0.014], [0.1, 0.021]],
+        vec![[0.1, -0.001], [0.1, depth]],
+        vec![[0.1, 0.02 - depth], [0.1, 0.021]],
     ];
     p
+}
+
+/// [`notched_bar`] on a 2 mm grid with 6 mm notches (an 8 mm ligament).
+fn notched_softening_bar() -> PdProblem {
+    notched_bar(0.002, 0.006)
 }
 
 fn newton_params() -> ImplicitParams {

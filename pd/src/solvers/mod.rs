@@ -117,6 +117,29 @@ pub struct StepRecord {
     pub resultants: Vec<crate::reaction::BcResultant>,
 }
 
+impl StepRecord {
+    /// The record of a load step that converged at load factor `load` in `iterations`,
+    /// with the model's broken bonds and boundary resultants now.
+    pub(crate) fn of(
+        model: &mut PdModel,
+        load: f64,
+        iterations: usize,
+        max_stretch: f64,
+        measure: f64,
+        kind: PhaseKind,
+    ) -> StepRecord {
+        StepRecord {
+            load,
+            iterations,
+            broken_bonds: model.broken_bonds(),
+            max_stretch,
+            measure,
+            kind,
+            resultants: model.bc_resultants(),
+        }
+    }
+}
+
 /// What a solve did.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct SolveInfo {
