@@ -25,6 +25,10 @@ use crate::model::{ModelState, PdModel};
 
 use super::SolveInfo;
 
+/// Most halvings of a step [`to_limit`] takes (a larger `max_cutbacks` is this): an
+/// increment of 2^-30 of the step.
+pub const MAX_CUTBACKS: u32 = 30;
+
 /// Where a ramp stopped.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Stop {
@@ -121,9 +125,8 @@ pub fn is_equilibrium_failure(e: &PdError) -> bool {
 }
 
 /// Drives `model` from its current load through `loads` (load factors in order, rising or
-/// falling) by
-/// `segment`, halving a failed segment's increment up to `max_cutbacks` times (module
-/// docs). `segment` records its converged steps in the [`SolveInfo`] it is given; a
+/// falling) by `segment`, halving a failed segment's increment up to `max_cutbacks` times
+/// (at most [`MAX_CUTBACKS`]; module docs). `segment` records its converged steps in the [`SolveInfo`] it is given; a
 /// halving is kept for the rest of the ramp. `solver` names the solver in a runaway error;
 /// `observe` hears of every converged segment and every halving.
 pub fn to_limit<F>(
@@ -140,6 +143,7 @@ where
     let mut out = LimitedSolve::default();
     let mut saved = ModelState::default();
     let (mut level, mut restored) = (0u32, false);
+    let max_cutbacks = max_cutbacks.min(MAX_CUTBACKS);
     let mut prev = model.load;
     for &goal in loads {
         // Loads may fall as well as rise (a compressive ramp): `sign` is the direction.
@@ -151,7 +155,7 @@ where
             let target = if level == 0 {
                 goal
             } else {
-                let halved = start + step / f64::from(1u32 << level);
+                let halved = start + step * 0.5f64.powi(level as i32);
                 if sign > 0.0 {
                     halved.min(goal)
                 } else {
@@ -159,6 +163,7 @@ where
                 }
             };
             model.save_into(&mut saved);
+            let records = out.info.steps.len();
             let ask = Segment {
                 target,
                 level,
@@ -180,7 +185,10 @@ where
                 return Err(f.error);
             }
             if !f.reached.is_some_and(|l| sign * (l - start) > 0.0) {
+                // Nothing of the segment is kept: neither its state nor a step it recorded
+                // before the state was found a runaway.
                 model.restore(&saved);
+                out.info.steps.truncate(records);
                 restored = true;
             }
             if level >= max_cutbacks {

@@ -142,7 +142,7 @@ fn switching_segment(
 ) -> Result<(), SegmentFailure> {
     let start = model.load;
     let span = s.target - start;
-    let size = increment / f64::from(1u32 << s.level);
+    let size = increment * 0.5f64.powi(s.level as i32);
     // Rounding guard: a span of exactly n increments is n, not n + 1.
     let explicit_steps = ((span / size) * (1.0 - 1e-12)).ceil().max(1.0) as usize;
     let implicit_steps = ((p.implicit_steps as f64 * span / whole) * (1.0 - 1e-12))

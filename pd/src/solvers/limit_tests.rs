@@ -245,12 +245,16 @@ fn errors_that_are_not_a_failed_equilibrium_end_the_ramp_as_errors() {
     })
     .unwrap_err();
     assert!(matches!(e, PdError::InvalidInput { .. }), "{e}");
-    // A converged runaway state is a failed equilibrium: halved, then the stop.
+    // A converged runaway state is a failed equilibrium: halved, then the stop; the step
+    // it recorded is dropped with it.
     let mut m = small_model();
-    let out = to_limit(&mut m, &[1.0], 1, "fake", &mut |_| {}, |m, s, _| {
+    let out = to_limit(&mut m, &[1.0], 1, "fake", &mut |_| {}, |m, s, info| {
         m.set_load_factor(s.target);
         m.set_displacements(&vec![[100.0, 0.0]; m.n_nodes()])
             .unwrap();
+        let kind = crate::solvers::PhaseKind::Implicit;
+        let record = crate::solvers::StepRecord::of(m, s.target, 1, 0.0, 0.0, kind);
+        info.steps.push(record);
         Ok(())
     })
     .unwrap();
@@ -261,6 +265,14 @@ fn errors_that_are_not_a_failed_equilibrium_end_the_ramp_as_errors() {
         stop.error
     );
     assert_eq!(stop.last_load, 0.0);
+    assert!(out.info.steps.is_empty());
+    // Halvings beyond MAX_CUTBACKS are MAX_CUTBACKS (no shift past the integer's width).
+    let mut m = small_model();
+    let out = to_limit(&mut m, &[1.0], 100, "fake", &mut |_| {}, |_, s, _| {
+        Err(no_convergence(s.target).into())
+    })
+    .unwrap();
+    assert_eq!(out.stop.unwrap().cutbacks, MAX_CUTBACKS);
 }
 
 #[test]
