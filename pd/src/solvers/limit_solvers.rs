@@ -158,11 +158,30 @@ fn switching_segment(
     let (part, end) = switching::solve_observed(model, &sp, observe);
     info.absorb(part);
     // A failed increment leaves the model where it started.
-    end.map_err(|error| SegmentFailure {
-        error,
-        reached: (model.load > start).then_some(model.load),
-        failed_at: Some((model.load + actual).min(s.target)),
+    end.map_err(|error| {
+        let (reached, failed_at) = failed_increment(start, model.load, actual, s.target);
+        SegmentFailure {
+            error,
+            reached,
+            failed_at: Some(failed_at),
+        }
     })
+}
+
+/// Where a segment from `start` towards `target` in increments of `actual` (signed)
+/// stands after an increment failed from the load `now`: the converged load it reached,
+/// if past `start`, and the load of the failed increment (not beyond `target`). Loads may
+/// rise or fall.
+fn failed_increment(start: f64, now: f64, actual: f64, target: f64) -> (Option<f64>, f64) {
+    let rising = target >= start;
+    let reached = if rising { now > start } else { now < start };
+    let next = now + actual;
+    let failed = if rising {
+        next.min(target)
+    } else {
+        next.max(target)
+    };
+    (reached.then_some(now), failed)
 }
 
 #[cfg(test)]

@@ -158,3 +158,23 @@ fn adr_stops_where_newton_brackets_the_capacity() {
     assert_eq!(m.load_factor(), stop.last_load);
     assert_eq!(out.info.steps.last().unwrap().load, stop.last_load);
 }
+
+#[test]
+fn a_failed_switching_increment_is_placed_in_the_ramp_direction() {
+    // Rising from 1 to 2 in increments of 0.25, failed from 1.5: reached 1.5, failed 1.75.
+    assert_eq!(failed_increment(1.0, 1.5, 0.25, 2.0), (Some(1.5), 1.75));
+    // Failed in the first increment: nothing reached; the last increment ends at the
+    // target.
+    assert_eq!(failed_increment(1.0, 1.0, 0.25, 2.0), (None, 1.25));
+    assert_eq!(failed_increment(1.0, 1.9, 0.25, 2.0), (Some(1.9), 2.0));
+    // Falling (compression) from -1 to -2.
+    assert_eq!(
+        failed_increment(-1.0, -1.5, -0.25, -2.0),
+        (Some(-1.5), -1.75)
+    );
+    assert_eq!(failed_increment(-1.0, -1.0, -0.25, -2.0), (None, -1.25));
+    assert_eq!(
+        failed_increment(-1.0, -1.9, -0.25, -2.0),
+        (Some(-1.9), -2.0)
+    );
+}

@@ -189,7 +189,6 @@ pub fn solve_observed(
 ) -> (SolveInfo, Result<(), PdError>) {
     let t0 = Instant::now();
     let broken0 = model.broken_bonds();
-    let lam0 = model.load;
     let mut sw = match Switcher::new(model, p) {
         Ok(sw) => sw,
         Err(e) => return (SolveInfo::default(), Err(e)),
@@ -200,10 +199,11 @@ pub fn solve_observed(
         model.restore(&sw.saved);
     }
     let mut info = sw.info;
+    // After a failure the model holds the start of the failed increment.
     info.final_load = if end.is_ok() {
         p.target_load
     } else {
-        model.load.max(lam0)
+        model.load
     };
     info.bonds_broken = model.broken_bonds() - broken0;
     info.wall_time_s = t0.elapsed().as_secs_f64();
