@@ -36,6 +36,7 @@
 //! - `bench` (cargo feature `bench`): benchmarks for `pdbem bench pd` and the
 //!   `bench_full` example.
 
+pub mod adapt;
 #[cfg(any(test, feature = "bench"))]
 pub mod bench;
 pub mod bonds;

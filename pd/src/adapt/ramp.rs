@@ -1,0 +1,278 @@
+//! The adaptive load ramp (module docs of [`super`]): solve a load step with the
+//! scene's solver ([`crate::solvers::limit_solvers`], halving a failed step), check
+//! seed 004's criteria, and while cells split solve the same load again on the refined
+//! grid. The ramp ends at the last load or at the body's limit, as a ramp without
+//! refinement does ([`crate::solvers::limit`]).
+
+use std::time::Instant;
+
+use super::transfer::refined_model;
+use super::{flagged_cells, static_cells, AdaptiveCells, CellCriteria};
+use crate::error::PdError;
+use crate::model::PdModel;
+use crate::problem::PdProblem;
+use crate::solvers::adr::AdrParams;
+use crate::solvers::implicit::ImplicitParams;
+use crate::solvers::limit::{LimitedSolve, RampEvent, Stop};
+use crate::solvers::limit_solvers::{solve_to_limit, QuasiStatic};
+use crate::solvers::switching::SwitchingParams;
+
+/// One refinement: at which load factor, how many cells split, the real nodes after.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Round {
+    /// Load factor of the equilibrium the criteria fired at (0 for the set-up).
+    pub load: f64,
+    /// Cells split (or split deeper) in this round.
+    pub cells: usize,
+    /// Real nodes of the refined grid.
+    pub nodes: usize,
+}
+
+/// What the adaptive ramp reports as it goes.
+#[derive(Clone, Copy, Debug)]
+pub enum AdaptEvent<'a> {
+    /// An event of a load step's solve.
+    Ramp(&'a RampEvent),
+    /// Cells split; the step is solved again on the refined grid.
+    Refined(&'a Round),
+}
+
+/// The result of [`ramp_to_limit`].
+#[derive(Debug)]
+pub struct AdaptiveRamp {
+    /// The last converged model (on its refined grid).
+    pub model: PdModel,
+    /// The problem of that grid (the base problem with one zone per split cell).
+    pub problem: PdProblem,
+    /// The split cells.
+    pub cells: AdaptiveCells,
+    /// Steps (one record per load, the last solve of each), iterations and where the
+    /// ramp stopped, if it did.
+    pub solve: LimitedSolve,
+    /// The refinements, in order.
+    pub rounds: Vec<Round>,
+    /// The ramp stopped because the refined grid found no equilibrium at a load its
+    /// coarser grid carried (`solve.stop` says where; the model is the coarser one).
+    pub refined_without_equilibrium: bool,
+}
+
+/// The solver of one load step to `target` (`checks` steps in the whole ramp).
+fn one_step(solver: &QuasiStatic, target: f64, checks: usize) -> QuasiStatic {
+    match solver {
+        QuasiStatic::Implicit(p) => QuasiStatic::Implicit(ImplicitParams {
+            target_load: target,
+            steps: 1,
+            ..p.clone()
+        }),
+        QuasiStatic::Adr(p) => QuasiStatic::Adr(AdrParams {
+            target_load: target,
+            steps: 1,
+            ..p.clone()
+        }),
+        QuasiStatic::Switching(p) => QuasiStatic::Switching(SwitchingParams {
+            target_load: target,
+            implicit_steps: 1,
+            explicit_steps: p.increments().div_ceil(checks.max(1)).max(1),
+            ..p.clone()
+        }),
+    }
+}
+
+/// The solver of a load solved again on a refined grid: Newton and ADR as they are;
+/// the switching solver by its damage phase's ADR (its load does not change).
+fn same_load(solver: &QuasiStatic, target: f64) -> QuasiStatic {
+    match solver {
+        QuasiStatic::Switching(p) => QuasiStatic::Adr(AdrParams {
+            target_load: target,
+            steps: 1,
+            convergence: p.convergence,
+            max_iters: p.max_adr_iters,
+            safety: p.safety,
+            growth_tol: p.growth_tol,
+            max_break_rounds: p.max_break_rounds,
+            ..Default::default()
+        }),
+        other => one_step(other, target, 1),
+    }
+}
+
+/// The load factors the criteria are checked at: the solver's own equal steps from
+/// `lam0` to its target (Newton, ADR), or `checks` equal steps (the switching solver,
+/// whose increments are its own).
+fn checkpoints(solver: &QuasiStatic, lam0: f64, checks: usize) -> Vec<f64> {
+    let (target, steps) = match solver {
+        QuasiStatic::Implicit(p) => (p.target_load, p.steps),
+        QuasiStatic::Adr(p) => (p.target_load, p.steps),
+        QuasiStatic::Switching(p) => (p.target_load, checks),
+    };
+    let steps = steps.max(1);
+    (1..=steps)
+        .map(|k| lam0 + (target - lam0) * k as f64 / steps as f64)
+        .collect()
+}
+
+/// The state of a ramp between load steps.
+struct Ramp<'a> {
+    cells: AdaptiveCells,
+    problem: PdProblem,
+    model: PdModel,
+    rounds: Vec<Round>,
+    crit: &'a CellCriteria,
+}
+
+/// Bytes a directed bond of a model holds (geometry, coefficients, flags, history and
+/// the tangent's share), for the size estimate of a split.
+const BOND_BYTES: f64 = 96.0;
+
+impl Ramp<'_> {
+    /// Refuses a split whose grid's bonds would exceed the memory budget
+    /// ([`crate::tangent::factor_budget`]) before it is built: each cell
+    /// raised from level `l` to `L` adds `4^L - 4^l` nodes, each with the bonds of an
+    /// average node now.
+    fn check_size(
+        &self,
+        want: &std::collections::BTreeMap<super::Cell, u32>,
+    ) -> Result<(), PdError> {
+        let now = self.cells.levels();
+        let added: f64 = want
+            .iter()
+            .map(|(c, &l)| {
+                let from = now.get(c).copied().unwrap_or(0);
+                4f64.powi(l as i32) - 4f64.powi(from as i32)
+            })
+            .sum();
+        let per_node = self.model.n_bonds() as f64 / self.model.n_nodes().max(1) as f64;
+        let bytes = (self.model.n_nodes() as f64 + added) * per_node * BOND_BYTES;
+        crate::tangent::check_budget(
+            "the adaptively refined grid's bonds",
+            bytes,
+            crate::tangent::factor_budget(),
+        )
+    }
+
+    /// Splits the cells the criteria (static ones with `setup`) ask for; the number of
+    /// cells split.
+    fn refine(&mut self, load: f64, setup: bool) -> Result<usize, PdError> {
+        let mut want = flagged_cells(&self.model, &self.problem, self.crit);
+        if setup {
+            for (c, l) in static_cells(&self.model, &self.problem, self.crit) {
+                let e = want.entry(c).or_insert(0);
+                *e = (*e).max(l);
+            }
+        }
+        if want.is_empty() {
+            return Ok(0);
+        }
+        self.check_size(&want)?;
+        let raised = self.cells.raise(&want);
+        self.problem = self.cells.problem();
+        self.model = refined_model(&self.model, &self.problem)?;
+        self.rounds.push(Round {
+            load,
+            cells: raised,
+            nodes: self.model.n_real(),
+        });
+        Ok(raised)
+    }
+}
+
+/// The set-up of a ramp: `base`'s model with the cells the static criteria and the
+/// pre-cracks' damage split (Eq. 15 at load 0), until nothing fires.
+fn set_up_ramp<'a>(
+    base: &PdProblem,
+    crit: &'a CellCriteria,
+    observe: &mut dyn FnMut(AdaptEvent),
+) -> Result<Ramp<'a>, PdError> {
+    crit.validate()?;
+    let mut ramp = Ramp {
+        cells: AdaptiveCells::new(base),
+        problem: base.clone(),
+        model: PdModel::new(base)?,
+        rounds: Vec::new(),
+        crit,
+    };
+    while ramp.refine(0.0, true)? > 0 {
+        observe(AdaptEvent::Refined(ramp.rounds.last().expect("a round")));
+    }
+    Ok(ramp)
+}
+
+/// The model a ramp on `base` starts from after its set-up splits (so a check can size
+/// it as the run will build it), and the cells split.
+pub fn set_up(base: &PdProblem, crit: &CellCriteria) -> Result<(PdModel, AdaptiveCells), PdError> {
+    let ramp = set_up_ramp(base, crit, &mut |_| {})?;
+    Ok((ramp.model, ramp.cells))
+}
+
+/// Drives `base`'s model along `solver`'s ramp with refinement by `crit` (module docs of
+/// [`super`]); `checks` load steps for the switching solver. A failed step is halved up
+/// to `max_cutbacks` times before the ramp stops at the body's limit.
+pub fn ramp_to_limit(
+    base: &PdProblem,
+    solver: &QuasiStatic,
+    checks: usize,
+    crit: &CellCriteria,
+    max_cutbacks: u32,
+    observe: &mut dyn FnMut(AdaptEvent),
+) -> Result<AdaptiveRamp, PdError> {
+    let t0 = Instant::now();
+    let mut ramp = set_up_ramp(base, crit, observe)?;
+    let mut total = LimitedSolve::default();
+    let mut refused = false;
+    let loads = checkpoints(solver, ramp.model.load_factor(), checks);
+    'steps: for &target in &loads {
+        let out = solve_to_limit(
+            &mut ramp.model,
+            &one_step(solver, target, loads.len()),
+            max_cutbacks,
+            &mut |e: &RampEvent| observe(AdaptEvent::Ramp(e)),
+        )?;
+        absorb(&mut total, out);
+        if total.stop.is_some() {
+            break;
+        }
+        loop {
+            let kept = (ramp.model.clone(), ramp.cells.clone(), ramp.problem.clone());
+            if ramp.refine(target, false)? == 0 {
+                break;
+            }
+            observe(AdaptEvent::Refined(ramp.rounds.last().expect("a round")));
+            let again =
+                solve_to_limit(&mut ramp.model, &same_load(solver, target), 0, &mut |_| {})?;
+            if let Some(stop) = again.stop {
+                (ramp.model, ramp.cells, ramp.problem) = kept;
+                total.info.iterations += again.info.iterations;
+                total.stop = Some(Stop {
+                    last_load: target,
+                    failed_load: target,
+                    cutbacks: 0,
+                    error: stop.error,
+                });
+                refused = true;
+                break 'steps;
+            }
+            // One record per load: the refined grid's solve replaces the coarser one's.
+            total.info.steps.pop();
+            absorb(&mut total, again);
+        }
+    }
+    total.info.final_load = ramp.model.load_factor();
+    total.info.wall_time_s = t0.elapsed().as_secs_f64();
+    Ok(AdaptiveRamp {
+        model: ramp.model,
+        problem: ramp.problem,
+        cells: ramp.cells,
+        solve: total,
+        rounds: ramp.rounds,
+        refined_without_equilibrium: refused,
+    })
+}
+
+/// Joins a load step's solve into the ramp's.
+fn absorb(total: &mut LimitedSolve, out: LimitedSolve) {
+    total.info.absorb(out.info);
+    total.retries += out.retries;
+    if out.stop.is_some() {
+        total.stop = out.stop;
+    }
+}
