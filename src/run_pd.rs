@@ -28,9 +28,11 @@ use crate::pd_loads::{
 };
 use crate::runner::context::RunContext;
 use crate::runner::summary::RunSummary;
-use crate::scene::{Failure, PdSolver, Scene};
+use crate::scene::{Failure, PdRefinement, PdSolver, Scene};
 use crate::setup::pd::labelled_problem_from_scene;
 use anyhow::{Context, Result};
+use pdbem_pd::adapt::ramp::{ramp_to_limit, AdaptEvent, AdaptiveRamp};
+use pdbem_pd::adapt::CellCriteria;
 use pdbem_pd::error::factor_text;
 use pdbem_pd::measure::{kink_angle, ramp_to_initiation};
 use pdbem_pd::solvers::limit::{RampEvent, Stop};
@@ -51,11 +53,13 @@ fn unreachable_explicit(file: &std::path::Path) -> Result<pdbem_pd::SolveInfo> {
 /// Solves `scene` with peridynamics over the whole body and writes the node table and
 /// the damage and displacement plots through `ctx.writer`.
 pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
-    if scene.pd.as_ref().is_some_and(|pd| pd.refinement.is_some()) {
+    if let Some(pd) = scene.pd.as_ref().filter(|pd| pd.refinement.is_some()) {
         if crate::run_dynamic::explicit(scene).is_some() {
             return crate::run_adaptive::run(scene, ctx);
         }
-        return crate::run_refined::run(scene, ctx);
+        if !PdRefinement::on_cells(&pd.failure, &pd.solver) {
+            return crate::run_refined::run(scene, ctx);
+        }
     }
     if crate::run_dynamic::is_dynamic(scene) {
         return crate::run_dynamic::run(scene, ctx);
@@ -64,7 +68,15 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     ctx.log(&format!("{}: PD solve", scene.name));
     let bar = ramp_bar(ctx);
     let last = scene.load.factors().last().copied().unwrap_or(1.0);
-    let mut observe = |e: &RampEvent| show_progress(&bar, last, e);
+    let mut observe = |e: AdaptEvent| match e {
+        AdaptEvent::Ramp(e) => show_progress(&bar, last, e),
+        AdaptEvent::Refined(r) => bar.set_message(format!(
+            "load factor {}: {} cells split, {} nodes",
+            factor_text(r.load),
+            r.cells,
+            r.nodes
+        )),
+    };
     let solved = solve_observed(scene, &mut observe);
     bar.finish_and_clear();
     let (mut summary, model, ld) = solved?;
@@ -93,6 +105,25 @@ pub fn solve(scene: &Scene) -> Result<(RunSummary, PdModel)> {
 /// [`solve`] and the load-displacement record of its load steps.
 pub fn solve_recorded(scene: &Scene) -> Result<(RunSummary, PdModel, LoadDisplacement)> {
     solve_observed(scene, &mut |_| {})
+}
+
+/// The library criteria of the scene's `pd.refinement` on the grid's cells.
+pub fn cell_criteria(r: &PdRefinement) -> CellCriteria {
+    let max_level = u32::from(r.max_level);
+    CellCriteria {
+        critical_damage: r.critical_damage,
+        strain_factor: r.strain_factor,
+        max_level,
+        near_cracks: r.near_cracks,
+        circles: r
+            .circles
+            .iter()
+            .map(|c| {
+                let level = c.level.map_or(max_level, u32::from);
+                ([c.centre.0, c.centre.1], c.radius, level)
+            })
+            .collect(),
+    }
 }
 
 /// Steps of the progress bar of a damage ramp: its load in thousandths of the last.
@@ -136,17 +167,22 @@ fn show_progress(bar: &indicatif::ProgressBar, last: f64, e: &RampEvent) {
     }
 }
 
-/// [`solve_recorded`], with the events of a damage ramp to `observe`.
+/// [`solve_recorded`], with the events of a damage ramp (and of its refinement) to
+/// `observe`.
 pub fn solve_observed(
     scene: &Scene,
-    observe: &mut dyn FnMut(&RampEvent),
+    observe: &mut dyn FnMut(AdaptEvent),
 ) -> Result<(RunSummary, PdModel, LoadDisplacement)> {
     let t0 = Instant::now();
     let file = scene.file_label();
     let (problem, labels) = labelled_problem_from_scene(scene)?;
     let mut model = PdModel::new(&problem).with_context(|| format!("{}: pd", file.display()))?;
     let pd = scene.pd.as_ref().context("no pd section")?;
-    if pd.refinement.is_some() {
+    let cells = pd
+        .refinement
+        .as_ref()
+        .filter(|_| PdRefinement::on_cells(&pd.failure, &pd.solver));
+    if pd.refinement.is_some() && cells.is_none() {
         anyhow::bail!(
             "{}: pd.refinement runs through `pdbem run` (stand-alone PD), not this solver path",
             file.display()
@@ -193,14 +229,34 @@ pub fn solve_observed(
         // An elastic solve that fails is an error; a ramp with damage stops at the last
         // load the solver brings to equilibrium after halving the failed step.
         let cutbacks = if elastic { 0 } else { RAMP_CUTBACKS };
-        let out = solve_to_limit(&mut model, &solver, cutbacks, observe)
-            .with_context(|| format!("{}: PD solve", file.display()))?;
+        let mut refined_stop = false;
+        let out = match cells {
+            Some(r) => {
+                let adaptive = ramp_to_limit(
+                    &problem,
+                    &solver,
+                    steps,
+                    &cell_criteria(r),
+                    cutbacks,
+                    observe,
+                )
+                .with_context(|| format!("{}: PD solve", file.display()))?;
+                report_cells(&adaptive, &mut summary);
+                refined_stop = adaptive.refined_without_equilibrium;
+                model = adaptive.model;
+                adaptive.solve
+            }
+            None => solve_to_limit(&mut model, &solver, cutbacks, &mut |e| {
+                observe(AdaptEvent::Ramp(e))
+            })
+            .with_context(|| format!("{}: PD solve", file.display()))?,
+        };
         if let Some(stop) = &out.stop {
             if elastic {
                 return Err(anyhow::Error::new(stop.error.clone()))
                     .with_context(|| format!("{}: PD solve", file.display()));
             }
-            report_stop(scene, stop, &mut summary);
+            report_stop(scene, stop, refined_stop, &mut summary);
         } else if !elastic {
             summary.extra.insert("complete".into(), json!(true));
         }
@@ -225,7 +281,7 @@ pub fn solve_observed(
         .insert("load_unit".into(), json!(load_unit(scene)));
     summary.extra.insert("traction".into(), json!(pd.traction));
     summary.extra.insert("nodes".into(), json!(model.n_real()));
-    if !pd.refine_zones.is_empty() {
+    if !pd.refine_zones.is_empty() || cells.is_some() {
         let g = model.grid();
         let fine = (0..model.n_real()).filter(|&i| g.node_dx(i) < g.dx).count();
         summary.extra.insert("refined_nodes".into(), json!(fine));
@@ -251,6 +307,26 @@ pub fn solve_observed(
     let ld = LoadDisplacement::from_pd(&labels, &info.steps);
     summary.wall_time_s = t0.elapsed().as_secs_f64();
     Ok((summary, model, ld))
+}
+
+/// `refinement` in the summary of a ramp on refined cells: the rounds (load factor,
+/// cells split, real nodes after) and the split cells by level.
+fn report_cells(a: &AdaptiveRamp, summary: &mut RunSummary) {
+    let by_level = |l: u32| a.cells.levels().values().filter(|&&v| v == l).count();
+    let rounds: Vec<_> = a
+        .rounds
+        .iter()
+        .map(|r| json!({"load_factor": round12(r.load), "cells": r.cells, "nodes": r.nodes}))
+        .collect();
+    summary.extra.insert(
+        "refinement".into(),
+        json!({
+            "on": "cells",
+            "cells_level_1": by_level(1),
+            "cells_level_2": by_level(2),
+            "rounds": rounds,
+        }),
+    );
 }
 
 /// Halvings of a failed load step before a damage ramp stops (a bracket of the last
@@ -296,7 +372,7 @@ fn quasi_static(solver: &PdSolver, last: f64, steps: usize) -> Result<QuasiStati
 /// `failure_reason` and `limit` (the last converged and the failed load in the scene's
 /// load unit, the halvings tried) into the summary; the outputs are those of the last
 /// converged state and the run exits with code 3.
-fn report_stop(scene: &Scene, stop: &Stop, summary: &mut RunSummary) {
+fn report_stop(scene: &Scene, stop: &Stop, refined: bool, summary: &mut RunSummary) {
     let scale = traction_scale(scene).unwrap_or(1.0);
     let unit = load_unit(scene);
     let load = |f: f64| round12(f * scale);
@@ -315,13 +391,21 @@ fn report_stop(scene: &Scene, stop: &Stop, summary: &mut RunSummary) {
     } else {
         "Under prescribed displacements this is a snap-back or a crack running unstably (the equilibrium path turns back in the displacement); a smaller load.step or another pd.solver may pass it"
     };
-    let reason = format!(
-        "no equilibrium at {} after {} halvings of the load step ({}); the outputs hold the last converged state, at {}. {cause}",
-        text(stop.failed_load),
-        stop.cutbacks,
-        stop.error,
-        text(stop.last_load),
-    );
+    let reason = if refined {
+        format!(
+            "pd.refinement split cells at {} and the refined grid found no equilibrium there ({}); the outputs hold the coarser grid's converged state at that load. {cause}",
+            text(stop.last_load),
+            stop.error,
+        )
+    } else {
+        format!(
+            "no equilibrium at {} after {} halvings of the load step ({}); the outputs hold the last converged state, at {}. {cause}",
+            text(stop.failed_load),
+            stop.cutbacks,
+            stop.error,
+            text(stop.last_load),
+        )
+    };
     summary.extra.insert("complete".into(), json!(false));
     summary.extra.insert("failure_reason".into(), json!(reason));
     summary.extra.insert(

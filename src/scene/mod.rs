@@ -240,7 +240,7 @@ impl Scene {
         }
         if let Some(pd) = &self.pd {
             if let Some(r) = &pd.refinement {
-                self.notes.extend(r.inert_notes(&pd.solver));
+                self.notes.extend(r.inert_notes(&pd.solver, &pd.failure));
             }
         }
         let s0 = self.material.fracture.as_ref().and_then(|f| f.s0);

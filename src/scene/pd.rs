@@ -152,13 +152,37 @@ impl Default for PdRefinement {
 }
 
 impl PdRefinement {
+    /// Whether this refinement runs on the grid's cells (`pdbem_pd::adapt`): the tanh
+    /// law (`failure: Degradation`) under a quasi-static solver (Adr, Implicit,
+    /// Switching), with either model. Otherwise the grid becomes seed 004's dual-horizon
+    /// particles (`pdbem_pd::refine`: elastic solve, brittle initiation ramp, explicit
+    /// dynamics).
+    pub fn on_cells(failure: &Failure, solver: &PdSolver) -> bool {
+        matches!(failure, Failure::Degradation { .. }) && !matches!(solver, PdSolver::Explicit(_))
+    }
+
     /// Notes on settings a refined body does not read (no silent garbage): under explicit
     /// dynamics the conjugate-gradient `tolerance`; in the quasi-static solves `pd.solver`
     /// other than the default (a refined body has one quasi-static solver, conjugate
     /// gradients on its linearised energy, `pdbem_pd::refine`) and `check_every`.
-    pub fn inert_notes(&self, solver: &PdSolver) -> Vec<String> {
+    pub fn inert_notes(&self, solver: &PdSolver, failure: &Failure) -> Vec<String> {
         let defaults = PdRefinement::default();
         let mut notes = Vec::new();
+        if Self::on_cells(failure, solver) {
+            if self.tolerance != defaults.tolerance {
+                notes.push(format!(
+                    "pd.refinement.tolerance = {:e} is not read: refined cells are solved by pd.solver to its own tolerance",
+                    self.tolerance
+                ));
+            }
+            if self.check_every != defaults.check_every {
+                notes.push(format!(
+                    "pd.refinement.check_every = {} is not read: the quasi-static ramp checks the criteria at every converged load step",
+                    self.check_every
+                ));
+            }
+            return notes;
+        }
         if matches!(solver, PdSolver::Explicit(_)) {
             if self.tolerance != defaults.tolerance {
                 notes.push(format!(

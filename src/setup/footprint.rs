@@ -119,11 +119,32 @@ pub fn of(scene: &Scene) -> Result<Footprint> {
         Mode::Bem => bem_levels(scene, &mut f)?,
         Mode::Pd => {
             let problem = super::pd::problem_from_scene(scene)?;
-            let model = PdModel::new(&problem).with_context(|| pd_ctx(scene))?;
+            let cells = scene.pd.as_ref().and_then(|pd| {
+                pd.refinement
+                    .as_ref()
+                    .filter(|_| crate::scene::PdRefinement::on_cells(&pd.failure, &pd.solver))
+            });
+            let model = match cells {
+                Some(r) => {
+                    let crit = crate::run_pd::cell_criteria(r);
+                    let (model, split) = pdbem_pd::adapt::ramp::set_up(&problem, &crit)
+                        .with_context(|| pd_ctx(scene))?;
+                    f.notes.push(format!(
+                        "pd.refinement: the set-up splits {} cells of the grid: {} real nodes at the start (the criteria split more as they fire, up to max_level {})",
+                        split.levels().len(),
+                        model.n_real(),
+                        crit.max_level
+                    ));
+                    model
+                }
+                None => PdModel::new(&problem).with_context(|| pd_ctx(scene))?,
+            };
             add_pd(&mut f, &model);
             f.pd_factor = tangent_factor(scene, &model)?;
             if let Some(r) = scene.pd.as_ref().and_then(|pd| pd.refinement.as_ref()) {
-                f.notes.push(refined_start(scene, r, &problem)?);
+                if cells.is_none() {
+                    f.notes.push(refined_start(scene, r, &problem)?);
+                }
             }
         }
         Mode::Coupled => {
@@ -178,9 +199,11 @@ fn tangent_factor(scene: &Scene, model: &PdModel) -> Result<Option<usize>> {
     let Some(pd) = &scene.pd else {
         return Ok(None);
     };
-    if pd.refinement.is_some()
-        || !matches!(pd.solver, PdSolver::Implicit(_) | PdSolver::Switching(_))
-    {
+    let particles = pd
+        .refinement
+        .as_ref()
+        .is_some_and(|_| !crate::scene::PdRefinement::on_cells(&pd.failure, &pd.solver));
+    if particles || !matches!(pd.solver, PdSolver::Implicit(_) | PdSolver::Switching(_)) {
         return Ok(None);
     }
     let budget = pdbem_pd::tangent::factor_budget();

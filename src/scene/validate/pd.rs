@@ -122,10 +122,12 @@ fn check_refinement(
             "refinement runs in stand-alone PD only (not in PD-BEM windows or growth): drop `coupling`/`growth` or the field",
         );
     }
-    if pd.model != crate::scene::PdModelKind::StateBased {
+    if crate::scene::PdRefinement::on_cells(&pd.failure, &pd.solver) {
+        check_cell_refinement(c, r);
+    } else if pd.model != crate::scene::PdModelKind::StateBased {
         c.fail_at(
             "pd.refinement",
-            "refinement needs `model: StateBased` (dual-horizon state-based particles, seed 004)",
+            "refinement needs `model: StateBased` (dual-horizon state-based particles, seed 004) unless the bonds follow the tanh law (`failure: Degradation`), whose refinement splits the grid's cells under either model",
         );
     }
     check_refinement_law(c, scene, pd, r);
@@ -191,10 +193,8 @@ fn check_refinement_law(
     if !explicit {
         match pd.failure {
             Failure::Elastic => {}
-            Failure::Degradation { .. } => c.fail_at(
-                "pd.failure",
-                "a refined body breaks bonds at a critical stretch (it has no tanh degradation): use CriticalStretch or FromGc, or `failure: Elastic` (the tanh law on fixed zones of finer cells: `pd.refine_zones` instead of `pd.refinement`)",
-            ),
+            // The grid's cells split under the scene's solver (check_cell_refinement).
+            Failure::Degradation { .. } => {}
             Failure::CriticalStretch(_) | Failure::FromGc => {
                 if scene.cracks.is_empty() || scene.load.factors().len() < 2 {
                     c.fail_at(
@@ -228,6 +228,25 @@ fn check_refinement_law(
     check_strain_factor(c, pd, r);
 }
 
+/// `pd.refinement` on the grid's cells (the tanh law under a quasi-static solver,
+/// `pdbem_pd::adapt`): a cell splits once or twice (`max_level` 1 or 2, the mixed grid's
+/// levels), children halve their horizon with their spacing.
+fn check_cell_refinement(c: &mut Checker, r: &crate::scene::PdRefinement) {
+    if r.max_level > 2 {
+        c.fail(
+            "pd.refinement.max_level",
+            r.max_level,
+            "refined cells (the tanh law under a quasi-static solver) split at most twice: 1 or 2",
+        );
+    }
+    if r.keep_horizon {
+        c.fail_at(
+            "pd.refinement.keep_horizon",
+            "refined cells take horizons of their own spacing (the dual-horizon grid of pdbem_pd::mixed): drop the field",
+        );
+    }
+}
+
 /// Eq. 16's `strain_factor`: alpha in (0, 1), with a breaking failure law.
 fn check_strain_factor(
     c: &mut Checker,
@@ -245,7 +264,7 @@ fn check_strain_factor(
         if pd.failure == Failure::Elastic {
             c.fail_at(
                 "pd.refinement.strain_factor",
-                "Eq. 16 compares the strain with the critical stretch: it needs a breaking `pd.failure` (CriticalStretch or FromGc)",
+                "Eq. 16 compares the strain with the critical stretch: it needs a breaking `pd.failure` (CriticalStretch, FromGc or Degradation)",
             );
         }
     }
