@@ -46,7 +46,21 @@ fn check_reports_what_run_builds_for_every_case() {
             }
             Mode::Pd => {
                 let problem = pdbem::setup::pd::problem_from_scene(&scene).expect("PD problem");
-                let model = pdbem_pd::PdModel::new(&problem).expect("PD model");
+                // Refinement on cells starts from its set-up's split grid.
+                let cells = scene.pd.as_ref().and_then(|pd| {
+                    pd.refinement
+                        .as_ref()
+                        .filter(|_| pdbem::scene::PdRefinement::on_cells(&pd.failure, &pd.solver))
+                });
+                let model = match cells {
+                    Some(r) => {
+                        let crit = pdbem::run_pd::cell_criteria(r);
+                        pdbem_pd::adapt::ramp::set_up(&problem, &crit)
+                            .expect("set-up")
+                            .0
+                    }
+                    None => pdbem_pd::PdModel::new(&problem).expect("PD model"),
+                };
                 assert_eq!(fp.pd_real, model.n_real(), "{name}: PD nodes");
                 assert_eq!(fp.pd_bonds, model.n_bonds(), "{name}: PD bonds");
                 assert!(fp.bem.is_none(), "{name}: no BEM body");
