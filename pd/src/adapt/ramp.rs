@@ -118,6 +118,8 @@ struct Ramp<'a> {
     model: PdModel,
     rounds: Vec<Round>,
     crit: &'a CellCriteria,
+    /// The model and problem before the last split (taken only when cells split).
+    kept: Option<(PdModel, PdProblem)>,
 }
 
 /// Bytes a directed bond of a model holds (geometry, coefficients, flags, history and
@@ -165,6 +167,7 @@ impl Ramp<'_> {
         }
         self.check_size(&want)?;
         let raised = self.cells.raise(&want);
+        self.kept = Some((self.model.clone(), self.problem.clone()));
         self.problem = self.cells.problem();
         self.model = refined_model(&self.model, &self.problem)?;
         self.rounds.push(Round {
@@ -190,6 +193,7 @@ fn set_up_ramp<'a>(
         model: PdModel::new(base)?,
         rounds: Vec::new(),
         crit,
+        kept: None,
     };
     while ramp.refine(0.0, true)? > 0 {
         observe(AdaptEvent::Refined(ramp.rounds.last().expect("a round")));
@@ -232,7 +236,7 @@ pub fn ramp_to_limit(
             break;
         }
         loop {
-            let kept = (ramp.model.clone(), ramp.cells.clone(), ramp.problem.clone());
+            let cells_before = ramp.cells.clone();
             if ramp.refine(target, false)? == 0 {
                 break;
             }
@@ -240,7 +244,8 @@ pub fn ramp_to_limit(
             let again =
                 solve_to_limit(&mut ramp.model, &same_load(solver, target), 0, &mut |_| {})?;
             if let Some(stop) = again.stop {
-                (ramp.model, ramp.cells, ramp.problem) = kept;
+                (ramp.model, ramp.problem) = ramp.kept.take().expect("kept by the split");
+                ramp.cells = cells_before;
                 total.info.iterations += again.info.iterations;
                 total.stop = Some(Stop {
                     last_load: target,
