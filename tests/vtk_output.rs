@@ -134,6 +134,7 @@ fn growth_snapshots_paths_and_collection() {
                 points: vec![[0.0, 0.0], [0.1, 0.0]],
                 values: vec![0.0, 0.4],
                 tips: Vec::new(),
+                groups: Vec::new(),
             },
             FieldSnapshot {
                 step: 2,
@@ -141,6 +142,7 @@ fn growth_snapshots_paths_and_collection() {
                 points: vec![[0.0, 0.0]],
                 values: vec![1e-3],
                 tips: Vec::new(),
+                groups: Vec::new(),
             },
         ],
         ..Default::default()

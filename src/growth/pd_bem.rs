@@ -218,12 +218,14 @@ fn displacement_snapshot(
     for (x, u) in pts.iter().zip(ev.displacements(&pts)) {
         snap.points.push([x.x, x.y]);
         snap.values.push(u[0].hypot(u[1]));
+        snap.groups.push(0);
     }
     for w in &pb.windows {
         let (pos, u) = (w.model.positions(), w.model.displacements());
         for i in 0..w.model.n_real() {
             snap.points.push(pos[i]);
             snap.values.push(u[i][0].hypot(u[i][1]));
+            snap.groups.push(1);
         }
     }
     snap

@@ -35,6 +35,11 @@ pub struct ScatterField {
     pub loops: Vec<Vec<(f64, f64)>>,
     /// Marker radius in pixels (0 = automatic).
     pub marker_px: u32,
+    /// The discretisation each point belongs to, for the automatic markers (one entry
+    /// per point, e.g. 0 for a BEM interior grid and 1 for the PD windows' nodes):
+    /// within a group the markers are either all cell-covering or all separate discs
+    /// ([`auto_markers`]). Empty: all points are one group.
+    pub groups: Vec<u32>,
     /// Polylines drawn over the field in the crack colour (crack paths).
     pub paths: Vec<Polyline>,
     /// Labelled marks (crack tips): a ring in the crack colour and its text.
@@ -125,7 +130,11 @@ impl ScatterField {
         let radii: Vec<u32> = if self.marker_px > 0 {
             vec![self.marker_px; self.points.len()]
         } else {
-            auto_markers(&self.points, pw as f64 / (x1 - x0).max(1e-300))
+            auto_markers(
+                &self.points,
+                &self.groups,
+                pw as f64 / (x1 - x0).max(1e-300),
+            )
         };
         // Coarse points first, so a fine PD window over a coarse BEM grid stays on top.
         let mut order: Vec<usize> = (0..self.points.len()).collect();
@@ -278,27 +287,35 @@ fn caption_size(title: &str) -> u32 {
 
 /// Marker radius (pixels) of every point from its local spacing: d1, the distance to its
 /// nearest neighbour, and d2, to the nearest one off that direction (the other side of a
-/// grid cell). Where the points are dense, the disc covers its cell (radius a little
-/// over half the cell's diagonal, at most 14 px), so a field reads as a field, not as a
-/// lattice of white dots; where they are sparse (a PD window of 20 x 20 nodes), each is
-/// a separate disc of 0.4 d1 (at most 12 px), so the nodes stay countable. Per point, so
-/// a fine PD window keeps its own size beside a coarse BEM grid. `px_per_unit` is the
-/// plot's scale.
-fn auto_markers(points: &[(f64, f64)], px_per_unit: f64) -> Vec<u32> {
-    local_spacings(points)
-        .into_iter()
-        .map(|d| match d {
-            Some((d1, d2)) => {
-                // Half the cell diagonal, rounded up: a disc of that radius on every
-                // node leaves no gap at the cell corners (rounding down left a lattice
-                // of white dots).
-                let cover = 0.5 * d1.hypot(d2) * px_per_unit;
-                if cover <= 14.0 {
-                    cover.ceil().max(1.0) as u32
-                } else {
-                    (0.4 * d1 * px_per_unit).min(12.0).round().max(1.0) as u32
-                }
-            }
+/// grid cell). Where a discretisation is dense, each disc covers its cell (radius a
+/// little over half the cell's diagonal), so a field reads as a field, not as a lattice
+/// of white dots; where it is sparse (a PD window of 20 x 20 nodes), each is a separate
+/// disc of 0.4 d1 (at most 12 px), so the nodes stay countable. The choice is made once
+/// per group (`groups`, one per point; empty: one group): covering when the group's
+/// coarsest cell needs at most 14 px, so a refined PD grid draws its children as smaller
+/// discs of the same kind as their coarse neighbours, while a fine PD window (its own
+/// group) keeps its own size beside a coarse BEM grid. `px_per_unit` is the plot's
+/// scale.
+fn auto_markers(points: &[(f64, f64)], groups: &[u32], px_per_unit: f64) -> Vec<u32> {
+    const COVER_MAX_PX: f64 = 14.0;
+    let spacing = local_spacings(points);
+    let group = |i: usize| groups.get(i).copied().unwrap_or(0);
+    // Half the cell diagonal: a disc of that radius, rounded up, on every node leaves
+    // no gap at the cell corners (rounding down left a lattice of white dots).
+    let cover = |(d1, d2): (f64, f64)| 0.5 * d1.hypot(d2) * px_per_unit;
+    let mut coarsest = std::collections::BTreeMap::<u32, f64>::new();
+    for (i, d) in spacing.iter().enumerate() {
+        if let Some(d) = d {
+            let c = coarsest.entry(group(i)).or_insert(0.0);
+            *c = c.max(cover(*d));
+        }
+    }
+    spacing
+        .iter()
+        .enumerate()
+        .map(|(i, d)| match d {
+            Some(d) if coarsest[&group(i)] <= COVER_MAX_PX => cover(*d).ceil().max(1.0) as u32,
+            Some((d1, _)) => (0.4 * d1 * px_per_unit).min(12.0).round().max(1.0) as u32,
             None => 4,
         })
         .collect()
@@ -471,14 +488,46 @@ mod marker_tests {
         };
         // 10 px cells: half the diagonal is 7.07 px; radius 8 covers the corners (7
         // would leave a dot of background at each).
-        let dense = auto_markers(&grid(1.0, 0.0), 10.0);
+        let dense = auto_markers(&grid(1.0, 0.0), &[], 10.0);
         assert!(dense.iter().all(|&r| r == 8), "{dense:?}");
         // 30 px cells: separate discs of 0.4 * 30 = 12 px.
-        let sparse = auto_markers(&grid(1.0, 0.0), 30.0);
+        let sparse = auto_markers(&grid(1.0, 0.0), &[], 30.0);
         assert!(sparse.iter().all(|&r| r == 12), "{sparse:?}");
+        // A fine PD window (group 1) beside a coarse grid (group 0) keeps its own size.
         let mut mixed = grid(1.0, 0.0);
         mixed.extend(grid(0.1, 100.0));
-        let r = auto_markers(&mixed, 10.0);
+        let groups: Vec<u32> = (0..32).map(|i| u32::from(i >= 16)).collect();
+        let r = auto_markers(&mixed, &groups, 10.0);
         assert!(r[..16].iter().all(|&r| r == 8) && r[16..].iter().all(|&r| r == 1));
+    }
+
+    /// A sparse grid with one cell split into four children (one group, as a refined PD
+    /// grid is plotted): the children are separate discs of half their parents' radius,
+    /// not cell-covering blobs that merge at the split cell (what sizing each point on
+    /// its own gave: radius 9 px, against 10 px for the coarse nodes).
+    #[test]
+    fn children_of_a_sparse_grid_are_discs_of_their_own_size() {
+        let mut pts: Vec<(f64, f64)> = Vec::new();
+        for i in 0..6 {
+            for j in 0..6 {
+                if (i, j) != (2, 2) {
+                    pts.push((2.0 * i as f64, 2.0 * j as f64));
+                }
+            }
+        }
+        let coarse = pts.len();
+        for (a, b) in [(-0.5, -0.5), (0.5, -0.5), (-0.5, 0.5), (0.5, 0.5)] {
+            pts.push((4.0 + a, 4.0 + b));
+        }
+        // 12.5 px per unit: coarse cells 25 px (cover 17.7 px: sparse), children 12.5 px.
+        // The coarse nodes next to the children are sized by their distance to them
+        // (the four beside it, 1.58 units away: 8 px) and stay larger than the children.
+        let r = auto_markers(&pts, &[], 12.5);
+        assert!(r[..coarse].iter().all(|&r| r == 10 || r == 8), "{r:?}");
+        assert_eq!(r[..coarse].iter().filter(|&&r| r == 10).count(), coarse - 4);
+        assert!(r[coarse..].iter().all(|&r| r == 5), "{r:?}");
+        let own: Vec<u32> = (0..pts.len() as u32).collect();
+        let apart = auto_markers(&pts, &own, 12.5);
+        assert!(apart[coarse..].iter().all(|&r| r == 9), "{apart:?}");
     }
 }

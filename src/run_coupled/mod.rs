@@ -390,12 +390,14 @@ fn write_plots(
     for (x, v) in pts.iter().zip(&u) {
         field.points.push((x.x, x.y));
         field.values.push(v[0].hypot(v[1]));
+        field.groups.push(0);
     }
     for w in &pb.windows {
         let (pos, du) = (w.model.positions(), w.model.displacements());
         for i in 0..w.model.n_real() {
             field.points.push((pos[i][0], pos[i][1]));
             field.values.push(du[i][0].hypot(du[i][1]));
+            field.groups.push(1);
         }
         let c = w.window.corners();
         field.loops.push(c.iter().map(|q| (q.x, q.y)).collect());

@@ -280,6 +280,11 @@ pub struct FieldSnapshot {
     /// the tip that triggered it); empty where the paths tell (end of a load step).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub tips: Vec<[f64; 2]>,
+    /// The discretisation each point belongs to (0: BEM interior points, 1: PD nodes),
+    /// where a snapshot mixes them, so a plot sizes each one's markers on its own;
+    /// empty: one discretisation.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub groups: Vec<u32>,
 }
 
 #[cfg(test)]

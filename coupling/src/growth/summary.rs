@@ -30,6 +30,7 @@ pub fn damage_snapshots(step: usize, windows: &[WindowModel], tag: &str) -> Vec<
                 points: w.model.positions()[..n].to_vec(),
                 values: w.model.damage()[..n].to_vec(),
                 tips: Vec::new(),
+                groups: Vec::new(),
             }
         })
         .collect()

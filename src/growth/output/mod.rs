@@ -357,6 +357,7 @@ fn snapshot_plot(scene: &Scene, h: &GrowthHistory, s: &FieldSnapshot) -> Scatter
         range,
         loops,
         marker_px: 0,
+        groups: s.groups.clone(),
         paths,
         marks,
         view,

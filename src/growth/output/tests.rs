@@ -10,6 +10,7 @@ fn snap(label: &str, step: usize) -> FieldSnapshot {
         points: Vec::new(),
         values: Vec::new(),
         tips: Vec::new(),
+        groups: Vec::new(),
     }
 }
 

@@ -180,6 +180,7 @@ fn displacement_snapshot(
         points: pts.iter().map(|p| [p.x, p.y]).collect(),
         values: u.iter().map(|v| f * v[0].hypot(v[1])).collect(),
         tips: Vec::new(),
+        groups: Vec::new(),
     }
 }
 

@@ -231,6 +231,7 @@ fn snapshots(model: &PdModel, step: usize) -> [FieldSnapshot; 2] {
             points: points.clone(),
             values: model.damage()[..n].to_vec(),
             tips: Vec::new(),
+            groups: Vec::new(),
         },
         FieldSnapshot {
             step,
@@ -238,6 +239,7 @@ fn snapshots(model: &PdModel, step: usize) -> [FieldSnapshot; 2] {
             points,
             values: (0..n).map(|i| u[i][0].hypot(u[i][1])).collect(),
             tips: Vec::new(),
+            groups: Vec::new(),
         },
     ]
 }
