@@ -9,15 +9,16 @@
 //! seed's on both grids, so the step counts are equal and the ratio is the ratio of the
 //! bond counts up to cache effects.
 //!
-//! The adaptive run ([`crate::refine::run_dynamic`]) starts from the coarse grid with the
-//! pre-crack's particles refined at set-up (Eq. 15) and splits the particles Eqs. 15-16
-//! flag (the seed's phi_c = 0.4, alpha = 0.5) every [`ADAPTIVE_CHECK_EVERY`] steps
+//! The adaptive run ([`crate::refine::run_dynamic`]) starts from the unsplit coarse grid
+//! and splits the particles Eqs. 15-16 flag (the seed's phi_c = 0.4, alpha = 0.5; Eq. 15
+//! once a bond of the particle has broken in the run) every [`ADAPTIVE_CHECK_EVERY`] steps
 //! (seed 004 Table 5: 311 s, 4000-4522 particles; Table 6: 309 s, 4000-4783). Its particles' force pass is not the
 //! uniform grid's `PdModel` pass (since 2026-11-29 the two take the same time per bond on
 //! this plate), so the coarse plate is also timed on the particles with no criterion
 //! (nothing splits): adaptive over that is the cost of the refinement itself. The path-refined run splits the region the crack crosses
 //! before the first step ([`PATH_CIRCLE`], then the same criteria): the fine grid's fork
-//! and branches, which the adaptive run does not give (`docs/seed004.md`), at its cost.
+//! and branches as the adaptive run gives them, at the cost of splitting the path ahead
+//! of the crack (`docs/seed004.md`).
 //!
 //! **The damage pattern.** Case 2 is the one where the grids' patterns differ in a way
 //! a count shows: the coarse grid's "fake damage" along the loaded edges (seed 004
@@ -33,7 +34,7 @@
 
 use serde::Serialize;
 
-use super::crack::{damaged_near_edges, EDGE_DAMAGE};
+use super::crack::{branch_exits, damaged_near_edges, EDGE_DAMAGE};
 use super::{run, DynamicRecord, ExplicitParams};
 use crate::cases::{branching_plate, SEED004_DENSITY};
 use crate::geometry::P2;
@@ -118,6 +119,9 @@ pub struct BranchingRun {
     /// Particles past damage [`EDGE_DAMAGE`] within [`EDGE_BAND`] of the loaded edges at
     /// the end (case 2's fake damage on the coarse grid).
     pub edge_damaged: usize,
+    /// Where the lower and upper branches leave the right edge at the end (m,
+    /// [`branch_exits`]): the damage pattern the runs compare.
+    pub branch_exits_m: [Option<f64>; 2],
     /// An error of the run, if any.
     pub error: Option<String>,
 }
@@ -202,6 +206,7 @@ fn timed(case: BranchingCase, dx: f64, window: f64, dt: f64) -> BranchingRun {
             out.broken_bonds = m.broken_bonds();
             let phi = m.damage();
             out.edge_damaged = edge_damaged(m.positions(), &phi);
+            out.branch_exits_m = exits(&m.positions()[..out.nodes], &phi[..out.nodes]);
         }
         Err(e) => out.error = Some(e.to_string()),
     }
@@ -226,7 +231,9 @@ fn timed_particles(case: BranchingCase, window: f64, dt: f64, r: &Refinement) ->
     let mut obs = (Vec::new(), Vec::new());
     match run_dynamic(&case.problem, &p, r, ADAPTIVE_CHECK_EVERY, &mut obs) {
         Ok((body, info)) => {
-            out.edge_damaged = edge_damaged(&body.dh.pos, &body.damage());
+            let phi = body.damage();
+            out.edge_damaged = edge_damaged(&body.dh.pos, &phi);
+            out.branch_exits_m = exits(&body.dh.pos, &phi);
             let d = &info.dynamics;
             (out.nodes, out.nodes_max) = info.particles;
             out.bonds = info.bonds;
@@ -241,6 +248,21 @@ fn timed_particles(case: BranchingCase, window: f64, dt: f64, r: &Refinement) ->
         Err(e) => out.error = Some(e.to_string()),
     }
     out
+}
+
+/// [`branch_exits`] of the branching plate: its mid-line y = 20 mm, its last 1 mm (the
+/// coarse spacing) by the right edge.
+fn exits(pos: &[P2], phi: &[f64]) -> [Option<f64>; 2] {
+    branch_exits(pos, phi, 0.02, 1.01e-3)
+}
+
+/// The largest difference between the branch exits of `r` and `fine` (m), if both runs
+/// have both.
+pub fn exits_off(r: &BranchingRun, fine: &BranchingRun) -> Option<f64> {
+    match (r.branch_exits_m, fine.branch_exits_m) {
+        ([Some(a), Some(b)], [Some(c), Some(d)]) => Some((a - c).abs().max((b - d).abs())),
+        _ => None,
+    }
 }
 
 /// Keep the faster of two timings of one run: the first round's record with the
@@ -342,6 +364,10 @@ pub fn table(b: &BranchingBench) -> String {
     );
     let seed = b.case.seed_times();
     let us = |t: Option<f64>| t.map_or("-".to_string(), |t| format!("{:.1}", t * 1e6));
+    let mm = |y: Option<f64>| y.map_or("-".to_string(), |y| format!("{:.1}", y * 1e3));
+    let off = |r: &BranchingRun| {
+        exits_off(r, &b.fine).map_or("-".to_string(), |d| format!("{:.1}", d * 1e3))
+    };
     for (name, r) in [
         ("coarse", &b.coarse),
         ("fine", &b.fine),
@@ -351,7 +377,7 @@ pub fn table(b: &BranchingBench) -> String {
     ] {
         let _ = writeln!(
             s,
-            "  {name:<16} dx {:.1} mm: {}-{} nodes (refinement {:.2} s), {} bonds, {} steps, {:.2} s (rounds {}; {:.3e} bond updates/s), branch {} us, boundary {} us, {} broken, {} past {EDGE_DAMAGE} within {:.0} mm of the loaded edges{}",
+            "  {name:<16} dx {:.1} mm: {}-{} nodes (refinement {:.2} s), {} bonds, {} steps, {:.2} s (rounds {}; {:.3e} bond updates/s), branch {} us, boundary {} us, {} broken, {} past {EDGE_DAMAGE} within {:.0} mm of the loaded edges, branches leave the right edge at y = {} / {} mm ({} mm off the fine run's){}",
             r.dx * 1e3,
             r.nodes,
             r.nodes_max,
@@ -370,6 +396,9 @@ pub fn table(b: &BranchingBench) -> String {
             r.broken_bonds,
             r.edge_damaged,
             EDGE_BAND * 1e3,
+            mm(r.branch_exits_m[0]),
+            mm(r.branch_exits_m[1]),
+            off(r),
             r.error.as_ref().map_or(String::new(), |e| format!(" (error: {e})"))
         );
     }

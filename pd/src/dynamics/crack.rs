@@ -212,3 +212,27 @@ pub fn damaged_near_edges(pos: &[P2], phi: &[f64], edges: &[&[P2]], band: f64) -
         })
         .count()
 }
+
+/// Damage past which a point counts in [`branch_exits`].
+pub const EXIT_DAMAGE: f64 = 0.3;
+
+/// Where the two branches of a crack along `mid_y` leave a plate through its right edge
+/// (m): the damage-weighted mean height of the points within `width` of the right-most
+/// point whose damage passes [`EXIT_DAMAGE`], below and above `mid_y` (`None` for a side
+/// without such points). Seed 004 section 4.2's branching plate: the heights compare the
+/// patterns of two discretisations (the fine grid's 3.9 / 36.1 mm against the coarse
+/// grid's 7.0 / 33.0 mm in case 1, `docs/seed004.md`).
+pub fn branch_exits(pos: &[P2], phi: &[f64], mid_y: f64, width: f64) -> [Option<f64>; 2] {
+    let right = pos.iter().fold(f64::MIN, |a, p| a.max(p[0]));
+    let side = |lower: bool| {
+        let (mut w, mut wy) = (0.0, 0.0);
+        for (p, &d) in pos.iter().zip(phi) {
+            if p[0] > right - width && d > EXIT_DAMAGE && (p[1] < mid_y) == lower {
+                w += d;
+                wy += d * p[1];
+            }
+        }
+        (w > 0.0).then(|| wy / w)
+    };
+    [side(true), side(false)]
+}

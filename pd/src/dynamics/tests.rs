@@ -407,3 +407,40 @@ fn held_region_velocity_moves_the_region_and_closes_the_balance() {
         last.external_work
     );
 }
+
+/// Two synthetic branches along the rows y = 3.5 and 36.5 mm of a 1 mm lattice (damage 1
+/// there, 0.5 on the rows next to them, 0.2 elsewhere): the exits are the damage-weighted
+/// means, 3.5 and 36.5 mm; points left of the last millimetre and damage at or below 0.3 do
+/// not count; a side without damage has none.
+#[test]
+fn branch_exits_are_the_weighted_heights_by_the_right_edge() {
+    use super::crack::branch_exits;
+    let mut pos = Vec::new();
+    let mut phi = Vec::new();
+    for i in 0..100 {
+        for j in 0..40 {
+            let (x, y) = (1e-3 * (i as f64 + 0.5), 1e-3 * (j as f64 + 0.5));
+            let d = |c: f64| -> f64 {
+                let off = ((y - c) / 1e-3).abs();
+                if off < 0.6 {
+                    1.0
+                } else if off < 1.6 {
+                    0.5
+                } else {
+                    0.2
+                }
+            };
+            pos.push([x, y]);
+            phi.push(d(3.5e-3).max(d(36.5e-3)));
+        }
+    }
+    let e = branch_exits(&pos, &phi, 0.02, 1.01e-3);
+    assert!((e[0].unwrap() - 3.5e-3).abs() < 1e-15, "{e:?}");
+    assert!((e[1].unwrap() - 36.5e-3).abs() < 1e-15, "{e:?}");
+    let lower_only: Vec<f64> = pos
+        .iter()
+        .zip(&phi)
+        .map(|(p, &d)| if p[1] < 0.02 { d } else { 0.0 })
+        .collect();
+    assert_eq!(branch_exits(&pos, &lower_only, 0.02, 1.01e-3)[1], None);
+}
