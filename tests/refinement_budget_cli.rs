@@ -36,11 +36,11 @@ fn variant(dir: &Path, case_name: &str, refinement: &str) -> PathBuf {
 }
 
 /// The path-refined branching case: `check` reports the body the run starts from (the
-/// run's own count: 10 168 particles, `docs/seed004.md`), and the size estimate of its
+/// run's own count: 9976 particles, `docs/seed004.md`), and the size estimate of its
 /// circle ([`pdbem::setup::refined_size::refined_children`], which the budget check uses
-/// before anything is built) is within 5 % of what the circle splits (the set-up's 2056
-/// splits less the 66 of Eq. 15 on the pre-crack, 3 particles each: 5970; estimated
-/// 5973).
+/// before anything is built) is within 5 % of what the circle splits (the set-up's 1992
+/// splits, 3 particles each: 5976; estimated 5973; a dynamic run's set-up splits the
+/// static regions only).
 #[test]
 fn check_reports_the_refined_start_and_the_estimate_holds() {
     let path = case("seed004_branching_case1_path_refined.ron");
@@ -51,7 +51,7 @@ fn check_reports_the_refined_start_and_the_estimate_holds() {
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success(), "{o:?}");
     assert!(
-        stdout.contains("note: pd.refinement: the set-up splits 2056 particles: 10168 particles and 279338 directed bonds at the start"),
+        stdout.contains("note: pd.refinement: the set-up splits 1992 particles: 9976 particles and 272998 directed bonds at the start"),
         "{stdout}"
     );
     let scene = pdbem::scene::Scene::load(&path).unwrap();
@@ -62,7 +62,7 @@ fn check_reports_the_refined_start_and_the_estimate_holds() {
         .unwrap();
     let geo = pdbem::scene::shapes::SceneGeometry::of(&scene);
     let (n, _) = pdbem::setup::refined_size::refined_children(r, &geo, 1e-3, 3.015);
-    let split = 3.0 * (2056.0 - 66.0);
+    let split = 3.0 * 1992.0;
     assert!((n / split - 1.0).abs() < 0.05, "{n} against {split}");
 }
 
@@ -114,10 +114,11 @@ fn a_refinement_over_the_budget_is_refused_by_check_and_run() {
 }
 
 /// The adaptive branching case has no static region, so its size estimate (about 18 MB)
-/// passes a budget of 20 MB; the first split of its set-up (Eq. 15 on the pre-crack's
-/// mouth: 4018 particles and 107 566 bonds beside the 4000-particle body, 24.9 MiB) is
-/// refused before it allocates, naming `pd.refinement`, by `check` (which runs the
-/// set-up) and by `run`, with no output folder.
+/// passes a budget of 20 MB and its set-up splits nothing. But a split builds the refined
+/// body beside the one it splits: `check` refuses the scene because the first split
+/// during the run needs twice the 4000-particle body (24.8 MiB), naming `pd.refinement`,
+/// and `run` ends at that first split (2 particles, 24.8 MiB) before it allocates, with
+/// no output folder.
 #[test]
 fn a_split_over_the_budget_ends_the_run_before_it_allocates() {
     let dir = temp("refbudget", "split");
@@ -133,7 +134,11 @@ fn a_split_over_the_budget_ends_the_run_before_it_allocates() {
     );
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(
-        !o.status.success() && stderr.contains("pd.refinement: splitting 6 particles"),
+        !o.status.success()
+            && stderr.contains(
+                "pd.refinement: a split during the run builds the refined body beside the body it splits (4000 particles"
+            )
+            && stderr.contains("over the budget of 20.000 MiB"),
         "{stderr}"
     );
     let out = dir.join("out");

@@ -9,7 +9,7 @@
 use anyhow::{Context, Result};
 use pdbem_bem::system::{footprint as bem_footprint, BemFootprint};
 use pdbem_coupling::growth::Scenario;
-use pdbem_pd::refine::{set_up, Body};
+use pdbem_pd::refine::{set_up, set_up_static, Body, BOND_BYTES, PARTICLE_BYTES};
 use pdbem_pd::{PdModel, PdProblem};
 
 use crate::runner::mode::{mode_of, Mode};
@@ -80,8 +80,9 @@ impl Footprint {
 }
 
 /// The note on the refined body a `pd.refinement` scene starts from: its static regions
-/// and Eq. 15 on the pre-cracks split as the run will split them ([`pdbem_pd::refine::set_up`],
-/// each split within the memory budget).
+/// and, for the static solve and ramp, Eq. 15 on the pre-cracks split as the run will split
+/// them ([`pdbem_pd::refine::set_up`]; explicit dynamics splits the static regions only,
+/// [`pdbem_pd::refine::set_up_static`]), each split within the memory budget.
 fn refined_start(
     scene: &Scene,
     r: &crate::scene::PdRefinement,
@@ -90,12 +91,44 @@ fn refined_start(
     let settings = crate::run_refined::settings(r, &problem.cracks);
     let mut body = Body::from_problem(problem).with_context(|| pd_ctx(scene))?;
     body.keep_horizon = settings.keep_horizon;
-    let split = set_up(&mut body, &settings).with_context(|| pd_ctx(scene))?;
+    let dynamic = scene
+        .pd
+        .as_ref()
+        .is_some_and(|pd| matches!(pd.solver, crate::scene::PdSolver::Explicit(_)));
+    let split = if dynamic {
+        set_up_static(&mut body, &settings)
+    } else {
+        set_up(&mut body, &settings)
+    }
+    .with_context(|| pd_ctx(scene))?;
+    first_split_within_budget(&body, &settings).with_context(|| pd_ctx(scene))?;
     Ok(format!(
         "pd.refinement: the set-up splits {split} particles: {} particles and {} directed bonds at the start (the criteria split more as they fire)",
         body.len(),
         body.dh.bonds.len()
     ))
+}
+
+/// A split builds the refined body beside the one it splits ([`Body::split`]), so a
+/// refinement whose criteria may fire during the run needs at least twice the start body:
+/// over the memory budget, the first split would end the run, which `check` says first.
+fn first_split_within_budget(
+    body: &Body,
+    r: &pdbem_pd::refine::Refinement,
+) -> Result<(), pdbem_pd::PdError> {
+    if r.critical_damage.is_none() && r.strain_factor.is_none() {
+        return Ok(());
+    }
+    let one = body.len() as f64 * PARTICLE_BYTES + body.dh.bonds.len() as f64 * BOND_BYTES;
+    pdbem_pd::tangent::check_budget(
+        &format!(
+            "pd.refinement: a split during the run builds the refined body beside the body it splits ({} particles and {} directed bonds at the start), so the first split",
+            body.len(),
+            body.dh.bonds.len()
+        ),
+        2.0 * one,
+        pdbem_pd::tangent::factor_budget(),
+    )
 }
 
 /// Bytes as KiB / MiB / GiB with three significant digits.

@@ -42,6 +42,22 @@
 //! summed apart so that the recorded fracture energy (the energy balance's dissipation,
 //! [`crate::dynamics`]) counts broken bonds only.
 //!
+//! **The crack the run grows, not the pre-crack.** Eq. 15 reads the damage of Eq. 14,
+//! which counts the bonds a pre-crack cuts, but a particle passes it in a run only once a
+//! bond of its horizon or dual horizon has broken during the run ([`broke_in_run`]), and
+//! the set-up splits the static regions only ([`super::run::set_up_static`]). So the
+//! refinement follows the crack the run grows, as seed 004's Tables 5-6 count it (4000
+//! particles at the start of both branching cases: the seed's set-up split nothing). A
+//! pre-crack's rows sit at damage 11/28 = 0.393, its mouth at 0.41 and, after a
+//! neighbour's split, at 0.403-0.406: counted, they split the pre-crack at set-up (66
+//! particles on the branching plate, 6 % more bonds for the whole run) and moved the
+//! pattern away from the fine grid's: case 1's branches left the right edge at y = 9.7 /
+//! 30.3 mm, the fine grid's at 3.9 / 36.1 mm and the coarse grid's at 7.0 / 33.0 mm; with
+//! this rule at 4.7 / 35.3 mm, and at 1.4-2.9 mm from the fine grid's when checked every
+//! 1-20 steps instead of 10 (`docs/seed004.md`, test
+//! `verification_seed004_branching_pattern`). A scene that wants the pre-crack refined
+//! says so with a static region.
+//!
 //! **Stable step.** The Gershgorin bound of [`crate::dynamics`] on the dual-horizon
 //! linearised stiffness ([`critical_time_step`]): $\Delta t_c = \min_k\sqrt{4\rho V_k/R_k}$
 //! over the particles with a free component. A uniform grid's bound scales with its
@@ -268,6 +284,28 @@ fn external_work(body: &Body, load: f64) -> f64 {
         .sum::<f64>()
 }
 
+/// Whether a bond of particle `k`'s horizon or dual horizon has broken during the run: a
+/// bond flagged broken that crosses no pre-crack (module docs; a bond a split started
+/// broken, past its owner's critical stretch, counts as broken by the run).
+pub fn broke_in_run(body: &Body, k: usize) -> bool {
+    let dh = &body.dh;
+    let precut = |i: usize, j: usize| {
+        let tol = 1e-6 * body.size[i].min(body.size[j]);
+        body.cracks
+            .iter()
+            .any(|c| segment_crosses_crack(dh.pos[i], dh.pos[j], c, tol))
+    };
+    let own = dh
+        .bonds
+        .row(k)
+        .any(|b| dh.intact[b] == 0 && !precut(k, dh.bonds.nbr[b] as usize));
+    let duals = dh.dual_offsets[k]..dh.dual_offsets[k + 1];
+    own || dh.dual[duals.clone()]
+        .iter()
+        .zip(&dh.dual_owner[duals])
+        .any(|(&b, &o)| dh.intact[b as usize] == 0 && !precut(o as usize, k))
+}
+
 /// Directed bonds cut by the pre-cracks.
 fn precut(body: &Body) -> usize {
     let dh = &body.dh;
@@ -306,11 +344,9 @@ fn plan(
 }
 
 /// Run the explicit dynamics of `p`'s refined body from rest with adaptive refinement
-/// `r` checked every `check_every` steps (module docs), reporting through `obs`. Set-up
-/// (as [`super::run`]): the static regions of `r` and Eq. 15 on the pre-cracks are
-/// refined, level by level until nothing fires, before the first step (the cut bonds of
-/// a pre-crack damage its particles, and each split changes its neighbours' damage).
-/// Returns the final body.
+/// `r` checked every `check_every` steps (module docs), reporting through `obs`. Set-up:
+/// the static regions of `r` ([`super::run::set_up_static`]; Eq. 15 fires during the run,
+/// where bonds break: module docs). Returns the final body.
 pub fn run_dynamic(
     p: &PdProblem,
     ex: &ExplicitParams,
@@ -329,7 +365,7 @@ pub fn run_dynamic(
         return Err(PdError::invalid("check_every", "must be at least 1 step"));
     }
     let mut body = Body::from_problem(p)?;
-    super::run::set_up(&mut body, r)?;
+    super::run::set_up_static(&mut body, r)?;
     let (dt, dt_c, steps, record_every) = plan(&body, ex, r)?;
     let t0 = Instant::now();
     for k in 0..body.len() {
@@ -398,7 +434,7 @@ pub fn run_dynamic(
         let time = step as f64 * dt;
         if check {
             let t = Instant::now();
-            let parents = flagged_measured(&body, r, &st.measures);
+            let parents = flagged_measured(&body, r, &st.measures, |k| broke_in_run(&body, k));
             if !parents.is_empty() {
                 let before =
                     st.kinetic(&body) + body.dh.energy(&body.u) - external_work(&body, ex.load);

@@ -304,9 +304,31 @@ fn validation_names_the_field() {
 /// pre-crack tip and runs past x = 55 mm, Eq. 15 splits particles during the run (more
 /// particles at the end, whole parents only), the dissipation is positive and every
 /// refined body's stable step stays above dt.
+///
+/// Eq. 15 follows the crack the run grows (module docs): at the start every broken bond
+/// is a pre-crack cut, so no particle [`broke_in_run`], although the cut damages some
+/// past phi_c = 0.4 and the static driver's set-up splits them; the run starts from the
+/// unsplit grid; at the end every particle the grown crack damages past 0.4 (beyond a
+/// horizon from the pre-crack tip) broke in the run, and no particle along the pre-crack
+/// (more than a horizon behind its tip) has split.
 #[test]
 fn cracking_plate_refines_along_the_crack() {
     let case = branching_plate(2e-3, 2e6);
+    let start = Body::from_problem(&case.problem).unwrap();
+    let r0 = Refinement::default();
+    let precut = super::super::run::flagged(&start, &r0, true, false);
+    assert!(
+        !precut.is_empty(),
+        "the pre-crack damages particles past 0.4"
+    );
+    assert!((0..start.len()).all(|k| !broke_in_run(&start, k)));
+    let mut statically = start.clone();
+    assert!(super::super::run::set_up(&mut statically, &r0).unwrap() > 0);
+    let mut dynamically = start.clone();
+    assert_eq!(
+        super::super::run::set_up_static(&mut dynamically, &r0).unwrap(),
+        0
+    );
     let ex = ExplicitParams {
         density: SEED004_DENSITY,
         end_time: 30e-6,
@@ -326,6 +348,25 @@ fn cracking_plate_refines_along_the_crack() {
     let children = body.level.iter().filter(|&&l| l == 1).count();
     assert_eq!(children % 4, 0);
     assert!(splits.iter().all(|e| e.dt_c >= info.dynamics.dt));
+    assert_eq!(info.particles.0, start.len());
+    let (tip, delta) = (0.05, 3.015 * 2e-3);
+    let phi = body.damage();
+    for k in 0..body.len() {
+        let x = body.dh.pos[k];
+        if x[0] > tip + delta && phi[k] > 0.4 {
+            assert!(
+                broke_in_run(&body, k),
+                "particle at {x:?}, damage {}",
+                phi[k]
+            );
+        }
+        if x[0] < tip - delta {
+            assert_eq!(
+                body.level[k], 0,
+                "a split particle along the pre-crack at {x:?}"
+            );
+        }
+    }
 }
 
 /// Refinement before the run is the finer grid: seed 004's plate on a 2 mm grid with every

@@ -56,24 +56,42 @@ pub fn flagged(body: &Body, r: &Refinement, with_regions: bool, with_strain: boo
         with_regions,
         with_strain,
         |k| body.damage_of(k),
+        |_| true,
         |k| body.accumulated_strain_of(k),
     )
 }
 
 /// [`flagged`] without static regions and with Eq. 16, from the damage and strains a
-/// force pass measured at the body's state ([`super::pass::forces_measuring_into`]).
-pub fn flagged_measured(body: &Body, r: &Refinement, m: &Measures) -> Vec<usize> {
-    select(body, r, false, true, |k| m.damage[k], |k| m.strain[k])
+/// force pass measured at the body's state ([`super::pass::forces_measuring_into`]);
+/// Eq. 15 fires only for the particles `grown` accepts (a dynamic run: those with a bond
+/// broken by the run, [`super::dynamics::broke_in_run`]).
+pub fn flagged_measured(
+    body: &Body,
+    r: &Refinement,
+    m: &Measures,
+    grown: impl Fn(usize) -> bool + Sync,
+) -> Vec<usize> {
+    select(
+        body,
+        r,
+        false,
+        true,
+        |k| m.damage[k],
+        grown,
+        |k| m.strain[k],
+    )
 }
 
 /// [`flagged`] with the damage and accumulated strain of each particle from `damage` and
-/// `strain`.
+/// `strain`; Eq. 15 also asks `grown` of a particle past `phi_c` (tested last: it is the
+/// dearest).
 fn select(
     body: &Body,
     r: &Refinement,
     with_regions: bool,
     with_strain: bool,
     damage: impl Fn(usize) -> f64 + Sync,
+    grown: impl Fn(usize) -> bool + Sync,
     strain: impl Fn(usize) -> P2 + Sync,
 ) -> Vec<usize> {
     let delta_ref = body.dh.delta.iter().fold(0.0f64, |a, &b| a.max(b));
@@ -90,7 +108,7 @@ fn select(
                 .any(|(i, s)| body.level[k] < r.region_level(i) && s.contains(x, delta_ref));
         region
             || r.critical_damage
-                .is_some_and(|c| damage(k) > c + DAMAGE_TIE)
+                .is_some_and(|c| damage(k) > c + DAMAGE_TIE && grown(k))
             || match (factor, body.critical_stretch(k)) {
                 (Some(a), Some(sc)) => {
                     let e = strain(k);
@@ -118,6 +136,16 @@ pub fn set_up(body: &mut Body, r: &Refinement) -> Result<usize, PdError> {
         }
         split += body.split(&f)?;
     }
+}
+
+/// The set-up of a dynamic run ([`super::run_dynamic`]): the static regions of `r` only,
+/// level by level; Eq. 15 fires during the run, where bonds break.
+pub fn set_up_static(body: &mut Body, r: &Refinement) -> Result<usize, PdError> {
+    let regions_only = Refinement {
+        critical_damage: None,
+        ..r.clone()
+    };
+    set_up(body, &regions_only)
 }
 
 /// Solve `p` with adaptive refinement `r` at load factor `load`. A displacement
