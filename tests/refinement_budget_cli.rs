@@ -115,10 +115,9 @@ fn a_refinement_over_the_budget_is_refused_by_check_and_run() {
 
 /// The adaptive branching case has no static region, so its size estimate (about 18 MB)
 /// passes a budget of 20 MB and its set-up splits nothing. But a split builds the refined
-/// body beside the one it splits: `check` refuses the scene because the first split
-/// during the run needs twice the 4000-particle body (24.8 MiB), naming `pd.refinement`,
-/// and `run` ends at that first split (2 particles, 24.8 MiB) before it allocates, with
-/// no output folder.
+/// body beside the one it splits, so the first split during the run would need twice the
+/// 4000-particle body (24.8 MiB): `check` and `run` refuse the scene at its set-up,
+/// before the first step, naming `pd.refinement`, and `run` leaves no output folder.
 #[test]
 fn a_split_over_the_budget_ends_the_run_before_it_allocates() {
     let dir = temp("refbudget", "split");
@@ -155,7 +154,10 @@ fn a_split_over_the_budget_ends_the_run_before_it_allocates() {
     );
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(!o.status.success(), "{stderr}");
-    for part in ["pd.refinement: splitting", "over the budget of 20.000 MiB"] {
+    for part in [
+        "pd.refinement: a split during the run builds the refined body beside the body it splits (4000 particles",
+        "over the budget of 20.000 MiB",
+    ] {
         assert!(stderr.contains(part), "{part}: {stderr}");
     }
     assert!(!out.exists(), "{} left behind", out.display());

@@ -9,7 +9,7 @@
 use anyhow::{Context, Result};
 use pdbem_bem::system::{footprint as bem_footprint, BemFootprint};
 use pdbem_coupling::growth::Scenario;
-use pdbem_pd::refine::{set_up, set_up_static, Body, BOND_BYTES, PARTICLE_BYTES};
+use pdbem_pd::refine::{set_up, set_up_static, Body};
 use pdbem_pd::{PdModel, PdProblem};
 
 use crate::runner::mode::{mode_of, Mode};
@@ -101,34 +101,11 @@ fn refined_start(
         set_up(&mut body, &settings)
     }
     .with_context(|| pd_ctx(scene))?;
-    first_split_within_budget(&body, &settings).with_context(|| pd_ctx(scene))?;
     Ok(format!(
         "pd.refinement: the set-up splits {split} particles: {} particles and {} directed bonds at the start (the criteria split more as they fire)",
         body.len(),
         body.dh.bonds.len()
     ))
-}
-
-/// A split builds the refined body beside the one it splits ([`Body::split`]), so a
-/// refinement whose criteria may fire during the run needs at least twice the start body:
-/// over the memory budget, the first split would end the run, which `check` says first.
-fn first_split_within_budget(
-    body: &Body,
-    r: &pdbem_pd::refine::Refinement,
-) -> Result<(), pdbem_pd::PdError> {
-    if r.critical_damage.is_none() && r.strain_factor.is_none() {
-        return Ok(());
-    }
-    let one = body.len() as f64 * PARTICLE_BYTES + body.dh.bonds.len() as f64 * BOND_BYTES;
-    pdbem_pd::tangent::check_budget(
-        &format!(
-            "pd.refinement: a split during the run builds the refined body beside the body it splits ({} particles and {} directed bonds at the start), so the first split",
-            body.len(),
-            body.dh.bonds.len()
-        ),
-        2.0 * one,
-        pdbem_pd::tangent::factor_budget(),
-    )
 }
 
 /// Bytes as KiB / MiB / GiB with three significant digits.

@@ -126,8 +126,29 @@ fn select(
 /// The set-up refinement of every driver ([`run`], [`super::ramp`], [`super::run_dynamic`]):
 /// the static regions of `r` and Eq. 15 on the pre-cracks, level by level until nothing
 /// fires (each split changes its neighbours' damage). Returns the particles split; a
-/// split over the memory budget is refused before it allocates ([`Body::budget`]).
+/// split over the memory budget is refused before it allocates ([`Body::budget`]), and so
+/// is a start body the criteria could not split ([`room_to_split`]).
 pub fn set_up(body: &mut Body, r: &Refinement) -> Result<usize, PdError> {
+    let split = split_until_settled(body, r)?;
+    room_to_split(body, r)?;
+    Ok(split)
+}
+
+/// The set-up of a dynamic run ([`super::run_dynamic`]): the static regions of `r` only,
+/// level by level; Eq. 15 fires during the run, where bonds break. Refused as [`set_up`].
+pub fn set_up_static(body: &mut Body, r: &Refinement) -> Result<usize, PdError> {
+    let regions_only = Refinement {
+        critical_damage: None,
+        strain_factor: None,
+        ..r.clone()
+    };
+    let split = split_until_settled(body, &regions_only)?;
+    room_to_split(body, r)?;
+    Ok(split)
+}
+
+/// Split what `r`'s static regions and Eq. 15 flag until nothing fires.
+fn split_until_settled(body: &mut Body, r: &Refinement) -> Result<usize, PdError> {
     let mut split = 0;
     loop {
         let f = flagged(body, r, true, false);
@@ -138,14 +159,25 @@ pub fn set_up(body: &mut Body, r: &Refinement) -> Result<usize, PdError> {
     }
 }
 
-/// The set-up of a dynamic run ([`super::run_dynamic`]): the static regions of `r` only,
-/// level by level; Eq. 15 fires during the run, where bonds break.
-pub fn set_up_static(body: &mut Body, r: &Refinement) -> Result<usize, PdError> {
-    let regions_only = Refinement {
-        critical_damage: None,
-        ..r.clone()
-    };
-    set_up(body, &regions_only)
+/// A split builds the refined body beside the one it splits ([`Body::split`]), so when
+/// `r`'s criteria may fire after the set-up, the body must fit the memory budget twice
+/// over: [`PdError::TooLarge`] otherwise, before the solve or the first step, instead of
+/// at the first split of a run.
+pub fn room_to_split(body: &Body, r: &Refinement) -> Result<(), PdError> {
+    if r.critical_damage.is_none() && r.strain_factor.is_none() {
+        return Ok(());
+    }
+    let one =
+        body.len() as f64 * super::PARTICLE_BYTES + body.dh.bonds.len() as f64 * super::BOND_BYTES;
+    crate::tangent::check_budget(
+        &format!(
+            "pd.refinement: a split during the run builds the refined body beside the body it splits ({} particles and {} directed bonds at the start), so the first split",
+            body.len(),
+            body.dh.bonds.len()
+        ),
+        2.0 * one,
+        body.budget.unwrap_or_else(crate::tangent::factor_budget),
+    )
 }
 
 /// Solve `p` with adaptive refinement `r` at load factor `load`. A displacement
