@@ -451,7 +451,9 @@ mod tests {
         assert_eq!((b.coarse.steps, b.fine.steps), (20, 20));
         assert!(b.coarse.error.is_none() && b.fine.error.is_none());
         assert!(b.adaptive.error.is_none() && b.adaptive.steps == 20);
-        assert!(b.adaptive.nodes > 4000 && b.adaptive.nodes_max >= b.adaptive.nodes);
+        // The adaptive run starts unsplit, as the seed's (Eq. 15 waits for the run's own
+        // broken bonds), and no bond breaks in 0.2 us.
+        assert_eq!((b.adaptive.nodes, b.adaptive.nodes_max), (4000, 4000));
         // Ratios of wall times: measured by the bench, not asserted here (a test shares
         // the machine with others; the order of two 20-step timings is not a property).
         assert!(b.ratio.is_finite() && b.ratio > 0.0, "{}", b.ratio);
@@ -463,11 +465,11 @@ mod tests {
             (4000, 4000, b.coarse.bonds)
         );
         assert!(b.refinement_ratio.is_finite() && b.refinement_ratio > 0.0);
-        // The path circle splits 2056 particles before the first step (as
+        // The path circle splits 1992 particles before the first step (as
         // `pdbem check` of the path-refined case reports).
         let p = &b.path_refined;
         assert!(p.error.is_none() && p.steps == 20, "{p:?}");
-        assert_eq!(p.nodes, 10168);
+        assert_eq!(p.nodes, 9976);
         assert!(b.path_ratio.is_finite() && b.path_ratio > 0.0 && b.path_fine_ratio.is_finite());
         assert!(table(&b).contains("5.72x") && table(&b).contains("1.23x"));
         // Nothing is damaged near the loaded edges 0.2 us after the load is applied.
