@@ -99,7 +99,9 @@ use crate::problem::Selection;
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Refinement {
-    /// Critical damage `phi_c` of Eq. 15 (`None`: no damage criterion); default 0.4.
+    /// Critical damage `phi_c` of Eq. 15 (`None`: no damage criterion); default 0.4. In
+    /// explicit dynamics a particle passes it only once a bond of its family has broken
+    /// during the run ([`dynamics::broke_in_run`]).
     pub critical_damage: Option<f64>,
     /// Factor `alpha` of Eq. 16 (`None`: no strain criterion; the seed uses 0.5); needs a
     /// failure law with a critical stretch.
