@@ -289,21 +289,24 @@ fn external_work(body: &Body, load: f64) -> f64 {
 /// broken, past its owner's critical stretch, counts as broken by the run).
 pub fn broke_in_run(body: &Body, k: usize) -> bool {
     let dh = &body.dh;
-    let precut = |i: usize, j: usize| {
-        let tol = 1e-6 * body.size[i].min(body.size[j]);
-        body.cracks
-            .iter()
-            .any(|c| segment_crosses_crack(dh.pos[i], dh.pos[j], c, tol))
-    };
     let own = dh
         .bonds
         .row(k)
-        .any(|b| dh.intact[b] == 0 && !precut(k, dh.bonds.nbr[b] as usize));
+        .any(|b| dh.intact[b] == 0 && !crosses_precrack(body, k, dh.bonds.nbr[b] as usize));
     let duals = dh.dual_offsets[k]..dh.dual_offsets[k + 1];
     own || dh.dual[duals.clone()]
         .iter()
         .zip(&dh.dual_owner[duals])
-        .any(|(&b, &o)| dh.intact[b as usize] == 0 && !precut(o as usize, k))
+        .any(|(&b, &o)| dh.intact[b as usize] == 0 && !crosses_precrack(body, o as usize, k))
+}
+
+/// Whether the bond between particles `i` and `j` crosses a pre-crack (to a millionth of
+/// the smaller spacing).
+fn crosses_precrack(body: &Body, i: usize, j: usize) -> bool {
+    let tol = 1e-6 * body.size[i].min(body.size[j]);
+    body.cracks
+        .iter()
+        .any(|c| segment_crosses_crack(body.dh.pos[i], body.dh.pos[j], c, tol))
 }
 
 /// Directed bonds cut by the pre-cracks.
@@ -313,13 +316,7 @@ fn precut(body: &Body) -> usize {
     (0..dh.bonds.len())
         .into_par_iter()
         .filter(|&b| {
-            let (i, j) = (owner[b] as usize, dh.bonds.nbr[b] as usize);
-            let tol = 1e-6 * body.size[i].min(body.size[j]);
-            dh.intact[b] == 0
-                && body
-                    .cracks
-                    .iter()
-                    .any(|c| segment_crosses_crack(dh.pos[i], dh.pos[j], c, tol))
+            dh.intact[b] == 0 && crosses_precrack(body, owner[b] as usize, dh.bonds.nbr[b] as usize)
         })
         .count()
 }
