@@ -37,11 +37,16 @@
 //! **Ramp** ([`ramp`]): each load step is solved, the criteria checked, and while any
 //! cell splits the step is solved again on the refined grid (the seed's per-step steps
 //! 3-5); the rounds end because every split deepens a cell and the levels are bounded.
+//! [`initiation`] does the same within stand-alone PD's crack-initiation ramp (Newton,
+//! brittle breaking until the crack runs).
 
+pub mod initiation;
 pub mod measure;
 pub mod ramp;
 pub mod transfer;
 
+#[cfg(test)]
+mod initiation_tests;
 #[cfg(test)]
 mod tests;
 

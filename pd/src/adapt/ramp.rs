@@ -4,6 +4,7 @@
 //! grid. The ramp ends at the last load or at the body's limit, as a ramp without
 //! refinement does ([`crate::solvers::limit`]).
 
+use std::collections::BTreeMap;
 use std::time::Instant;
 
 use super::transfer::refined_model;
@@ -112,11 +113,11 @@ fn checkpoints(solver: &QuasiStatic, lam0: f64, checks: usize) -> Vec<f64> {
 }
 
 /// The state of a ramp between load steps.
-struct Ramp<'a> {
-    cells: AdaptiveCells,
-    problem: PdProblem,
-    model: PdModel,
-    rounds: Vec<Round>,
+pub(super) struct Ramp<'a> {
+    pub(super) cells: AdaptiveCells,
+    pub(super) problem: PdProblem,
+    pub(super) model: PdModel,
+    pub(super) rounds: Vec<Round>,
     crit: &'a CellCriteria,
     /// The model and problem before the last split (taken only when cells split).
     kept: Option<(PdModel, PdProblem)>,
@@ -126,62 +127,93 @@ struct Ramp<'a> {
 /// the tangent's share), for the size estimate of a split.
 const BOND_BYTES: f64 = 96.0;
 
-impl Ramp<'_> {
-    /// Refuses a split whose grid's bonds would exceed the memory budget
-    /// ([`crate::tangent::factor_budget`]) before it is built: each cell
-    /// raised from level `l` to `L` adds `4^L - 4^l` nodes, each with the bonds of an
-    /// average node now.
-    fn check_size(
-        &self,
-        want: &std::collections::BTreeMap<super::Cell, u32>,
-    ) -> Result<(), PdError> {
-        let now = self.cells.levels();
-        let added: f64 = want
-            .iter()
-            .map(|(c, &l)| {
-                let from = now.get(c).copied().unwrap_or(0);
-                4f64.powi(l as i32) - 4f64.powi(from as i32)
-            })
-            .sum();
-        let per_node = self.model.n_bonds() as f64 / self.model.n_nodes().max(1) as f64;
-        let bytes = (self.model.n_nodes() as f64 + added) * per_node * BOND_BYTES;
-        crate::tangent::check_budget(
-            "the adaptively refined grid's bonds",
-            bytes,
-            crate::tangent::factor_budget(),
-        )
-    }
+/// Refuses a split of `model`'s grid (split `cells` now) whose bonds would exceed the
+/// memory budget ([`crate::tangent::factor_budget`]) before it is built: each cell raised
+/// from level `l` to `L` adds `4^L - 4^l` nodes, each with the bonds of an average node
+/// now.
+fn check_size(
+    cells: &AdaptiveCells,
+    model: &PdModel,
+    want: &BTreeMap<super::Cell, u32>,
+) -> Result<(), PdError> {
+    let now = cells.levels();
+    let added: f64 = want
+        .iter()
+        .map(|(c, &l)| {
+            let from = now.get(c).copied().unwrap_or(0);
+            4f64.powi(l as i32) - 4f64.powi(from as i32)
+        })
+        .sum();
+    let per_node = model.n_bonds() as f64 / model.n_nodes().max(1) as f64;
+    let bytes = (model.n_nodes() as f64 + added) * per_node * BOND_BYTES;
+    crate::tangent::check_budget(
+        "the adaptively refined grid's bonds",
+        bytes,
+        crate::tangent::factor_budget(),
+    )
+}
 
+/// Splits the cells of `model`'s grid (over `problem`, split `cells`) the criteria
+/// (static ones with `setup`) ask for at `load`: the refined model, its problem and the
+/// round, with `cells` raised; `None` when nothing fires.
+pub(super) fn split_cells(
+    model: &PdModel,
+    problem: &PdProblem,
+    cells: &mut AdaptiveCells,
+    crit: &CellCriteria,
+    load: f64,
+    setup: bool,
+) -> Result<Option<(PdModel, PdProblem, Round)>, PdError> {
+    let mut want = flagged_cells(model, problem, crit);
+    if setup {
+        for (c, l) in static_cells(model, problem, crit) {
+            let e = want.entry(c).or_insert(0);
+            *e = (*e).max(l);
+        }
+    }
+    if want.is_empty() {
+        return Ok(None);
+    }
+    check_size(cells, model, &want)?;
+    let raised = cells.raise(&want);
+    let problem = cells.problem();
+    let model = refined_model(model, &problem)?;
+    let round = Round {
+        load,
+        cells: raised,
+        nodes: model.n_real(),
+    };
+    Ok(Some((model, problem, round)))
+}
+
+impl Ramp<'_> {
     /// Splits the cells the criteria (static ones with `setup`) ask for; the number of
     /// cells split.
     fn refine(&mut self, load: f64, setup: bool) -> Result<usize, PdError> {
-        let mut want = flagged_cells(&self.model, &self.problem, self.crit);
-        if setup {
-            for (c, l) in static_cells(&self.model, &self.problem, self.crit) {
-                let e = want.entry(c).or_insert(0);
-                *e = (*e).max(l);
-            }
-        }
-        if want.is_empty() {
-            return Ok(0);
-        }
-        self.check_size(&want)?;
-        let raised = self.cells.raise(&want);
-        self.kept = Some((self.model.clone(), self.problem.clone()));
-        self.problem = self.cells.problem();
-        self.model = refined_model(&self.model, &self.problem)?;
-        self.rounds.push(Round {
+        let split = split_cells(
+            &self.model,
+            &self.problem,
+            &mut self.cells,
+            self.crit,
             load,
-            cells: raised,
-            nodes: self.model.n_real(),
-        });
+            setup,
+        )?;
+        let Some((model, problem, round)) = split else {
+            return Ok(0);
+        };
+        let raised = round.cells;
+        self.kept = Some((
+            std::mem::replace(&mut self.model, model),
+            std::mem::replace(&mut self.problem, problem),
+        ));
+        self.rounds.push(round);
         Ok(raised)
     }
 }
 
 /// The set-up of a ramp: `base`'s model with the cells the static criteria and the
 /// pre-cracks' damage split (Eq. 15 at load 0), until nothing fires.
-fn set_up_ramp<'a>(
+pub(super) fn set_up_ramp<'a>(
     base: &PdProblem,
     crit: &'a CellCriteria,
     observe: &mut dyn FnMut(AdaptEvent),
