@@ -16,7 +16,11 @@
 //!
 //! With `pd.refine_zones` the grid's cells inside the zones are split (`pdbem_pd::mixed`,
 //! dual-horizon forces between the sizes, seed 004 Eq. 13) and every path above runs on
-//! the mixed grid; `refined_nodes` counts the children.
+//! the mixed grid; `refined_nodes` counts the children. With `pd.refinement` on the
+//! grid's cells (`on: Cells`, or the tanh law) seed 004's criteria split cells as the
+//! load rises (`pdbem_pd::adapt`: the damage ramp by [`ramp_to_limit`], crack initiation
+//! by [`pdbem_pd::adapt::initiation`]); seed 004's particles run elsewhere
+//! ([`crate::run_refined`], [`crate::run_adaptive`]).
 //!
 //! Pure-traction scenes get two pins (the real node at the bottom middle: both components;
 //! the one at the top middle: x) so the implicit tangent is regular; the loads are
@@ -31,8 +35,9 @@ use crate::runner::summary::RunSummary;
 use crate::scene::{Failure, PdRefinement, PdSolver, Scene};
 use crate::setup::pd::labelled_problem_from_scene;
 use anyhow::{Context, Result};
-use pdbem_pd::adapt::ramp::{ramp_to_limit, AdaptEvent, AdaptiveRamp};
-use pdbem_pd::adapt::CellCriteria;
+use pdbem_pd::adapt::initiation::ramp_to_initiation as initiation_on_cells;
+use pdbem_pd::adapt::ramp::{ramp_to_limit, AdaptEvent, Round};
+use pdbem_pd::adapt::{AdaptiveCells, CellCriteria};
 use pdbem_pd::error::factor_text;
 use pdbem_pd::measure::{kink_angle, ramp_to_initiation};
 use pdbem_pd::solvers::limit::{RampEvent, Stop};
@@ -53,11 +58,15 @@ fn unreachable_explicit(file: &std::path::Path) -> Result<pdbem_pd::SolveInfo> {
 /// Solves `scene` with peridynamics over the whole body and writes the node table and
 /// the damage and displacement plots through `ctx.writer`.
 pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
-    if let Some(pd) = scene.pd.as_ref().filter(|pd| pd.refinement.is_some()) {
+    if let Some((pd, r)) = scene
+        .pd
+        .as_ref()
+        .and_then(|pd| pd.refinement.as_ref().map(|r| (pd, r)))
+    {
         if crate::run_dynamic::explicit(scene).is_some() {
             return crate::run_adaptive::run(scene, ctx);
         }
-        if !PdRefinement::on_cells(&pd.failure, &pd.solver) {
+        if !r.on_cells(&pd.failure, &pd.solver) {
             return crate::run_refined::run(scene, ctx);
         }
     }
@@ -181,7 +190,7 @@ pub fn solve_observed(
     let cells = pd
         .refinement
         .as_ref()
-        .filter(|_| PdRefinement::on_cells(&pd.failure, &pd.solver));
+        .filter(|r| r.on_cells(&pd.failure, &pd.solver));
     if pd.refinement.is_some() && cells.is_none() {
         anyhow::bail!(
             "{}: pd.refinement runs through `pdbem run` (stand-alone PD), not this solver path",
@@ -203,8 +212,17 @@ pub fn solve_observed(
         let tips = scene_tips(scene);
         let delta = problem.horizon();
         let ramp = initiation_ramp(scene, delta, 200);
-        let init = ramp_to_initiation(&mut model, &tips, &ramp)
-            .with_context(|| format!("{}: load ramp", file.display()))?;
+        let init = match cells {
+            Some(r) => {
+                let out = initiation_on_cells(&problem, &cell_criteria(r), &tips, &ramp, observe)
+                    .with_context(|| format!("{}: load ramp", file.display()))?;
+                report_cells(&out.cells, &out.rounds, &mut summary);
+                model = out.model;
+                out.init
+            }
+            None => ramp_to_initiation(&mut model, &tips, &ramp)
+                .with_context(|| format!("{}: load ramp", file.display()))?,
+        };
         let kinks: Vec<Option<f64>> = tips
             .iter()
             .map(|t| kink_angle(&model, *t, delta, 4.0 * delta))
@@ -241,7 +259,7 @@ pub fn solve_observed(
                     observe,
                 )
                 .with_context(|| format!("{}: PD solve", file.display()))?;
-                report_cells(&adaptive, &mut summary);
+                report_cells(&adaptive.cells, &adaptive.rounds, &mut summary);
                 refined_stop = adaptive.refined_without_equilibrium;
                 model = adaptive.model;
                 adaptive.solve
@@ -311,10 +329,9 @@ pub fn solve_observed(
 
 /// `refinement` in the summary of a ramp on refined cells: the rounds (load factor,
 /// cells split, real nodes after) and the split cells by level.
-fn report_cells(a: &AdaptiveRamp, summary: &mut RunSummary) {
-    let by_level = |l: u32| a.cells.levels().values().filter(|&&v| v == l).count();
-    let rounds: Vec<_> = a
-        .rounds
+fn report_cells(cells: &AdaptiveCells, rounds: &[Round], summary: &mut RunSummary) {
+    let by_level = |l: u32| cells.levels().values().filter(|&&v| v == l).count();
+    let rounds: Vec<_> = rounds
         .iter()
         .map(|r| json!({"load_factor": round12(r.load), "cells": r.cells, "nodes": r.nodes}))
         .collect();

@@ -289,3 +289,44 @@ fn pd_refine_zones_rules() {
         "at most 100",
     );
 }
+
+/// The crack-initiation ramp (a breaking law, pre-cracks, a load ramp) solves by Newton
+/// on the grid, uniform or refined cells: ADR, the switch or Newton's own settings get a
+/// note that `pd.solver` is not read; the default solver and `Implicit()` do not. Seed
+/// 004's particles and a single load step (no ramp) are not that ramp.
+#[test]
+fn pd_initiation_ramp_notes_a_solver_it_does_not_read() {
+    let ramp = "load: (initial: 1, step: 0.1, count: 10), ";
+    let notes = |pd: &str, load_part: &str| {
+        load(&base_with(&format!("{load_part}pd: ({pd})")))
+            .expect("valid")
+            .notes
+            .into_iter()
+            .filter(|n| n.contains("crack-initiation ramp"))
+            .count()
+    };
+    let brittle = "dx: 0.5, failure: CriticalStretch(0.01)";
+    assert_eq!(notes(&format!("{brittle}, solver: Adr()"), ramp), 1);
+    assert_eq!(
+        notes(
+            &format!("{brittle}, solver: Implicit(tolerance: 1e-12)"),
+            ramp
+        ),
+        1
+    );
+    assert_eq!(
+        notes(
+            &format!("{brittle}, solver: Switching(tolerance: 1e-8)"),
+            ramp
+        ),
+        1
+    );
+    assert_eq!(notes(&format!("{brittle}, solver: Implicit()"), ramp), 0);
+    assert_eq!(notes(brittle, ramp), 0);
+    assert_eq!(notes(&format!("{brittle}, solver: Adr()"), ""), 0);
+    assert_eq!(notes(&format!("dx: 0.5, solver: Adr()"), ramp), 0);
+    let cells = format!("{brittle}, model: StateBased, solver: Adr(), refinement: (on: Cells)");
+    assert_eq!(notes(&cells, ramp), 1);
+    let particles = format!("{brittle}, model: StateBased, solver: Adr(), refinement: ()");
+    assert_eq!(notes(&particles, ramp), 0);
+}

@@ -64,7 +64,7 @@ pub use material::{Fracture, Material, Plane};
 pub use outputs::{Grid, Line, Outputs, PlotFormat};
 pub use pd::{
     AdrParams, ExplicitParams, Failure, ImplicitParams, PdModelKind, PdRefinement, PdSettings,
-    PdSolver, PdTraction, PdZone, RefineCircle, RegionVelocity, SwitchingParams,
+    PdSolver, PdTraction, PdZone, RefineCircle, RefineOn, RegionVelocity, SwitchingParams,
 };
 pub use reference::Reference;
 
@@ -243,6 +243,9 @@ impl Scene {
                 self.notes.extend(r.inert_notes(&pd.solver, &pd.failure));
             }
         }
+        if let Some(note) = self.initiation_solver_note() {
+            self.notes.push(note);
+        }
         let s0 = self.material.fracture.as_ref().and_then(|f| f.s0);
         let failure = self.pd.as_ref().map(|p| &p.failure);
         if let Some(s0) = s0 {
@@ -252,6 +255,48 @@ impl Scene {
                 ));
             }
         }
+    }
+
+    /// Whether stand-alone PD runs its crack-initiation ramp on the grid (uniform, zones
+    /// or refined cells; `crate::run_pd`): a breaking law, pre-cracks and a load ramp,
+    /// neither explicit dynamics nor seed 004's particles. That ramp solves every load
+    /// and break round by Newton, whatever `pd.solver` says.
+    pub fn runs_pd_initiation_ramp(&self) -> bool {
+        let Some(pd) = &self.pd else {
+            return false;
+        };
+        let particles = pd
+            .refinement
+            .as_ref()
+            .is_some_and(|r| !r.on_cells(&pd.failure, &pd.solver));
+        let cracks = match &pd.pre_cracks {
+            Some(names) => self.cracks.iter().any(|c| names.contains(&c.name)),
+            None => !self.cracks.is_empty(),
+        };
+        self.coupling.is_none()
+            && self.growth.is_none()
+            && !particles
+            && matches!(pd.failure, Failure::CriticalStretch(_) | Failure::FromGc)
+            && !matches!(pd.solver, PdSolver::Explicit(_))
+            && cracks
+            && self.load.factors().len() > 1
+    }
+
+    /// The note for a `pd.solver` the crack-initiation ramp does not read
+    /// ([`Self::runs_pd_initiation_ramp`]): ADR, the switch or Newton's own settings
+    /// (the default solver and `Implicit()` say nothing the ramp does not do).
+    fn initiation_solver_note(&self) -> Option<String> {
+        let pd = self.pd.as_ref()?;
+        let newton = PdSolver::Implicit(ImplicitParams::default());
+        if !self.runs_pd_initiation_ramp()
+            || pd.solver == PdSolver::default()
+            || pd.solver == newton
+        {
+            return None;
+        }
+        Some(
+            "pd.solver is not read: the crack-initiation ramp (a breaking pd.failure, pre-cracks and a load ramp) solves every load and every round of bond breaking by Newton to a relative displacement update of 1e-6 (pdbem_pd::measure::ramp_to_initiation); drop the field or write `solver: Implicit()`".into(),
+        )
     }
 
     /// Every edge-group name a boundary condition may use.

@@ -134,6 +134,24 @@ pub struct PdRefinement {
     pub strain_factor: Option<f64>,
     /// Explicit dynamics: time steps between the refinement checks, >= 1. Default 10.
     pub check_every: usize,
+    /// What splits: seed 004's particles or the grid's cells. Default `Auto`.
+    pub on: RefineOn,
+}
+
+/// What `pd.refinement` splits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum RefineOn {
+    /// The grid's cells under the tanh law (`failure: Degradation`) with a quasi-static
+    /// solver; seed 004's particles otherwise.
+    #[default]
+    Auto,
+    /// Seed 004's dual-horizon state-based particles (`pdbem_pd::refine`): the elastic
+    /// solve and the crack-initiation ramp by conjugate gradients, explicit dynamics.
+    Particles,
+    /// The grid's cells (`pdbem_pd::adapt`): a mixed-grid model, PMB or state-based,
+    /// solved by `pd.solver` (Adr, Implicit, Switching) under every failure law; the
+    /// crack-initiation ramp by Newton.
+    Cells,
 }
 
 impl Default for PdRefinement {
@@ -147,18 +165,26 @@ impl Default for PdRefinement {
             keep_horizon: false,
             strain_factor: None,
             check_every: 10,
+            on: RefineOn::Auto,
         }
     }
 }
 
 impl PdRefinement {
-    /// Whether this refinement runs on the grid's cells (`pdbem_pd::adapt`): the tanh
-    /// law (`failure: Degradation`) under a quasi-static solver (Adr, Implicit,
-    /// Switching), with either model. Otherwise the grid becomes seed 004's dual-horizon
-    /// particles (`pdbem_pd::refine`: elastic solve, brittle initiation ramp, explicit
-    /// dynamics).
-    pub fn on_cells(failure: &Failure, solver: &PdSolver) -> bool {
-        matches!(failure, Failure::Degradation { .. }) && !matches!(solver, PdSolver::Explicit(_))
+    /// Whether this refinement runs on the grid's cells (`pdbem_pd::adapt`): `on: Cells`,
+    /// or by default the tanh law (`failure: Degradation`) under a quasi-static solver
+    /// (Adr, Implicit, Switching), with either model. Otherwise the grid becomes seed
+    /// 004's dual-horizon particles (`pdbem_pd::refine`: elastic solve, brittle
+    /// initiation ramp, explicit dynamics).
+    pub fn on_cells(&self, failure: &Failure, solver: &PdSolver) -> bool {
+        match self.on {
+            RefineOn::Cells => true,
+            RefineOn::Particles => false,
+            RefineOn::Auto => {
+                matches!(failure, Failure::Degradation { .. })
+                    && !matches!(solver, PdSolver::Explicit(_))
+            }
+        }
     }
 
     /// Notes on settings a refined body does not read (no silent garbage): under explicit
@@ -168,7 +194,7 @@ impl PdRefinement {
     pub fn inert_notes(&self, solver: &PdSolver, failure: &Failure) -> Vec<String> {
         let defaults = PdRefinement::default();
         let mut notes = Vec::new();
-        if Self::on_cells(failure, solver) {
+        if self.on_cells(failure, solver) {
             if self.tolerance != defaults.tolerance {
                 notes.push(format!(
                     "pd.refinement.tolerance = {:e} is not read: refined cells are solved by pd.solver to its own tolerance",
@@ -199,7 +225,7 @@ impl PdRefinement {
                 _ => "Switching",
             };
             notes.push(format!(
-                "pd.solver ({name}) is not read: a refined body's quasi-static solves are conjugate gradients on its linearised energy, to the relative residual pd.refinement.tolerance = {:e} (pd.solver: Explicit runs adaptive dynamics; fixed zones of finer cells solved by this solver: pd.refine_zones instead of pd.refinement)",
+                "pd.solver ({name}) is not read: a refined body's quasi-static solves are conjugate gradients on its linearised energy, to the relative residual pd.refinement.tolerance = {:e} (pd.solver: Explicit runs adaptive dynamics; the grid's cells refined by the same criteria and solved by this solver: pd.refinement.on: Cells)",
                 self.tolerance
             ));
         }

@@ -132,7 +132,7 @@ pub fn of(scene: &Scene) -> Result<Footprint> {
             let cells = scene.pd.as_ref().and_then(|pd| {
                 pd.refinement
                     .as_ref()
-                    .filter(|_| crate::scene::PdRefinement::on_cells(&pd.failure, &pd.solver))
+                    .filter(|r| r.on_cells(&pd.failure, &pd.solver))
             });
             let model = match cells {
                 Some(r) => {
@@ -212,8 +212,11 @@ fn tangent_factor(scene: &Scene, model: &PdModel) -> Result<Option<usize>> {
     let particles = pd
         .refinement
         .as_ref()
-        .is_some_and(|_| !crate::scene::PdRefinement::on_cells(&pd.failure, &pd.solver));
-    if particles || !matches!(pd.solver, PdSolver::Implicit(_) | PdSolver::Switching(_)) {
+        .is_some_and(|r| !r.on_cells(&pd.failure, &pd.solver));
+    // The crack-initiation ramp factors Newton tangents under every solver.
+    let factors = matches!(pd.solver, PdSolver::Implicit(_) | PdSolver::Switching(_))
+        || scene.runs_pd_initiation_ramp();
+    if particles || !factors {
         return Ok(None);
     }
     let budget = pdbem_pd::tangent::factor_budget();

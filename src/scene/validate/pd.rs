@@ -122,8 +122,8 @@ fn check_refinement(
             "refinement runs in stand-alone PD only (not in PD-BEM windows or growth): drop `coupling`/`growth` or the field",
         );
     }
-    if crate::scene::PdRefinement::on_cells(&pd.failure, &pd.solver) {
-        check_cell_refinement(c, r);
+    if r.on_cells(&pd.failure, &pd.solver) {
+        check_cell_refinement(c, pd, r);
     } else if pd.model != crate::scene::PdModelKind::StateBased {
         c.fail_at(
             "pd.refinement",
@@ -194,7 +194,13 @@ fn check_refinement_law(
         match pd.failure {
             Failure::Elastic => {}
             // The grid's cells split under the scene's solver (check_cell_refinement).
-            Failure::Degradation { .. } => {}
+            Failure::Degradation { .. } if r.on_cells(&pd.failure, &pd.solver) => {}
+            Failure::Degradation { .. } => c.fail_at(
+                "pd.refinement.on",
+                "seed 004's particles have no tanh degradation: the tanh law refines the grid's cells (`on: Cells` or the default `Auto`)",
+            ),
+            // The cells run the scene's solver: a ramp to the last load without cracks.
+            Failure::CriticalStretch(_) | Failure::FromGc if r.on_cells(&pd.failure, &pd.solver) => {}
             Failure::CriticalStretch(_) | Failure::FromGc => {
                 if scene.cracks.is_empty() || scene.load.factors().len() < 2 {
                     c.fail_at(
@@ -228,10 +234,28 @@ fn check_refinement_law(
     check_strain_factor(c, pd, r);
 }
 
-/// `pd.refinement` on the grid's cells (the tanh law under a quasi-static solver,
-/// `pdbem_pd::adapt`): a cell splits once or twice (`max_level` 1 or 2, the mixed grid's
-/// levels), children halve their horizon with their spacing.
-fn check_cell_refinement(c: &mut Checker, r: &crate::scene::PdRefinement) {
+/// `pd.refinement` on the grid's cells (`on: Cells`, or the tanh law under a quasi-static
+/// solver, `pdbem_pd::adapt`): a quasi-static solver (the mixed grid has no explicit
+/// dynamics), grid tractions as a body-force layer (no transfer functions on mixed
+/// grids), a cell splits once or twice (`max_level` 1 or 2, the mixed grid's levels),
+/// children halve their horizon with their spacing.
+fn check_cell_refinement(
+    c: &mut Checker,
+    pd: &crate::scene::PdSettings,
+    r: &crate::scene::PdRefinement,
+) {
+    if matches!(pd.solver, PdSolver::Explicit(_)) {
+        c.fail_at(
+            "pd.refinement.on",
+            "refined cells are solved by a quasi-static solver (Adr, Implicit, Switching); explicit dynamics refines seed 004's particles: `on: Particles` or `Auto`",
+        );
+    }
+    if pd.traction == crate::scene::PdTraction::TransferFunction {
+        c.fail_at(
+            "pd.traction",
+            "refined cells (a mixed grid) take tractions as a body-force layer: drop `traction: TransferFunction` or refine seed 004's particles (`pd.refinement.on: Particles`)",
+        );
+    }
     if r.max_level > 2 {
         c.fail(
             "pd.refinement.max_level",
