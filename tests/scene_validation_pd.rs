@@ -324,7 +324,7 @@ fn pd_initiation_ramp_notes_a_solver_it_does_not_read() {
     assert_eq!(notes(&format!("{brittle}, solver: Implicit()"), ramp), 0);
     assert_eq!(notes(brittle, ramp), 0);
     assert_eq!(notes(&format!("{brittle}, solver: Adr()"), ""), 0);
-    assert_eq!(notes(&format!("dx: 0.5, solver: Adr()"), ramp), 0);
+    assert_eq!(notes("dx: 0.5, solver: Adr()", ramp), 0);
     let cells = format!("{brittle}, model: StateBased, solver: Adr(), refinement: (on: Cells)");
     assert_eq!(notes(&cells, ramp), 1);
     let particles = format!("{brittle}, model: StateBased, solver: Adr(), refinement: ()");

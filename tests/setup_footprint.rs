@@ -50,7 +50,7 @@ fn check_reports_what_run_builds_for_every_case() {
                 let cells = scene.pd.as_ref().and_then(|pd| {
                     pd.refinement
                         .as_ref()
-                        .filter(|_| pdbem::scene::PdRefinement::on_cells(&pd.failure, &pd.solver))
+                        .filter(|r| r.on_cells(&pd.failure, &pd.solver))
                 });
                 let model = match cells {
                     Some(r) => {

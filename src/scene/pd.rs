@@ -129,8 +129,8 @@ pub struct PdRefinement {
     /// of halving it. Default false.
     pub keep_horizon: bool,
     /// Factor alpha of seed 004 Eq. 16 (split a particle whose accumulated strain passes
-    /// alpha s_c), in (0, 1); explicit dynamics with a breaking failure law only. Default
-    /// none (no strain criterion; the seed uses 0.5).
+    /// alpha s_c), in (0, 1); with a breaking failure law (the critical stretch or the tanh
+    /// law) only. Default none (no strain criterion; the seed uses 0.5).
     pub strain_factor: Option<f64>,
     /// Explicit dynamics: time steps between the refinement checks, >= 1. Default 10.
     pub check_every: usize,
