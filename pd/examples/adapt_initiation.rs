@@ -17,8 +17,8 @@ use std::time::Instant;
 
 use pdbem_pd::adapt::initiation::ramp_to_initiation;
 use pdbem_pd::adapt::CellCriteria;
-use pdbem_pd::edge_crack::{crack, problem, HEIGHT, SIDE, SIGMA};
-use pdbem_pd::measure::{crack_tips, kink_angle, RampParams};
+use pdbem_pd::edge_crack::{crack, initiation_ramp, problem, HEIGHT, SIDE, SIGMA};
+use pdbem_pd::measure::{crack_tips, kink_angle};
 use pdbem_pd::{Failure, PdMaterial, TractionLoad};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -52,14 +52,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let delta = p.horizon();
     let tips = crack_tips(&crack(a_over_l * SIDE, HEIGHT), true);
-    let params = RampParams {
-        start: step,
-        step,
-        max_load: 20.0,
-        run_length: 2.0 * delta,
-        grow_to: 5.0 * delta,
-        max_rounds: 400,
-    };
+    let params = initiation_ramp(step, delta);
     let t0 = Instant::now();
     let out = ramp_to_initiation(&p, &crit, &tips, &params, &mut |_| {})?;
     let wall = t0.elapsed().as_secs_f64();

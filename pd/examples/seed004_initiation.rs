@@ -14,8 +14,8 @@
 //!
 //! `cargo run --release -p pdbem-pd --example seed004_initiation -- adaptive`
 
-use pdbem_pd::edge_crack::{crack, problem, HEIGHT, SIDE, SIGMA, YOUNGS};
-use pdbem_pd::measure::{crack_tips, kink_angle_of, RampParams};
+use pdbem_pd::edge_crack::{crack, initiation_ramp, problem, HEIGHT, SIDE, SIGMA, YOUNGS};
+use pdbem_pd::measure::{crack_tips, kink_angle_of};
 use pdbem_pd::refine::{ramp, Refinement};
 use pdbem_pd::{Failure, Selection, TractionLoad};
 
@@ -79,14 +79,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let line = crack(a_over_l * SIDE, HEIGHT);
     let tips = crack_tips(&line, true);
     let delta = 3.015 * coarse;
-    let rp = RampParams {
-        start: step,
-        step,
-        max_load: 20.0,
-        run_length: 2.0 * delta,
-        grow_to: 5.0 * delta,
-        max_rounds: 400,
-    };
+    let rp = initiation_ramp(step, delta);
     let t = std::time::Instant::now();
     let out = ramp(&p, &settings, &tips, &rp)?;
     let r = &out.record;

@@ -23,6 +23,7 @@
 //! it fixes.
 
 use crate::geometry::P2;
+use crate::measure::RampParams;
 use crate::problem::{BoundaryCondition, Layer, PdMaterial, PdProblem, Plane, Region, Selection};
 use crate::traction::TractionLoad;
 
@@ -116,6 +117,21 @@ pub fn problem(dx: f64, a_over_l: f64, height: f64, mode: TractionLoad) -> PdPro
         boundary,
         traction: mode,
         ..Default::default()
+    }
+}
+
+/// The crack-initiation ramp of this plate with a fracture energy (docs/seed004.md): the
+/// load factor (times [`SIGMA`]) from `step` by `step` up to 20, the crack running when it
+/// grows two horizons `delta`, then broken on to five for the kink, at most 400 rounds of
+/// breaking per load.
+pub fn initiation_ramp(step: f64, delta: f64) -> RampParams {
+    RampParams {
+        start: step,
+        step,
+        max_load: 20.0,
+        run_length: 2.0 * delta,
+        grow_to: 5.0 * delta,
+        max_rounds: 400,
     }
 }
 

@@ -23,15 +23,7 @@ fn plate(dx: f64) -> PdProblem {
 }
 
 fn params(dx: f64) -> RampParams {
-    let delta = 3.015 * dx;
-    RampParams {
-        start: STEP,
-        step: STEP,
-        max_load: 20.0,
-        run_length: 2.0 * delta,
-        grow_to: 5.0 * delta,
-        max_rounds: 400,
-    }
+    crate::edge_crack::initiation_ramp(STEP, 3.015 * dx)
 }
 
 /// Measured (2026-11-30): initiation at 4.3 (uniform 2 mm), 4.4 (2 mm with the cells

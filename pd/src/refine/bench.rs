@@ -10,7 +10,7 @@ use serde::Serialize;
 use super::direct::Solver;
 use super::{ramp_with, Refinement};
 use crate::edge_crack::{crack, problem, HEIGHT, SIDE};
-use crate::measure::{crack_tips, RampParams};
+use crate::measure::crack_tips;
 use crate::problem::{Failure, Selection};
 use crate::traction::TractionLoad;
 
@@ -74,14 +74,7 @@ pub fn refined_ramp(dx: f64) -> RefinedRampBench {
         ..Default::default()
     };
     let delta = 3.015 * dx;
-    let rp = RampParams {
-        start: 0.1,
-        step: 0.1,
-        max_load: 20.0,
-        run_length: 2.0 * delta,
-        grow_to: 5.0 * delta,
-        max_rounds: 400,
-    };
+    let rp = crate::edge_crack::initiation_ramp(0.1, delta);
     let run = |name: &str, solver: Solver| {
         let t = std::time::Instant::now();
         let out = ramp_with(&p, &r, &tips, &rp, solver);

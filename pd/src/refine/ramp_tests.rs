@@ -20,15 +20,7 @@ fn plate() -> (PdProblem, Vec<Tip>) {
 }
 
 fn params(step: f64) -> RampParams {
-    let delta = 3.015 * DX;
-    RampParams {
-        start: step,
-        step,
-        max_load: 20.0,
-        run_length: 2.0 * delta,
-        grow_to: 5.0 * delta,
-        max_rounds: 400,
-    }
+    crate::edge_crack::initiation_ramp(step, 3.015 * DX)
 }
 
 fn no_refinement() -> Refinement {
