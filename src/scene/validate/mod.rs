@@ -15,6 +15,7 @@ mod growth;
 pub mod limits;
 mod material;
 mod pd;
+mod pd_refinement;
 mod pd_zones;
 mod sections;
 pub mod strain;
