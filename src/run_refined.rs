@@ -15,7 +15,7 @@
 use std::time::Instant;
 
 use anyhow::{Context, Result};
-use pdbem_pd::measure::{kink_angle_of, Tip};
+use pdbem_pd::measure::Tip;
 use pdbem_pd::refine::{ramp, run as refine_run, RefinedRamp, Refinement};
 use pdbem_pd::Selection;
 use serde_json::json;
@@ -137,10 +137,9 @@ fn report_ramp(
 ) {
     let rec = &out.record;
     let b = &out.body;
-    let phi = b.damage();
     let kinks: Vec<Option<f64>> = tips
         .iter()
-        .map(|t| kink_angle_of(b.positions(), &phi, *t, delta, 4.0 * delta))
+        .map(|t| b.kink_angle(*t, delta, 4.0 * delta))
         .collect();
     if rec.initiation_load.is_none() {
         let last = scene.load.factors().last().copied().unwrap_or(1.0);

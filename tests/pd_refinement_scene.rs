@@ -92,7 +92,8 @@ fn seed004_nested_circles_case_matches_the_fine_grid() {
 
 /// `cases/seed004_edge_crack_initiation_displacement.ron` as shipped: the refined ramp
 /// under displacement control (fictitious layers on the top and bottom edges). Measured:
-/// first break at load factor 6.9, initiation 8.1, kink 3.1 degrees, stable growth.
+/// first break at load factor 6.9, initiation 8.1, kink 3.3 degrees (3.1 before the kink
+/// weighed particles by volume), stable growth.
 /// Asserted: loads reported as factors, the crack ran stably (no unstable growth), the
 /// layers' particles in the output, a kink below 10 degrees, no note.
 #[test]

@@ -15,7 +15,7 @@
 //! `cargo run --release -p pdbem-pd --example seed004_initiation -- adaptive`
 
 use pdbem_pd::edge_crack::{crack, initiation_ramp, problem, HEIGHT, SIDE, SIGMA, YOUNGS};
-use pdbem_pd::measure::{crack_tips, kink_angle_of};
+use pdbem_pd::measure::crack_tips;
 use pdbem_pd::refine::{ramp, Refinement};
 use pdbem_pd::{Failure, Selection, TractionLoad};
 
@@ -85,7 +85,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let r = &out.record;
     let lefm = (YOUNGS * G_C).sqrt() / K_OVER_SIGMA;
     let b = &out.body;
-    let kink = kink_angle_of(b.positions(), &b.damage(), tips[0], delta, 4.0 * delta);
+    let kink = b.kink_angle(tips[0], delta, 4.0 * delta);
     println!("mode {mode}, dx {dx}, step {step}");
     println!(
         "first break {:?} MPa, initiation {:?} MPa (LEFM {:.2} MPa), unstable {}, extension {:.4} m, kink {:?}",

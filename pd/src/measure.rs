@@ -101,13 +101,9 @@ pub fn kink_angle(model: &PdModel, tip: Tip, r_min: f64, r_max: f64) -> Option<f
     )
 }
 
-/// [`kink_angle`] of the particles at `x` with damage `phi`, each counted once.
-pub fn kink_angle_of(x: &[P2], phi: &[f64], tip: Tip, r_min: f64, r_max: f64) -> Option<f64> {
-    kink_angle_weighted(x, phi, &vec![1.0; x.len()], tip, r_min, r_max)
-}
-
-/// [`kink_angle`] with the weights `w` of the points.
-fn kink_angle_weighted(
+/// [`kink_angle`] of the particles at `x` with damage `phi` and weights `w` (their
+/// volumes, or any multiple of them).
+pub fn kink_angle_weighted(
     x: &[P2],
     phi: &[f64],
     w: &[f64],
@@ -318,7 +314,7 @@ mod tests {
         let w = [1.0, 0.25, 0.25, 0.25, 0.25];
         let by_volume = kink_angle_weighted(&x, &phi, &w, tip, 1.0, 3.0).unwrap();
         assert!(by_volume.abs() < 1e-12, "{by_volume}");
-        let counted = kink_angle_of(&x, &phi, tip, 1.0, 3.0).unwrap();
+        let counted = kink_angle_weighted(&x, &phi, &[1.0; 5], tip, 1.0, 3.0).unwrap();
         assert!((counted - 19.1).abs() < 0.1, "{counted}");
     }
 }

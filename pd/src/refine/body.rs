@@ -8,6 +8,7 @@ use crate::boundary::resolve;
 use crate::error::PdError;
 use crate::geometry::P2;
 use crate::grid::Grid;
+use crate::measure::{kink_angle_weighted, Tip};
 use crate::mixed::build_grid;
 use crate::problem::{Failure, PdMaterial, PdProblem};
 use crate::state_based::dual_horizon::{families, DualHorizon};
@@ -163,6 +164,19 @@ impl Body {
             )),
             Failure::Degradation { s_c, .. } => Some(s_c),
         }
+    }
+
+    /// Kink angle (degrees) of the damage around `tip` in `r_min..r_max`, each particle
+    /// weighing its volume ([`crate::measure::kink_angle_weighted`]).
+    pub fn kink_angle(&self, tip: Tip, r_min: f64, r_max: f64) -> Option<f64> {
+        kink_angle_weighted(
+            self.positions(),
+            &self.damage(),
+            &self.dh.volume,
+            tip,
+            r_min,
+            r_max,
+        )
     }
 
     /// Damage of every particle over its horizon and dual horizon (seed 004 Eq. 14).

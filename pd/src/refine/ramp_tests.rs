@@ -4,7 +4,7 @@
 
 use super::{ramp, Refinement};
 use crate::edge_crack::{crack, problem, HEIGHT, SIDE};
-use crate::measure::{crack_tips, kink_angle_of, ramp_to_initiation, RampParams, Tip};
+use crate::measure::{crack_tips, ramp_to_initiation, RampParams, Tip};
 use crate::problem::{Failure, PdProblem};
 use crate::traction::TractionLoad;
 use crate::PdModel;
@@ -108,7 +108,7 @@ fn refinement_follows_the_running_crack() {
         }
     }
     let delta = 3.015 * DX;
-    let kink = kink_angle_of(b.positions(), &b.damage(), tips[0], delta, 4.0 * delta);
+    let kink = b.kink_angle(tips[0], delta, 4.0 * delta);
     assert!(kink.is_some_and(|k| k.abs() < 5.0), "{kink:?}");
 }
 
