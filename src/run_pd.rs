@@ -207,8 +207,8 @@ pub fn solve_observed(
         mode: "pd".into(),
         ..Default::default()
     };
-    let brittle = matches!(pd.failure, Failure::CriticalStretch(_) | Failure::FromGc);
-    let info = if brittle && !problem.cracks.is_empty() && factors.len() > 1 {
+    // One rule for the routing and for the note on an unread solver.
+    let info = if scene.runs_pd_initiation_ramp() {
         let tips = scene_tips(scene);
         let delta = problem.horizon();
         let ramp = initiation_ramp(scene, delta, 200);
