@@ -1,4 +1,5 @@
-//! Upper bounds on counts and magnitudes (issue 17, "trust at the extremes"): every
+//! Upper bounds on counts and magnitudes (issue 17, "trust at the extremes"), and the
+//! range of a PD solve's relative tolerance ([`relative_tolerance`]): every
 //! integer field that sizes an allocation or a loop, and every coordinate that feeds a
 //! sampling grid, has a bound here, so no scene can ask for 2^64 load steps, a grid of
 //! 10^16 points or a sampling line from -1e308. The memory of the models themselves is
@@ -9,6 +10,26 @@
 
 use super::Checker;
 use crate::scene::{PdSolver, Scene};
+
+/// Smallest relative tolerance of a PD solve (`pd.solver.tolerance`,
+/// `pd.refinement.tolerance`): the library's floor for the refined conjugate gradients
+/// ([`pdbem_pd::refine::MIN_TOLERANCE`]), which holds for every PD solve: f64 resolves
+/// relative changes of 2.2e-16, and a solve's round-off floor lies some tens to hundreds
+/// of times above (the refined plate's conjugate gradients stall at 1e-14 to 1e-13 of the
+/// load at dx = 0.5 mm; ADR's displacement change at 2.2e-16), so a smaller tolerance
+/// cannot mean convergence.
+pub const MIN_PD_TOLERANCE: f64 = pdbem_pd::refine::MIN_TOLERANCE;
+
+/// A relative tolerance of a PD solve at `path`: in [[`MIN_PD_TOLERANCE`], 1).
+pub(super) fn relative_tolerance(c: &mut Checker, path: &str, v: f64) {
+    if c.finite(path, v) && !(MIN_PD_TOLERANCE..1.0).contains(&v) {
+        c.fail(
+            path,
+            v,
+            format!("a relative tolerance must lie in [{MIN_PD_TOLERANCE:e}, 1): below it a solve's measure is round-off (f64 resolves 2.2e-16), from 1 on the first iterate passes"),
+        );
+    }
+}
 
 /// Most load steps (`load.count`): every step is a solve.
 pub const MAX_LOAD_STEPS: usize = 100_000;

@@ -1,5 +1,6 @@
 //! Rules of `pd` and `coupling` (`growth`: [`super::growth`]).
 
+use super::limits::relative_tolerance;
 use super::Checker;
 use crate::geometry::{bounding_box, direction, p2, point_in_polygon, P2};
 use crate::scene::shapes::outline_loop;
@@ -13,26 +14,6 @@ pub const MIN_HORIZON_FACTOR: f64 = 2.0;
 pub const MAX_HORIZON_FACTOR: f64 = 6.0;
 /// Largest coupling tolerance psi (a relative change of the interface displacements).
 pub const MAX_PSI: f64 = 0.1;
-/// Smallest relative tolerance of a PD solve (`pd.solver.tolerance`,
-/// `pd.refinement.tolerance`): the library's floor for the refined conjugate gradients
-/// ([`pdbem_pd::refine::MIN_TOLERANCE`]), which holds for every PD solve: f64 resolves
-/// relative changes of 2.2e-16, and a solve's round-off floor lies some tens to hundreds
-/// of times above (the refined plate's conjugate gradients stall at 1e-14 to 1e-13 of the
-/// load at dx = 0.5 mm; ADR's displacement change at 2.2e-16), so a smaller tolerance
-/// cannot mean convergence.
-pub const MIN_PD_TOLERANCE: f64 = pdbem_pd::refine::MIN_TOLERANCE;
-
-/// A relative tolerance of a PD solve at `path`: in [[`MIN_PD_TOLERANCE`], 1).
-pub(super) fn relative_tolerance(c: &mut Checker, path: &str, v: f64) {
-    if c.finite(path, v) && !(MIN_PD_TOLERANCE..1.0).contains(&v) {
-        c.fail(
-            path,
-            v,
-            format!("a relative tolerance must lie in [{MIN_PD_TOLERANCE:e}, 1): below it a solve's measure is round-off (f64 resolves 2.2e-16), from 1 on the first iterate passes"),
-        );
-    }
-}
-
 /// Checks the PD and coupling sections.
 pub fn check(c: &mut Checker, scene: &Scene) {
     if let Some(pd) = &scene.pd {

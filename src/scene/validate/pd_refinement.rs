@@ -1,7 +1,7 @@
 //! Validation of `pd.refinement` (seed 004's criteria on particles, `pdbem_pd::refine`, or
 //! on the grid's cells, `pdbem_pd::adapt`).
 
-use super::pd::relative_tolerance;
+use super::limits::relative_tolerance;
 use super::Checker;
 use crate::scene::{Failure, PdSolver, Scene};
 
