@@ -100,3 +100,30 @@ pub fn report_initiation(
     );
     extra.insert("kink_deg_per_tip".into(), json!(kinks));
 }
+
+/// The notes of an initiation ramp that ended short of a full answer: the crack did not
+/// run by the last load factor (`extension`, m, at the end), or loads (factors) used up
+/// their break-and-re-solve rounds before the bonds settled.
+pub fn initiation_notes(
+    scene: &Scene,
+    initiation: Option<f64>,
+    extension: f64,
+    unsettled: &[f64],
+    notes: &mut Vec<String>,
+) {
+    if initiation.is_none() {
+        let last = round12(scene.load.factors().last().copied().unwrap_or(1.0));
+        notes.push(format!(
+            "the crack did not run by the last load factor {last} (extension {extension:.4e} m): no initiation load"
+        ));
+    }
+    if let Some(first) = unsettled.first() {
+        notes.push(format!(
+            "{} load step(s) used up their break-and-re-solve rounds with bonds still breaking \
+             (first at load factor {}): the ramp went on from a state that was not an \
+             equilibrium there",
+            unsettled.len(),
+            round12(*first)
+        ));
+    }
+}

@@ -28,7 +28,8 @@
 
 use crate::load_displacement::LoadDisplacement;
 use crate::pd_loads::{
-    initiation_ramp, load_unit, report_initiation, round12, scene_tips, traction_scale,
+    initiation_notes, initiation_ramp, load_unit, report_initiation, round12, scene_tips,
+    traction_scale,
 };
 use crate::runner::context::RunContext;
 use crate::runner::summary::RunSummary;
@@ -234,6 +235,13 @@ pub fn solve_observed(
             init.unstable,
             &kinks,
             &mut summary.extra,
+        );
+        initiation_notes(
+            scene,
+            init.initiation_load,
+            init.extension,
+            &init.unsettled_loads,
+            &mut summary.notes,
         );
         init.info
     } else {

@@ -20,7 +20,9 @@ use pdbem_pd::refine::{ramp, run as refine_run, RefinedRamp, Refinement};
 use pdbem_pd::Selection;
 use serde_json::json;
 
-use crate::pd_loads::{initiation_ramp, load_unit, report_initiation, scene_tips};
+use crate::pd_loads::{
+    initiation_notes, initiation_ramp, load_unit, report_initiation, scene_tips,
+};
 use crate::runner::context::RunContext;
 use crate::runner::summary::RunSummary;
 use crate::scene::{Failure, PdRefinement, Scene};
@@ -141,13 +143,6 @@ fn report_ramp(
         .iter()
         .map(|t| b.kink_angle(*t, delta, 4.0 * delta))
         .collect();
-    if rec.initiation_load.is_none() {
-        let last = scene.load.factors().last().copied().unwrap_or(1.0);
-        summary.notes.push(format!(
-            "the crack did not run by the last load factor {last} (extension {:.4e} m): no initiation load",
-            rec.extension
-        ));
-    }
     if let Some(why) = &rec.plain_cg {
         summary.notes.push(format!(
             "the refined ramp solved by plain conjugate gradients, same results but slower: {why}; raise --max-memory to precondition"
@@ -159,15 +154,13 @@ fn report_ramp(
         .filter(|s| !s.settled)
         .map(|s| s.load)
         .collect();
-    if !unsettled.is_empty() {
-        summary.notes.push(format!(
-            "{} load step(s) used up their break-and-re-solve rounds with bonds still breaking \
-             (first at load factor {}): the ramp went on from a state that was not an \
-             equilibrium there",
-            unsettled.len(),
-            unsettled[0]
-        ));
-    }
+    initiation_notes(
+        scene,
+        rec.initiation_load,
+        rec.extension,
+        &unsettled,
+        &mut summary.notes,
+    );
     report_initiation(
         scene,
         rec.first_break_load,

@@ -113,7 +113,7 @@ fn a_breaking_law_runs_the_initiation_ramp_on_refined_cells() {
     assert_eq!(s.matches("0.002").count(), 1);
     assert!(s.contains("Pmb") && s.contains("0.006"));
     let d = dir("initiation");
-    std::fs::write(d.join("plate.ron"), s).unwrap();
+    std::fs::write(d.join("plate.ron"), &s).unwrap();
     let (code, text) = pdbem(&["check", "plate.ron"], &d);
     assert_eq!(code, Some(0), "{text}");
     assert!(text.contains("the set-up splits"), "{text}");
@@ -127,6 +127,11 @@ fn a_breaking_law_runs_the_initiation_ramp_on_refined_cells() {
     assert!(summary["first_break_load"].as_f64().unwrap() < load);
     assert_eq!(summary["unstable_growth"], false);
     assert!(summary["kink_deg"].as_f64().unwrap().abs() < 5.0);
+    assert_eq!(
+        summary["notes"].as_array().map_or(0, Vec::len),
+        0,
+        "{summary}"
+    );
     let r = &summary["refinement"];
     assert_eq!(r["on"], "cells");
     let cells = r["cells_level_1"].as_u64().unwrap();
@@ -142,6 +147,21 @@ fn a_breaking_law_runs_the_initiation_ramp_on_refined_cells() {
     assert_eq!(nodes, rounds.last().unwrap()["nodes"].as_u64().unwrap());
     let table = std::fs::read_to_string(d.join("out/nodes.csv")).unwrap();
     assert_eq!(table.lines().count() as u64, nodes + 1);
+    // A ramp that ends at 34 MPa, below the first break: no initiation load, and a note.
+    let short = s.replace("count: 40", "count: 5");
+    assert_ne!(short, s);
+    std::fs::write(d.join("short.ron"), short).unwrap();
+    let (code, text) = pdbem(&["run", "short.ron", "--out", "short", "--quiet"], &d);
+    assert_eq!(code, Some(0), "{text}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("short/summary.json")).unwrap())
+            .unwrap();
+    assert!(summary["initiation_load"].is_null(), "{summary}");
+    let notes = summary["notes"].to_string();
+    assert!(
+        notes.contains("did not run by the last load factor 3.4"),
+        "{notes}"
+    );
     // Refined cells have no explicit dynamics.
     let explicit = scene.replace("solver: Implicit(),", "solver: Explicit(end_time: 1e-6),");
     std::fs::write(

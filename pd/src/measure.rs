@@ -174,6 +174,10 @@ pub struct Initiation {
     /// (unstable growth under load control, e.g. the plate parted): the
     /// ramp stopped there.
     pub unstable: bool,
+    /// Loads whose `max_rounds` ran out with bonds still breaking (or, with a
+    /// refinement hook, a split not yet solved): the ramp went on from a state
+    /// that was not an equilibrium there.
+    pub unsettled_loads: Vec<f64>,
     /// Solver record (one step per equilibrium).
     pub info: SolveInfo,
 }
@@ -196,7 +200,8 @@ pub fn ramp_to_initiation(
 /// breaking, `split(model, load)` may replace the model by a refined one (it returns
 /// `true` then), and the same load is solved again on it (seed 004's per-step steps
 /// 3-5, [`crate::adapt`]). The rounds of a load end when no bond breaks and nothing
-/// splits, or after `max_rounds`.
+/// splits, or after `max_rounds` (the load is then listed in
+/// [`Initiation::unsettled_loads`]).
 pub fn ramp_to_initiation_with(
     model: &mut PdModel,
     tips: &[Tip],
@@ -229,6 +234,7 @@ pub fn ramp_to_initiation_with(
     }
     while lam <= p.max_load * (1.0 + 1e-12) {
         model.set_load_factor(lam);
+        let mut settled = false;
         for _round in 0..p.max_rounds {
             let it = match newton.equilibrate(model, &ip, &mut out.info) {
                 Ok((it, _)) => it,
@@ -237,6 +243,7 @@ pub fn ramp_to_initiation_with(
                 Err(_) if out.first_break_load.is_some() => {
                     out.unstable = true;
                     out.initiation_load.get_or_insert(lam);
+                    settled = true;
                     break;
                 }
                 Err(e) => return Err(e),
@@ -252,13 +259,18 @@ pub fn ramp_to_initiation_with(
                 out.initiation_load = Some(lam);
             }
             if out.initiation_load.is_some() && ext - ext0 >= p.grow_to {
+                settled = true;
                 break;
             }
             if split(model, lam)? {
                 newton = Newton::new(model)?;
             } else if st.newly_broken == 0 {
+                settled = true;
                 break;
             }
+        }
+        if !settled {
+            out.unsettled_loads.push(lam);
         }
         out.info.steps.push(crate::solvers::StepRecord {
             load: lam,

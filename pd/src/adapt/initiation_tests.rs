@@ -69,6 +69,8 @@ fn a_split_tip_circle_initiates_at_the_finer_grids_load() {
     assert!(refined.rounds.iter().any(|x| x.load == 0.0));
     assert!(refined.rounds.iter().any(|x| x.load > 0.0));
     assert!(!refined.init.unstable);
+    assert!(refined.init.unsettled_loads.is_empty());
+    assert!(coarse.unsettled_loads.is_empty() && fine.unsettled_loads.is_empty());
     let delta = 3.015 * coarse_dx;
     let kink = kink_angle(&refined.model, tips[0], delta, 4.0 * delta).expect("a crack");
     assert!(kink.abs() < 5.0, "kink {kink}");
@@ -95,4 +97,45 @@ fn a_ramp_without_splits_is_the_uniform_ramp_bit_for_bit() {
     assert_eq!(refined.init.initiation_load, init.initiation_load);
     assert_eq!(refined.model.broken_bonds(), uniform.broken_bonds());
     assert_eq!(refined.model.displacements(), uniform.displacements());
+}
+
+/// A load whose break-and-re-solve rounds run out is listed as unsettled: with one round
+/// per load, the first break leaves its load unsettled on the uniform grid, and on the
+/// cells so does every load at which a cell split (its refined grid was not solved there).
+#[test]
+fn a_load_out_of_rounds_is_listed_unsettled() {
+    let dx = 2e-3;
+    let tips = crack_tips(&crack(A_OVER_L * SIDE, HEIGHT), true);
+    let one_round = RampParams {
+        max_rounds: 1,
+        ..params(dx)
+    };
+    let mut uniform = PdModel::new(&plate(dx)).unwrap();
+    let init = uniform_ramp(&mut uniform, &tips, &one_round).unwrap();
+    let first = init.first_break_load.expect("bonds broke");
+    assert!(init.unsettled_loads.contains(&first), "{init:?}");
+    assert!(init.unsettled_loads.iter().all(|&l| l >= first));
+    let tip = [A_OVER_L * SIDE, 0.5 * HEIGHT];
+    let crit = CellCriteria {
+        critical_damage: Some(0.4),
+        strain_factor: Some(0.5),
+        max_level: 1,
+        near_cracks: None,
+        circles: vec![(tip, 6e-3, 1)],
+    };
+    let cells = ramp_to_initiation(&plate(dx), &crit, &tips, &one_round, &mut |_| {}).unwrap();
+    let split_loads: Vec<f64> = cells
+        .rounds
+        .iter()
+        .map(|r| r.load)
+        .filter(|&l| l > 0.0)
+        .collect();
+    assert!(!split_loads.is_empty(), "no split during the ramp");
+    for l in split_loads {
+        assert!(
+            cells.init.unsettled_loads.contains(&l),
+            "split at {l}: {:?}",
+            cells.init.unsettled_loads
+        );
+    }
 }
