@@ -83,6 +83,11 @@ fn cells_refuse_a_third_level_and_kept_horizons() {
             "refinement: (critical_damage: 0.25), traction: TransferFunction",
             "pd.traction",
         ),
+        // The tanh law's ramp breaks no bonds in rounds: nothing to split before.
+        (
+            "refinement: (critical_damage: 0.25, split_before_breaking: true)",
+            "pd.refinement.split_before_breaking",
+        ),
     ] {
         let s = scene.replace("refinement: (critical_damage: 0.25)", with);
         assert_ne!(s, scene);
@@ -162,6 +167,18 @@ fn a_breaking_law_runs_the_initiation_ramp_on_refined_cells() {
         notes.contains("did not run by the last load factor 3.4"),
         "{notes}"
     );
+    // Eqs. 15-16 alone (the seed's criteria) are accepted; so is the split before
+    // breaking asked for where it applies.
+    for flag in ["false", "true"] {
+        let with = s.replace(
+            "on: Cells,",
+            &format!("on: Cells, split_before_breaking: {flag},"),
+        );
+        assert_ne!(with, s);
+        std::fs::write(d.join("flag.ron"), with).unwrap();
+        let (code, text) = pdbem(&["check", "flag.ron"], &d);
+        assert_eq!(code, Some(0), "{flag}: {text}");
+    }
     // Refined cells have no explicit dynamics.
     let explicit = scene.replace("solver: Implicit(),", "solver: Explicit(end_time: 1e-6),");
     std::fs::write(

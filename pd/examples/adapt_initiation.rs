@@ -6,7 +6,9 @@
 //! Arguments: mode, load step (default 0.1, i.e. 1 MPa), coarse spacing (default 2 mm),
 //! radius (default 6 mm), model (`sb` state-based, default, or `pmb`). Modes: `coarse`
 //! and `fine` (half the spacing): uniform grids, no refinement; `criteria`: Eq. 15 with
-//! phi_c = 0.4 and Eq. 16 with alpha = 0.5 at every equilibrium; `circle`: the same and
+//! phi_c = 0.4 and Eq. 16 with alpha = 0.5 at every equilibrium, and the cells holding
+//! an end of an overstretched bond split before the bonds break (`before_breaking`);
+//! `circle`: the same and
 //! the cells within `radius` of the pre-crack tip split before the ramp; `nested`: the
 //! circle at level 2 inside a level-1 circle of twice the radius. Numbers in
 //! docs/seed004.md.
@@ -49,6 +51,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         max_level: circles.iter().map(|c| c.2).max().unwrap_or(1),
         near_cracks: None,
         circles,
+        before_breaking: criteria,
     };
     let delta = p.horizon();
     let tips = crack_tips(&crack(a_over_l * SIDE, HEIGHT), true);

@@ -157,7 +157,8 @@ pub struct RampParams {
     /// Keep breaking at the initiation load until the extension reaches
     /// this length (m), for a kink measurement; 0 stops at initiation.
     pub grow_to: f64,
-    /// Cap on break-and-re-solve rounds per load step.
+    /// Cap on break-and-re-solve rounds per load step (a split before the bonds
+    /// break, [`SplitStage::BeforeBreaking`], is not a round).
     pub max_rounds: usize,
 }
 
@@ -193,20 +194,30 @@ pub fn ramp_to_initiation(
     tips: &[Tip],
     p: &RampParams,
 ) -> Result<Initiation, PdError> {
-    ramp_to_initiation_with(model, tips, p, &mut |_, _| Ok(false))
+    ramp_to_initiation_with(model, tips, p, &mut |_, _, _| Ok(false))
 }
 
-/// [`ramp_to_initiation`] with a refinement hook: after every equilibrium and its bond
-/// breaking, `split(model, load)` may replace the model by a refined one (it returns
-/// `true` then), and the same load is solved again on it (seed 004's per-step steps
-/// 3-5, [`crate::adapt`]). The rounds of a load end when no bond breaks and nothing
-/// splits, or after `max_rounds` (the load is then listed in
+/// When the hook of [`ramp_to_initiation_with`] is asked for a split.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SplitStage {
+    /// After an equilibrium, before its overstretched bonds break.
+    BeforeBreaking,
+    /// After the bonds broke (and the crack extension was measured).
+    AfterBreaking,
+}
+
+/// [`ramp_to_initiation`] with a refinement hook: after every equilibrium, before and
+/// after its bond breaking, `split(model, load, stage)` may replace the model by a
+/// refined one (it returns `true` then), and the same load is solved again on it (seed
+/// 004's per-step steps 3-5, [`crate::adapt`]; a split before the breaking leaves the
+/// bonds unbroken). The rounds of a load end when no bond breaks and nothing splits, or
+/// after `max_rounds` (the load is then listed in
 /// [`Initiation::unsettled_loads`]).
 pub fn ramp_to_initiation_with(
     model: &mut PdModel,
     tips: &[Tip],
     p: &RampParams,
-    split: &mut dyn FnMut(&mut PdModel, f64) -> Result<bool, PdError>,
+    split: &mut dyn FnMut(&mut PdModel, f64, SplitStage) -> Result<bool, PdError>,
 ) -> Result<Initiation, PdError> {
     let mut out = Initiation::default();
     let mut newton = Newton::new(model)?;
@@ -235,7 +246,8 @@ pub fn ramp_to_initiation_with(
     while lam <= p.max_load * (1.0 + 1e-12) {
         model.set_load_factor(lam);
         let mut settled = false;
-        for _round in 0..p.max_rounds {
+        let mut rounds = 0;
+        while rounds < p.max_rounds {
             let it = match newton.equilibrate(model, &ip, &mut out.info) {
                 Ok((it, _)) => it,
                 // After bonds have broken, a lost equilibrium under load control is
@@ -249,6 +261,12 @@ pub fn ramp_to_initiation_with(
                 Err(e) => return Err(e),
             };
             out.info.iterations += it;
+            // Not a round: every split deepens a cell, and the levels are bounded.
+            if split(model, lam, SplitStage::BeforeBreaking)? {
+                newton = Newton::new(model)?;
+                continue;
+            }
+            rounds += 1;
             let st = model.commit_history();
             if st.newly_broken > 0 && out.first_break_load.is_none() {
                 out.first_break_load = Some(lam);
@@ -262,7 +280,7 @@ pub fn ramp_to_initiation_with(
                 settled = true;
                 break;
             }
-            if split(model, lam)? {
+            if split(model, lam, SplitStage::AfterBreaking)? {
                 newton = Newton::new(model)?;
             } else if st.newly_broken == 0 {
                 settled = true;

@@ -134,6 +134,11 @@ pub struct PdRefinement {
     pub strain_factor: Option<f64>,
     /// Explicit dynamics: time steps between the refinement checks, >= 1. Default 10.
     pub check_every: usize,
+    /// The crack-initiation ramp on the grid's cells: before a round's bonds break, split
+    /// the cells below `max_level` that hold an end of a bond past its breaking stretch,
+    /// so bonds break on the deepest level only (not a criterion of the seed). Default:
+    /// on where it applies (`None`).
+    pub split_before_breaking: Option<bool>,
     /// What splits: seed 004's particles or the grid's cells. Default `Auto`.
     pub on: RefineOn,
 }
@@ -165,6 +170,7 @@ impl Default for PdRefinement {
             keep_horizon: false,
             strain_factor: None,
             check_every: 10,
+            split_before_breaking: None,
             on: RefineOn::Auto,
         }
     }

@@ -10,10 +10,10 @@
 //! the breaking stretch of their own horizon ($s_0\sqrt{\delta/\delta_k}$, G_c held,
 //! [`crate::mixed`]).
 
-use super::ramp::{set_up_ramp, split_cells, AdaptEvent, Round};
+use super::ramp::{set_up_ramp, split_cells, AdaptEvent, Round, Trigger};
 use super::{AdaptiveCells, CellCriteria};
 use crate::error::PdError;
-use crate::measure::{ramp_to_initiation_with, Initiation, RampParams, Tip};
+use crate::measure::{ramp_to_initiation_with, Initiation, RampParams, SplitStage, Tip};
 use crate::model::PdModel;
 use crate::problem::PdProblem;
 
@@ -44,8 +44,12 @@ pub fn ramp_to_initiation(
     let start = set_up_ramp(base, crit, observe)?;
     let (mut model, mut problem, mut cells, mut rounds) =
         (start.model, start.problem, start.cells, start.rounds);
-    let init = ramp_to_initiation_with(&mut model, tips, params, &mut |m, load| {
-        let Some((refined, p, round)) = split_cells(m, &problem, &mut cells, crit, load, false)?
+    let init = ramp_to_initiation_with(&mut model, tips, params, &mut |m, load, stage| {
+        let trigger = match stage {
+            SplitStage::BeforeBreaking => Trigger::Breaking,
+            SplitStage::AfterBreaking => Trigger::Criteria,
+        };
+        let Some((refined, p, round)) = split_cells(m, &problem, &mut cells, crit, load, trigger)?
         else {
             return Ok(false);
         };

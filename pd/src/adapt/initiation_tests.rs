@@ -27,10 +27,12 @@ fn params(dx: f64) -> RampParams {
 }
 
 /// Measured (2026-11-30): initiation at 4.3 (uniform 2 mm), 4.4 (2 mm with the cells
-/// within 6 mm of the tip split and Eqs. 15-16, 1670 nodes) and 4.5 (uniform 1 mm, 5000
-/// nodes), times 10 MPa. Asserted: the refined grid within one step of the 1 mm grid, the
-/// coarse grid at least two steps short of it, the refined grid under 40 % of its nodes,
-/// splits during the ramp (Eqs. 15-16 on the running crack) and a straight mode-I crack.
+/// within 6 mm of the tip split, Eqs. 15-16 and the split before breaking, 2060 nodes;
+/// 1670 without the split before breaking) and 4.5 (uniform 1 mm, 5000 nodes), times
+/// 10 MPa. Asserted: the refined grid within one step of the 1 mm grid, the coarse grid
+/// at least two steps short of it, the refined grid under 45 % of its nodes, splits during
+/// the ramp, every broken bond between children (none broke on a coarse node) and a
+/// straight mode-I crack; the criteria alone (no circle) at the 1 mm grid's load.
 #[test]
 fn a_split_tip_circle_initiates_at_the_finer_grids_load() {
     let coarse_dx = 2e-3;
@@ -42,6 +44,7 @@ fn a_split_tip_circle_initiates_at_the_finer_grids_load() {
         max_level: 1,
         near_cracks: None,
         circles: vec![(tip, 6e-3, 1)],
+        before_breaking: true,
     };
     let refined = ramp_to_initiation(
         &plate(coarse_dx),
@@ -65,15 +68,65 @@ fn a_split_tip_circle_initiates_at_the_finer_grids_load() {
     );
     assert!((r - f).abs() <= STEP + 1e-9, "refined {r} against fine {f}");
     assert!(c <= f - 2.0 * STEP + 1e-9, "coarse {c} against fine {f}");
-    assert!(refined.model.n_real() * 10 < fine_model.n_real() * 4);
+    assert!(refined.model.n_real() * 100 < fine_model.n_real() * 45);
     assert!(refined.rounds.iter().any(|x| x.load == 0.0));
     assert!(refined.rounds.iter().any(|x| x.load > 0.0));
     assert!(!refined.init.unstable);
+    assert_eq!(broken_below(&refined.model, 1), 0);
+    assert!(broken_below(&refined.model, 2) > 0);
     assert!(refined.init.unsettled_loads.is_empty());
     assert!(coarse.unsettled_loads.is_empty() && fine.unsettled_loads.is_empty());
     let delta = 3.015 * coarse_dx;
     let kink = kink_angle(&refined.model, tips[0], delta, 4.0 * delta).expect("a crack");
     assert!(kink.abs() < 5.0, "kink {kink}");
+    // The criteria alone, no circle: the cells split before breaking, with the ring
+    // around them, carry the tip to the 1 mm grid's load (4.5; without the ring 4.6,
+    // without the split before breaking the 2 mm grid's 4.3).
+    let alone = CellCriteria {
+        circles: vec![],
+        ..crit
+    };
+    let refined = ramp_to_initiation(
+        &plate(coarse_dx),
+        &alone,
+        &tips,
+        &params(coarse_dx),
+        &mut |_| {},
+    )
+    .unwrap();
+    let r = load(&refined.init);
+    eprintln!("criteria alone: {r} ({} nodes)", refined.model.n_real());
+    assert!(
+        (r - f).abs() < 0.5 * STEP,
+        "criteria alone {r} against fine {f}"
+    );
+    assert_eq!(broken_below(&refined.model, 1), 0);
+}
+
+/// Broken bonds with an end below `level`; not counted: pre-crack cuts (bonds across the
+/// crack line `y = HEIGHT / 2` from the edge to the tip) and bonds of the pinned corner
+/// nodes (their cells never split; bonds break there under the pin's reaction).
+fn broken_below(m: &PdModel, level: u32) -> usize {
+    let (x, b, n) = (m.positions(), m.bonds(), m.n_real());
+    let fixed = &m.boundary().fixed;
+    let (a, mid) = (A_OVER_L * SIDE, 0.5 * HEIGHT);
+    let mut count = 0;
+    for k in 0..n {
+        for e in b.row(k) {
+            let j = b.nbr[e] as usize;
+            let pinned = |i: usize| fixed[i][0] || fixed[i][1];
+            if m.intact[e] != 0 || j >= n || pinned(k) || pinned(j) {
+                continue;
+            }
+            let (p, q) = (x[k], x[j]);
+            let crosses = (p[1] - mid) * (q[1] - mid) < 0.0
+                && p[0] + (q[0] - p[0]) * (mid - p[1]) / (q[1] - p[1]) < a;
+            if !crosses && super::node_level(m, k).min(super::node_level(m, j)) < level {
+                count += 1;
+            }
+        }
+    }
+    count
 }
 
 /// With no criterion that can fire the refined ramp is the uniform grid's ramp, bit for
@@ -88,6 +141,7 @@ fn a_ramp_without_splits_is_the_uniform_ramp_bit_for_bit() {
         max_level: 1,
         near_cracks: None,
         circles: vec![],
+        before_breaking: false,
     };
     let refined = ramp_to_initiation(&plate(dx), &crit, &tips, &params(dx), &mut |_| {}).unwrap();
     let mut uniform = PdModel::new(&plate(dx)).unwrap();
@@ -122,6 +176,7 @@ fn a_load_out_of_rounds_is_listed_unsettled() {
         max_level: 1,
         near_cracks: None,
         circles: vec![(tip, 6e-3, 1)],
+        before_breaking: true,
     };
     let cells = ramp_to_initiation(&plate(dx), &crit, &tips, &one_round, &mut |_| {}).unwrap();
     let split_loads: Vec<f64> = cells

@@ -38,7 +38,13 @@
 //! cell splits the step is solved again on the refined grid (the seed's per-step steps
 //! 3-5); the rounds end because every split deepens a cell and the levels are bounded.
 //! [`initiation`] does the same within stand-alone PD's crack-initiation ramp (Newton,
-//! brittle breaking until the crack runs).
+//! brittle breaking until the crack runs), and with `before_breaking` also splits, before
+//! a round's bonds break, the cells below the deepest level that hold an end of a bond
+//! past its breaking stretch and the cells around them ([`breaking_cells`]; not a
+//! criterion of the seed): bonds then break on the deepest level only. Without it a coarse cell's broken bonds are inherited
+//! by its children when Eq. 15 fires after the break, the coarse crack's cell-scale
+//! pattern stays in the fine grid, and a stably growing crack bent by 9 degrees where
+//! the uniform fine grid's ran straight (`docs/seed004.md`).
 
 pub mod initiation;
 pub mod measure;
@@ -78,6 +84,10 @@ pub struct CellCriteria {
     /// Static: cells whose centres lie in a circle `(centre, radius, level)` are split
     /// to `level` before the first step.
     pub circles: Vec<(P2, f64, u32)>,
+    /// The crack-initiation ramp ([`initiation`]) splits, before the bonds of a round
+    /// break, every cell below `max_level` holding an end of a bond past its breaking
+    /// stretch ([`breaking_cells`]), so bonds break on the deepest level only.
+    pub before_breaking: bool,
 }
 
 impl CellCriteria {
@@ -246,6 +256,50 @@ pub fn flagged_cells(
         if by_damage || by_strain {
             let l = want.entry(lattice.cell_of(g.pos[k])).or_insert(0);
             *l = (*l).max(level + 1);
+        }
+    }
+    settle(want, &current, &blocked)
+}
+
+/// The cells, with their new levels (graded), that hold a real node below `max_level`
+/// with an intact bond past the brittle law's breaking stretch (normalised,
+/// [`crate::forces::stretch_scale`]: the bonds the next commit would break there), and
+/// the 8 cells around each, one level deeper than that node. The ring keeps the size
+/// jump a cell away from the breaking bonds (without it the plate of
+/// [`super::initiation`]'s tests with the criteria alone initiated two load steps above
+/// the finer grid, with it at the finer grid's load; docs/seed004.md). Empty unless
+/// `crit.before_breaking` and the law is brittle.
+pub fn breaking_cells(
+    model: &PdModel,
+    problem: &PdProblem,
+    crit: &CellCriteria,
+) -> BTreeMap<Cell, u32> {
+    let (true, BondLaw::Brittle { s0 }) = (crit.before_breaking, model.law()) else {
+        return BTreeMap::new();
+    };
+    let lattice = Lattice::of(problem);
+    let (current, blocked) = cell_levels(model, &lattice);
+    let g = model.grid();
+    let b = model.bonds();
+    let mut want = BTreeMap::new();
+    for k in 0..model.n_real() {
+        let level = node_level(model, k);
+        if level >= crit.max_level {
+            continue;
+        }
+        let hit = b.row(k).any(|e| {
+            let j = b.nbr[e] as usize;
+            model.intact[e] != 0
+                && transfer::bond_stretch(model, e, k, j) / crate::forces::stretch_scale(b, e) >= s0
+        });
+        if hit {
+            let (i, j) = lattice.cell_of(g.pos[k]);
+            for c in (i - 1..=i + 1).flat_map(|a| (j - 1..=j + 1).map(move |b| (a, b))) {
+                if current.contains_key(&c) {
+                    let l = want.entry(c).or_insert(0);
+                    *l = (*l).max(level + 1);
+                }
+            }
         }
     }
     settle(want, &current, &blocked)

@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 use std::time::Instant;
 
 use super::transfer::refined_model;
-use super::{flagged_cells, static_cells, AdaptiveCells, CellCriteria};
+use super::{breaking_cells, flagged_cells, static_cells, AdaptiveCells, CellCriteria};
 use crate::error::PdError;
 use crate::model::PdModel;
 use crate::problem::PdProblem;
@@ -153,19 +153,34 @@ fn check_size(
     )
 }
 
-/// Splits the cells of `model`'s grid (over `problem`, split `cells`) the criteria
-/// (static ones with `setup`) ask for at `load`: the refined model, its problem and the
-/// round, with `cells` raised; `None` when nothing fires.
+/// What a split looks for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Trigger {
+    /// Eqs. 15-16 and the static criteria (the set-up).
+    Setup,
+    /// Eqs. 15-16 after a load's equilibrium and its bond breaking.
+    Criteria,
+    /// Before the bonds break: the cells that hold an end of a bond past its breaking
+    /// stretch below the deepest level ([`breaking_cells`]).
+    Breaking,
+}
+
+/// Splits the cells of `model`'s grid (over `problem`, split `cells`) that `trigger`
+/// finds at `load`: the refined model, its problem and the round, with `cells` raised;
+/// `None` when nothing fires.
 pub(super) fn split_cells(
     model: &PdModel,
     problem: &PdProblem,
     cells: &mut AdaptiveCells,
     crit: &CellCriteria,
     load: f64,
-    setup: bool,
+    trigger: Trigger,
 ) -> Result<Option<(PdModel, PdProblem, Round)>, PdError> {
-    let mut want = flagged_cells(model, problem, crit);
-    if setup {
+    let mut want = match trigger {
+        Trigger::Breaking => breaking_cells(model, problem, crit),
+        Trigger::Setup | Trigger::Criteria => flagged_cells(model, problem, crit),
+    };
+    if trigger == Trigger::Setup {
         for (c, l) in static_cells(model, problem, crit) {
             let e = want.entry(c).or_insert(0);
             *e = (*e).max(l);
@@ -196,7 +211,11 @@ impl Ramp<'_> {
             &mut self.cells,
             self.crit,
             load,
-            setup,
+            if setup {
+                Trigger::Setup
+            } else {
+                Trigger::Criteria
+            },
         )?;
         let Some((model, problem, round)) = split else {
             return Ok(0);

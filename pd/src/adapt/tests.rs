@@ -200,6 +200,7 @@ fn criteria_flag_damaged_and_strained_cells_graded_and_never_a_held_cell() {
         max_level: 2,
         near_cracks: None,
         circles: vec![],
+        before_breaking: false,
     };
     let f = flagged_cells(&m, &p, &crit);
     let d = m.damage();
@@ -253,6 +254,7 @@ fn never() -> CellCriteria {
         max_level: 1,
         near_cracks: None,
         circles: vec![],
+        before_breaking: false,
     }
 }
 

@@ -178,7 +178,7 @@ fn inherit_bonds(old: &PdModel, new: &mut PdModel, from: &[Origin]) {
                 }
                 None => {
                     if let Some(s0) = breaking {
-                        if stretch(new, e, k, j) / stretch_scale(&new.bonds, e) >= s0 {
+                        if bond_stretch(new, e, k, j) / stretch_scale(&new.bonds, e) >= s0 {
                             new.intact[e] = 0;
                         }
                     }
@@ -189,7 +189,7 @@ fn inherit_bonds(old: &PdModel, new: &mut PdModel, from: &[Origin]) {
 }
 
 /// The stretch of bond `e` from `k` to `j` at the model's displacements.
-fn stretch(m: &PdModel, e: usize, k: usize, j: usize) -> f64 {
+pub(super) fn bond_stretch(m: &PdModel, e: usize, k: usize, j: usize) -> f64 {
     let xi = m.bonds.xi[e];
     let (uk, uj) = (m.u[k], m.u[j]);
     let y = [xi[0] + uj[0] - uk[0], xi[1] + uj[1] - uk[1]];

@@ -20,6 +20,14 @@ pub(super) fn check(
             "refinement runs in stand-alone PD only (not in PD-BEM windows or growth): drop `coupling`/`growth` or the field",
         );
     }
+    if r.split_before_breaking == Some(true)
+        && !(r.on_cells(&pd.failure, &pd.solver) && scene.runs_pd_initiation_ramp())
+    {
+        c.fail_at(
+            "pd.refinement.split_before_breaking",
+            "read by the crack-initiation ramp on the grid's cells only (`on: Cells` with a breaking `pd.failure`, pre-cracks and a load ramp): drop the field",
+        );
+    }
     if r.on_cells(&pd.failure, &pd.solver) {
         check_cell_refinement(c, pd, r);
     } else if pd.model != crate::scene::PdModelKind::StateBased {
