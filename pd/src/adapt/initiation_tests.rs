@@ -22,6 +22,20 @@ fn plate(dx: f64) -> PdProblem {
     p
 }
 
+/// Eqs. 15-16 at the seed's phi_c and alpha, the split before breaking, and the cells
+/// within 6 mm of the pre-crack tip split once before the ramp.
+fn tip_circle() -> CellCriteria {
+    let tip = [A_OVER_L * SIDE, 0.5 * HEIGHT];
+    CellCriteria {
+        critical_damage: Some(0.4),
+        strain_factor: Some(0.5),
+        max_level: 1,
+        near_cracks: None,
+        circles: vec![(tip, 6e-3, 1)],
+        before_breaking: true,
+    }
+}
+
 fn params(dx: f64) -> RampParams {
     crate::edge_crack::initiation_ramp(STEP, 3.015 * dx)
 }
@@ -37,15 +51,7 @@ fn params(dx: f64) -> RampParams {
 fn a_split_tip_circle_initiates_at_the_finer_grids_load() {
     let coarse_dx = 2e-3;
     let tips = crack_tips(&crack(A_OVER_L * SIDE, HEIGHT), true);
-    let tip = [A_OVER_L * SIDE, 0.5 * HEIGHT];
-    let crit = CellCriteria {
-        critical_damage: Some(0.4),
-        strain_factor: Some(0.5),
-        max_level: 1,
-        near_cracks: None,
-        circles: vec![(tip, 6e-3, 1)],
-        before_breaking: true,
-    };
+    let crit = tip_circle();
     let refined = ramp_to_initiation(
         &plate(coarse_dx),
         &crit,
@@ -169,15 +175,7 @@ fn a_load_out_of_rounds_is_listed_unsettled() {
     let first = init.first_break_load.expect("bonds broke");
     assert!(init.unsettled_loads.contains(&first), "{init:?}");
     assert!(init.unsettled_loads.iter().all(|&l| l >= first));
-    let tip = [A_OVER_L * SIDE, 0.5 * HEIGHT];
-    let crit = CellCriteria {
-        critical_damage: Some(0.4),
-        strain_factor: Some(0.5),
-        max_level: 1,
-        near_cracks: None,
-        circles: vec![(tip, 6e-3, 1)],
-        before_breaking: true,
-    };
+    let crit = tip_circle();
     let cells = ramp_to_initiation(&plate(dx), &crit, &tips, &one_round, &mut |_| {}).unwrap();
     let split_loads: Vec<f64> = cells
         .rounds
