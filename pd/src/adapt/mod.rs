@@ -41,10 +41,11 @@
 //! brittle breaking until the crack runs), and with `before_breaking` also splits, before
 //! a round's bonds break, the cells below the deepest level that hold an end of a bond
 //! past its breaking stretch and the cells around them ([`breaking_cells`]; not a
-//! criterion of the seed): bonds then break on the deepest level only. Without it a coarse cell's broken bonds are inherited
-//! by its children when Eq. 15 fires after the break, the coarse crack's cell-scale
-//! pattern stays in the fine grid, and a stably growing crack bent by 9 degrees where
-//! the uniform fine grid's ran straight (`docs/seed004.md`).
+//! criterion of the seed): bonds then break on the deepest level only. Without it a
+//! coarse cell's broken bonds are inherited by its children when Eq. 15 fires after the
+//! break, the coarse crack's cell-scale pattern stays in the fine grid, and a stably
+//! growing crack bent by 9 degrees where the uniform fine grid's ran straight
+//! (`docs/seed004.md`).
 
 pub mod initiation;
 pub mod measure;
@@ -289,7 +290,8 @@ pub fn breaking_cells(
         }
         let hit = b.row(k).any(|e| {
             let j = b.nbr[e] as usize;
-            model.intact[e] != 0
+            // The commit's rule (crate::forces): intact, not protected, past s0.
+            !matches!(model.intact[e], 0 | crate::forces::NO_FAIL)
                 && transfer::bond_stretch(model, e, k, j) / crate::forces::stretch_scale(b, e) >= s0
         });
         if hit {

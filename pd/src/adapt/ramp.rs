@@ -202,20 +202,15 @@ pub(super) fn split_cells(
 }
 
 impl Ramp<'_> {
-    /// Splits the cells the criteria (static ones with `setup`) ask for; the number of
-    /// cells split.
-    fn refine(&mut self, load: f64, setup: bool) -> Result<usize, PdError> {
+    /// Splits the cells `trigger` finds; the number of cells split.
+    fn refine(&mut self, load: f64, trigger: Trigger) -> Result<usize, PdError> {
         let split = split_cells(
             &self.model,
             &self.problem,
             &mut self.cells,
             self.crit,
             load,
-            if setup {
-                Trigger::Setup
-            } else {
-                Trigger::Criteria
-            },
+            trigger,
         )?;
         let Some((model, problem, round)) = split else {
             return Ok(0);
@@ -246,7 +241,7 @@ pub(super) fn set_up_ramp<'a>(
         crit,
         kept: None,
     };
-    while ramp.refine(0.0, true)? > 0 {
+    while ramp.refine(0.0, Trigger::Setup)? > 0 {
         observe(AdaptEvent::Refined(ramp.rounds.last().expect("a round")));
     }
     Ok(ramp)
@@ -288,7 +283,7 @@ pub fn ramp_to_limit(
         }
         loop {
             let cells_before = ramp.cells.clone();
-            if ramp.refine(target, false)? == 0 {
+            if ramp.refine(target, Trigger::Criteria)? == 0 {
                 break;
             }
             observe(AdaptEvent::Refined(ramp.rounds.last().expect("a round")));

@@ -238,6 +238,63 @@ fn criteria_flag_damaged_and_strained_cells_graded_and_never_a_held_cell() {
         .all(|(&c, &l)| l == if c == (10, 10) { 2 } else { 1 }));
 }
 
+/// The split before breaking flags the cells of nodes with a bond the next commit would
+/// break, and the ring around them: under a uniform biaxial stretch past s0 every cell,
+/// below s0 none, none when the bonds are protected (they do not break) or the criterion
+/// is off.
+#[test]
+fn breaking_cells_flag_the_bonds_the_commit_would_break() {
+    let mut p = square();
+    p.failure = Failure::CriticalStretch { s0: 1e-3 };
+    let crit = CellCriteria {
+        before_breaking: true,
+        ..never()
+    };
+    let stretched = |e: f64| {
+        let mut m = PdModel::new(&p).unwrap();
+        let u: Vec<P2> = m.positions().iter().map(|x| [e * x[0], e * x[1]]).collect();
+        m.set_displacements(&u).unwrap();
+        m
+    };
+    let interior: Vec<Cell> = (3..17).flat_map(|i| (3..17).map(move |j| (i, j))).collect();
+    let past = stretched(1.2e-3);
+    let f = breaking_cells(&past, &p, &crit);
+    assert!(interior.iter().all(|c| f.get(c) == Some(&1)), "{f:?}");
+    assert!(breaking_cells(&stretched(0.8e-3), &p, &crit).is_empty());
+    let off = CellCriteria {
+        before_breaking: false,
+        ..crit.clone()
+    };
+    assert!(breaking_cells(&past, &p, &off).is_empty());
+    let mut protected = stretched(1.2e-3);
+    protected.protect_bonds(|_| true);
+    assert!(breaking_cells(&protected, &p, &crit).is_empty());
+    // One node moved along +x stretches its own bonds to the nodes behind it (those ahead
+    // are compressed): the cells of their ends (within a horizon, 3 cells, of the node's
+    // cell) and the ring around them, so the cell 4 cells behind splits by the ring
+    // alone, the one 5 behind does not.
+    let mut one = stretched(0.0);
+    let lattice = Lattice::of(&p);
+    let k = (0..one.n_real())
+        .find(|&k| lattice.cell_of(one.positions()[k]) == (10, 10))
+        .unwrap();
+    let mut u = one.displacements().to_vec();
+    u[k][0] += 0.1e-3;
+    one.set_displacements(&u).unwrap();
+    let f = breaking_cells(&one, &p, &crit);
+    for (c, split) in [
+        ((10, 10), true),
+        ((7, 10), true),
+        ((6, 10), true),
+        ((5, 10), false),
+    ] {
+        assert_eq!(f.get(&c) == Some(&1), split, "cell {c:?}: {f:?}");
+    }
+    assert!(f
+        .keys()
+        .all(|c| (c.0 - 10).abs() <= 4 && (c.1 - 10).abs() <= 4));
+}
+
 fn newton(last: f64, steps: usize) -> QuasiStatic {
     QuasiStatic::Implicit(ImplicitParams {
         target_load: last,
