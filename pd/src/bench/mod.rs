@@ -12,7 +12,8 @@
 //!   `bond_evals_per_s` (directed bond force evaluations per second, both directions
 //!   of a pair counted; a state-based evaluation is the bond's share of both passes),
 //!   `bytes_per_bond` (static bond data plus bond state per directed bond),
-//!   `factorization_s` (one numeric sparse Cholesky of the free-DOF tangent,
+//!   `assembly_s` (one assembly of the consistent tangent: bond blocks for PMB, the
+//!   two-hop rows for the state-based model), `factorization_s` (one numeric sparse Cholesky of the free-DOF tangent,
 //!   symbolic analysis excluded), `solve_s` (one pair of triangular solves
 //!   with that factor), `factor_entries` (stored entries of the factor).
 //! - `switching[]` ([`SwitchBench`]), one per case (`pd_plate_hole`,
@@ -90,6 +91,8 @@ pub struct KernelBench {
     pub bond_evals_per_s: f64,
     /// Bytes of bond data per directed bond (static + state).
     pub bytes_per_bond: f64,
+    /// One assembly of the consistent tangent (s).
+    pub assembly_s: f64,
     /// One numeric Cholesky factorisation of the tangent (s).
     pub factorization_s: f64,
     /// One pair of triangular solves with that factor (s).
@@ -253,7 +256,7 @@ pub fn kernel_of(n: usize, min_time: f64, material: PdMaterial) -> KernelBench {
         reps += 1;
     }
     let dt = t0.elapsed().as_secs_f64();
-    let (factorization_s, solve_s, factor_entries) = factorization(&m);
+    let times = factorization(&m);
     KernelBench {
         model: match material {
             PdMaterial::Pmb => "Pmb".into(),
@@ -263,16 +266,33 @@ pub fn kernel_of(n: usize, min_time: f64, material: PdMaterial) -> KernelBench {
         bonds: m.n_bonds(),
         bond_evals_per_s: (m.n_bonds() * reps) as f64 / dt,
         bytes_per_bond: bytes_per_bond(&m),
-        factorization_s,
-        solve_s,
-        factor_entries,
+        assembly_s: times.assembly_s,
+        factorization_s: times.factorization_s,
+        solve_s: times.solve_s,
+        factor_entries: times.factor_entries,
     }
 }
 
-/// One numeric factorisation (after a first one that includes the symbolic
-/// analysis) and one solve of the tangent of `m` with one corner node
-/// pinned: (factorisation s, solve s, factor entries); NaN on failure.
-fn factorization(m: &PdModel) -> (f64, f64, usize) {
+/// Times of the tangent of `m` with one corner node pinned (NaN on failure).
+struct TangentTimes {
+    /// One assembly of the consistent tangent (s).
+    assembly_s: f64,
+    /// One numeric factorisation, after a first one that includes the symbolic analysis.
+    factorization_s: f64,
+    /// One solve with that factor.
+    solve_s: f64,
+    /// Stored entries of the factor.
+    factor_entries: usize,
+}
+
+/// [`TangentTimes`] of `m`.
+fn factorization(m: &PdModel) -> TangentTimes {
+    let failed = TangentTimes {
+        assembly_s: f64::NAN,
+        factorization_s: f64::NAN,
+        solve_s: f64::NAN,
+        factor_entries: 0,
+    };
     let mut fixed = vec![[false; 2]; m.n_nodes()];
     fixed[0] = [true, true];
     fixed[1] = [false, true];
@@ -282,11 +302,13 @@ fn factorization(m: &PdModel) -> (f64, f64, usize) {
         Tangent::new(&m.bonds, &fixed)
     };
     let Ok(mut t) = t else {
-        return (f64::NAN, f64::NAN, 0);
+        return failed;
     };
+    let t0 = Instant::now();
     m.assemble_tangent(&mut t, TangentKind::Consistent);
+    let ta = t0.elapsed().as_secs_f64();
     if t.factorize().is_err() {
-        return (f64::NAN, f64::NAN, 0);
+        return failed;
     }
     let t1 = Instant::now();
     let ok = t.factorize().is_ok();
@@ -296,9 +318,14 @@ fn factorization(m: &PdModel) -> (f64, f64, usize) {
     let solved = t.solve_with_last_factor(&mut rhs, 1).is_ok();
     let ts = t2.elapsed().as_secs_f64();
     if !(ok && solved) {
-        return (f64::NAN, f64::NAN, 0);
+        return failed;
     }
-    (tf, ts, t.factor_nnz().unwrap_or(0))
+    TangentTimes {
+        assembly_s: ta,
+        factorization_s: tf,
+        solve_s: ts,
+        factor_entries: t.factor_nnz().unwrap_or(0),
+    }
 }
 
 /// Relative L2 difference of the displacements of `b` against `a` over the
@@ -502,6 +529,7 @@ mod tests {
         assert!(k.bond_evals_per_s.is_finite() && k.bond_evals_per_s > 0.0);
         assert_eq!(k.nodes, 3600);
         assert!(k.factorization_s.is_finite() && k.solve_s.is_finite());
+        assert!(k.assembly_s.is_finite() && k.assembly_s > 0.0);
         // Static bond data: neighbour 4, xi 16, 1/|xi|, partial volume,
         // surface factor and k 8 each, group byte 1 (53 bytes); state:
         // intact byte and s_hist (9 bytes); plus the row offsets (8 bytes
@@ -520,6 +548,7 @@ mod tests {
         assert_eq!(k.model, "StateBased");
         assert!(k.bond_evals_per_s.is_finite() && k.bond_evals_per_s > 0.0);
         assert!(k.factorization_s.is_finite() && k.solve_s.is_finite());
+        assert!(k.assembly_s.is_finite() && k.assembly_s > 0.0);
         // PMB's 62.3 plus omega, beta 8 each, the reverse index 4, T 8, the force
         // pass's half force 16 and current length 8 (52 bytes) and a, theta per node
         // (16 bytes over about 27 bonds): measured 114.9.

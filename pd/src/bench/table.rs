@@ -9,12 +9,13 @@ pub fn table(r: &BenchReport) -> String {
     let _ = writeln!(s, "PD benchmark ({} threads)", r.threads);
     let _ = writeln!(
         s,
-        "{:<10} {:>8} {:>9} {:>15} {:>10} {:>10} {:>9} {:>12}",
+        "{:<10} {:>8} {:>9} {:>15} {:>10} {:>10} {:>10} {:>9} {:>12}",
         "model",
         "nodes",
         "bonds",
         "bond_evals/s",
         "bytes/bond",
+        "assembly_s",
         "factor_s",
         "solve_s",
         "factor_nnz"
@@ -22,12 +23,13 @@ pub fn table(r: &BenchReport) -> String {
     for k in &r.kernel {
         let _ = writeln!(
             s,
-            "{:<10} {:>8} {:>9} {:>15.3e} {:>10.1} {:>10.4} {:>9.5} {:>12}",
+            "{:<10} {:>8} {:>9} {:>15.3e} {:>10.1} {:>10.4} {:>10.4} {:>9.5} {:>12}",
             k.model,
             k.nodes,
             k.bonds,
             k.bond_evals_per_s,
             k.bytes_per_bond,
+            k.assembly_s,
             k.factorization_s,
             k.solve_s,
             k.factor_entries

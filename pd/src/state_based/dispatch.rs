@@ -126,6 +126,7 @@ impl PdModel {
             return false;
         };
         let (offsets, nodes) = super::stencil(&self.bonds);
+        let fam = super::Families::new(&r);
         let mut sc = super::tangent::RowScratch::default();
         let mut blocks = Vec::new();
         for i in 0..self.u.len() {
@@ -141,7 +142,7 @@ impl PdModel {
             }
             blocks.clear();
             blocks.resize(st.len(), [[0.0; 2]; 2]);
-            super::row_blocks(&r, i, st, &mut sc, &mut blocks);
+            super::row_blocks(&r, &fam, (i, super::Part::Full), st, &mut sc, &mut blocks);
             for (m, blk) in st.iter().zip(&blocks) {
                 let m = *m as usize;
                 for p in 0..2 {

@@ -73,7 +73,9 @@ mod tangent;
 
 pub(crate) use dispatch::for_problem;
 pub use forces::{elastic_energy, internal_forces, pair_force};
-pub use tangent::{assemble, dense_tangent, row_blocks, row_sums, stencil, RowInput, RowScratch};
+pub use tangent::{
+    assemble, dense_tangent, row_blocks, row_sums, stencil, Families, Part, RowInput, RowScratch,
+};
 
 use crate::bonds::{partial_volume, Bonds};
 use crate::grid::Grid;

@@ -16,6 +16,14 @@
 //! sides of $w_n w_n^T$ where the exact tangent has $T$ on one side, which keeps it
 //! symmetric for the Cholesky factorisation (Newton then converges linearly in the
 //! softening steps). The secant kinds take $T(s_{hist})$ and $T' = 0$, as the PMB ones.
+//!
+//! Every row needs $\theta_n$ and $w_n$ of its own family and of each neighbour's, so an
+//! assembly computes them once for every node ([`Families`]) and the rows read them: a
+//! row costs its pairwise bonds plus the two-hop products, not a family sum per
+//! neighbour (the per-row sums made 58 % of the time of the displacement-controlled
+//! cells case, `seed004_edge_crack_initiation_displacement_cells`, 44 s of assembly; 6.5
+//! s with the families). A symmetric assembly fills only the blocks right of the
+//! diagonal ([`Part::Upper`]).
 
 use super::forces::stretch;
 use super::StateBased;
@@ -70,12 +78,47 @@ fn bond_factor(r: &RowInput, k: usize, s: f64) -> Option<(f64, f64)> {
     })
 }
 
-/// Dilatation of node `n` and its gradient entries `(m, w_n[m])` over its bonds
-/// (appended to `w`); returns `(theta_n, w_n[n])`.
-fn family(r: &RowInput, n: usize, w: &mut Vec<(u32, [f64; 2])>) -> (f64, [f64; 2]) {
+/// The families of every node at one state, for the rows of [`row_blocks`]: the
+/// dilatation $\theta_n$, the diagonal entry $w_n[n]$ and, per directed bond `k` of `n`
+/// (`n -> m`), the gradient entry $w_n[m]$ (zero on a broken bond). Computed once per
+/// assembly ([`Families::new`]); a row then reads its neighbours' families instead of
+/// summing them again.
+pub struct Families {
+    theta: Vec<f64>,
+    diag: Vec<[f64; 2]>,
+    w: Vec<[f64; 2]>,
+}
+
+impl Families {
+    /// The families of every node of `r` (in parallel over the nodes).
+    pub fn new(r: &RowInput) -> Self {
+        use rayon::prelude::*;
+        let b = r.bonds;
+        let n = b.offsets.len() - 1;
+        let mut w = vec![[0.0; 2]; b.nbr.len()];
+        let mut rows: Vec<&mut [[f64; 2]]> = Vec::with_capacity(n);
+        let mut rest = w.as_mut_slice();
+        for i in 0..n {
+            let (row, tail) = rest.split_at_mut(b.offsets[i + 1] - b.offsets[i]);
+            rows.push(row);
+            rest = tail;
+        }
+        let (theta, diag): (Vec<f64>, Vec<[f64; 2]>) = rows
+            .into_par_iter()
+            .enumerate()
+            .with_min_len(64)
+            .map(|(i, row)| family(r, i, row))
+            .unzip();
+        Self { theta, diag, w }
+    }
+}
+
+/// Dilatation of node `n` and its gradient entries $w_n[m]$ per bond (written to `w`,
+/// the row of `n`'s bonds; broken bonds left zero); returns `(theta_n, w_n[n])`.
+fn family(r: &RowInput, n: usize, w: &mut [[f64; 2]]) -> (f64, [f64; 2]) {
     let b = r.bonds;
     let (mut sum, mut diag) = (0.0, [0.0; 2]);
-    for k in b.row(n) {
+    for (slot, k) in w.iter_mut().zip(b.row(n)) {
         let (s, l, y) = stretch(b, r.u, n, k);
         let Some((t, dt)) = bond_factor(r, k, s) else {
             continue;
@@ -87,62 +130,103 @@ fn family(r: &RowInput, n: usize, w: &mut Vec<(u32, [f64; 2])>) -> (f64, [f64; 2
         let g = [c * y[0], c * y[1]];
         diag[0] -= g[0];
         diag[1] -= g[1];
-        w.push((b.nbr[k], g));
+        *slot = g;
     }
     (sum, diag)
 }
 
-/// Scratch of one row.
+/// Scratch of one row: the stencil position of every node (`NOT_IN` outside the row's
+/// stencil).
 #[derive(Default)]
 pub struct RowScratch {
-    w: Vec<(u32, [f64; 2])>,
-    theta: Vec<f64>,
+    pos: Vec<u32>,
 }
 
+const NOT_IN: u32 = u32::MAX;
+
+/// Which blocks of a row [`row_blocks`] fills.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Part {
+    /// Every block of the row.
+    Full,
+    /// The blocks `K[i][m]` with `m >= i` (all a symmetric assembly reads).
+    Upper,
+}
+
+/// Adds `f` to the block of node `m` of the row (skipped below the diagonal for
+/// [`Part::Upper`]).
 #[inline]
-fn add(blocks: &mut [Block], stencil: &[u32], m: u32, f: impl Fn(usize, usize) -> f64) {
-    let k = stencil.binary_search(&m).expect("node in the stencil");
-    for p in 0..2 {
-        for q in 0..2 {
-            blocks[k][p][q] += f(p, q);
+fn add(
+    blocks: &mut [Block],
+    pos: &[u32],
+    (i, part): (u32, Part),
+    m: u32,
+    f: impl Fn(usize, usize) -> f64,
+) {
+    if part == Part::Upper && m < i {
+        return;
+    }
+    let k = pos[m as usize];
+    debug_assert!(k != NOT_IN, "node in the stencil");
+    let blk = &mut blocks[k as usize];
+    for (p, row) in blk.iter_mut().enumerate() {
+        for (q, v) in row.iter_mut().enumerate() {
+            *v += f(p, q);
         }
     }
 }
 
-/// Row `i` of the tangent: `blocks[k] = K[i][stencil[k]]` (added to `blocks`).
+/// Row `i` of the tangent: `blocks[k] += K[i][stencil[k]]` (the blocks `part` asks for),
+/// with the families `fam` of the same state.
 pub fn row_blocks(
     r: &RowInput,
-    i: usize,
+    fam: &Families,
+    (i, part): (usize, Part),
     stencil: &[u32],
     sc: &mut RowScratch,
     blocks: &mut [Block],
 ) {
+    let n_nodes = r.bonds.offsets.len() - 1;
+    if sc.pos.len() < n_nodes {
+        sc.pos.resize(n_nodes, NOT_IN);
+    }
+    for (k, &m) in stencil.iter().enumerate() {
+        sc.pos[m as usize] = k as u32;
+    }
+    fill_row(r, fam, (i, part), &sc.pos, blocks);
+    for &m in stencil {
+        sc.pos[m as usize] = NOT_IN;
+    }
+}
+
+/// [`row_blocks`] with the stencil positions `pos` set.
+fn fill_row(
+    r: &RowInput,
+    fam: &Families,
+    (i, part): (usize, Part),
+    pos: &[u32],
+    blocks: &mut [Block],
+) {
     let b = r.bonds;
     let sb = r.sb;
-    // Dilatations of i and its neighbours (frozen-history factors of `kind`).
-    sc.w.clear();
-    let (th_i, _) = family(r, i, &mut sc.w);
-    sc.theta.clear();
-    for k in b.row(i) {
-        let j = b.nbr[k] as usize;
-        sc.w.clear();
-        sc.theta.push(family(r, j, &mut sc.w).0);
-    }
+    let at = (i as u32, part);
+    let th_i = fam.theta[i];
     // Pairwise blocks.
-    for (m, k) in b.row(i).enumerate() {
+    for k in b.row(i) {
         let (s, l, y) = stretch(b, r.u, i, k);
         let Some((t, dt)) = bond_factor(r, k, s) else {
             continue;
         };
         let j = b.nbr[k] as usize;
         let inv = b.inv_len[k];
+        let th_j = fam.theta[j];
         let (phi, dphi, v) = if b.s_scale.is_empty() {
-            let base = super::forces::pair_base(sb, b, i, k, s, th_i, sc.theta[m]);
+            let base = super::forces::pair_base(sb, b, i, k, s, th_i, th_j);
             let dphi = dt * base + t * (sb.beta[k] + sb.beta[sb.rev[k] as usize]);
             (t * base, dphi, b.vol_factor[k] * r.volume)
         } else {
             // Mixed spacing: the partial volumes are inside the pair scalar.
-            let base = super::forces::pair_mixed(sb, b, i, k, s, th_i, sc.theta[m]);
+            let base = super::forces::pair_mixed(sb, b, i, k, s, th_i, th_j);
             let dphi = dt * base + t * super::forces::pair_mixed_ds(sb, b, k);
             (t * base, dphi, r.volume)
         };
@@ -157,33 +241,26 @@ pub fn row_blocks(
             let ee = e[p] * e[q];
             ca * ee + cb * (if p == q { 1.0 } else { 0.0 } - ee)
         };
-        add(blocks, stencil, i as u32, blk);
-        add(blocks, stencil, j as u32, |p, q| -blk(p, q));
+        add(blocks, pos, at, i as u32, blk);
+        add(blocks, pos, at, j as u32, |p, q| -blk(p, q));
     }
-    // Dilatation blocks: sum over n in {i} and the neighbours of i of 2 a_n w_n[i] w_n^T.
-    let nodes = std::iter::once(i).chain(
-        b.row(i)
-            .filter(|&k| r.intact[k] != 0)
-            .map(|k| b.nbr[k] as usize),
-    );
-    for n in nodes {
+    // Dilatation blocks: sum over n in {i} and the neighbours of i of 2 a_n w_n[i] w_n^T,
+    // w_n[i] the entry of the bond n -> i (the reverse of i -> n).
+    let own = std::iter::once((i, fam.diag[i]));
+    let nbrs = b
+        .row(i)
+        .filter(|&k| r.intact[k] != 0 && r.intact[sb.rev[k] as usize] != 0)
+        .map(|k| (b.nbr[k] as usize, fam.w[sb.rev[k] as usize]));
+    for (n, wi) in own.chain(nbrs) {
         if sb.a[n] == 0.0 {
             continue;
         }
         let two_a = 2.0 * sb.a[n];
-        sc.w.clear();
-        let (_, wnn) = family(r, n, &mut sc.w);
-        let wi = if n == i {
-            wnn
-        } else {
-            match sc.w.iter().find(|e| e.0 as usize == i) {
-                Some(e) => e.1,
-                None => continue,
-            }
-        };
-        add(blocks, stencil, n as u32, |p, q| two_a * wi[p] * wnn[q]);
-        for &(m, wm) in &sc.w {
-            add(blocks, stencil, m, |p, q| two_a * wi[p] * wm[q]);
+        let wnn = fam.diag[n];
+        add(blocks, pos, at, n as u32, |p, q| two_a * wi[p] * wnn[q]);
+        for k in b.row(n).filter(|&k| r.intact[k] != 0) {
+            let wm = fam.w[k];
+            add(blocks, pos, at, b.nbr[k], |p, q| two_a * wi[p] * wm[q]);
         }
     }
 }
@@ -218,8 +295,9 @@ pub fn stencil(bonds: &Bonds) -> (Vec<usize>, Vec<u32>) {
 /// Fill a [`Tangent::from_stencil`] pattern of [`stencil`] at the state of `r`, with the
 /// PMB assembly's diagonal shift (1e-10 of the node's pair stiffness).
 pub fn assemble(t: &mut Tangent, r: &RowInput) {
+    let fam = Families::new(r);
     t.assemble_rows(RowScratch::default, |sc, i, st, blocks| {
-        row_blocks(r, i, st, sc, blocks);
+        row_blocks(r, &fam, (i, Part::Upper), st, sc, blocks);
         let kref: f64 = r
             .bonds
             .row(i)
@@ -236,11 +314,12 @@ pub fn dense_tangent(r: &RowInput) -> Vec<Vec<f64>> {
     let n = r.u.len();
     let (offsets, nodes) = stencil(r.bonds);
     let mut k = vec![vec![0.0; 2 * n]; 2 * n];
+    let fam = Families::new(r);
     let mut sc = RowScratch::default();
     for i in 0..n {
         let st = &nodes[offsets[i]..offsets[i + 1]];
         let mut blocks = vec![[[0.0; 2]; 2]; st.len()];
-        row_blocks(r, i, st, &mut sc, &mut blocks);
+        row_blocks(r, &fam, (i, Part::Full), st, &mut sc, &mut blocks);
         for (m, blk) in st.iter().zip(&blocks) {
             for p in 0..2 {
                 for q in 0..2 {
@@ -257,12 +336,13 @@ pub fn dense_tangent(r: &RowInput) -> Vec<Vec<f64>> {
 pub fn row_sums(r: &RowInput) -> Vec<[f64; 2]> {
     use rayon::prelude::*;
     let (offsets, nodes) = stencil(r.bonds);
+    let fam = Families::new(r);
     (0..r.u.len())
         .into_par_iter()
         .map_init(RowScratch::default, |sc, i| {
             let st = &nodes[offsets[i]..offsets[i + 1]];
             let mut blocks = vec![[[0.0; 2]; 2]; st.len()];
-            row_blocks(r, i, st, sc, &mut blocks);
+            row_blocks(r, &fam, (i, Part::Full), st, sc, &mut blocks);
             let mut s = [0.0; 2];
             for blk in &blocks {
                 for p in 0..2 {

@@ -16,13 +16,29 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use crate::error::PdError;
 
-/// Free DOFs from which the numeric factorisation and solve run in
-/// parallel. Below it the rayon hand-offs of faer's supernodal kernels cost
-/// more than they save. Measured on the 2 shared cores (median of four,
-/// parallel against sequential): 900 DOFs 9.6 against 1.1 ms per
-/// factorisation; 5000 DOFs equal; 10000 DOFs 13 against 19 ms per solve;
-/// 20000 DOFs 25 against 52 ms per solve.
-const PARALLEL_MIN_DOFS: usize = 8_000;
+/// Flops per DOF of a factorisation from which it and its solves run in parallel.
+/// faer's supernodal factorisation runs its supernodes in order and only their dense
+/// kernels in parallel, so what pays is the size of the dense blocks, and flops per DOF
+/// measure it (they grow as the square of the separators). Measured on the 2 cores, best
+/// of five numeric factorisations, sequential over parallel time (above 1: parallel
+/// faster), two to four sessions each, on unit squares of n x n nodes:
+/// - PMB, n = 20 to 120 (up to 28 797 DOFs, 6.6 GFlop, 0.23 MFlop per DOF): 0.3-1.02;
+///   its solves from n = 80 on 0.95-0.65;
+/// - state-based (two-hop stencil): n = 40 (0.17 MFlop per DOF) 0.8-1.2, n = 60 (0.39)
+///   0.8-1.1, n = 80 (0.61) 1.1-1.5, n = 100 (0.86) 1.2-1.5, n = 120 (1.2) 1.3-1.5;
+/// - the displacement-controlled cells case (`seed004_edge_crack_initiation_displacement_cells`,
+///   up to 5099 DOFs, 0.47 MFlop per DOF): 50-52 s of factorisation sequential, 42-43 s
+///   parallel, the same loads and iterations.
+///
+/// The rule before (parallel from 8000 DOFs) ran the PMB factorisations of 8000-28 800
+/// DOFs in parallel, up to 1.6x slower.
+const PARALLEL_MIN_FLOPS_PER_DOF: f64 = 3e5;
+
+/// Whether the factorisation of `dofs` DOFs and `flops` flops runs in parallel
+/// ([`PARALLEL_MIN_FLOPS_PER_DOF`], and more than one thread).
+fn parallel_pays(dofs: usize, flops: f64) -> bool {
+    rayon::current_num_threads() > 1 && flops >= PARALLEL_MIN_FLOPS_PER_DOF * dofs as f64
+}
 
 /// Bytes a factor's values may take ([`set_factor_budget`]); default 8 GiB.
 static FACTOR_BUDGET: AtomicU64 = AtomicU64::new(8 << 30);
@@ -92,6 +108,34 @@ pub(super) struct CholeskyFactor {
     valid: bool,
 }
 
+/// Floating-point operations of one numeric factorisation of `symbolic`: per supernode
+/// of `w` columns over `r` rows, $\sum_{c<w} (r-c)^2$ (the rank-1 updates of its columns
+/// and of the rows below them).
+pub(super) fn factor_flops(symbolic: &SymbolicCholesky<usize>) -> f64 {
+    use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
+    match symbolic.raw() {
+        SymbolicCholeskyRaw::Supernodal(s) => {
+            let (begin, end) = (s.supernode_begin(), s.supernode_end());
+            let ptr = s.col_ptr_for_row_idx();
+            (0..s.n_supernodes())
+                .map(|k| {
+                    let w = (end[k] - begin[k]) as f64;
+                    let r = w + (ptr[k + 1] - ptr[k]) as f64;
+                    // sum_{c<w} (r-c)^2 in closed form.
+                    let sq = |x: f64| x * (x + 1.0) * (2.0 * x + 1.0) / 6.0;
+                    sq(r) - sq(r - w)
+                })
+                .sum()
+        }
+        SymbolicCholeskyRaw::Simplicial(s) => {
+            let ptr = s.col_ptr();
+            (0..s.ncols())
+                .map(|j| ((ptr[j + 1] - ptr[j]) as f64).powi(2))
+                .sum()
+        }
+    }
+}
+
 impl CholeskyFactor {
     /// Symbolic analysis of the lower-triangle `pattern` (AMD ordering).
     /// A geometric nested dissection of the grid (separators three node
@@ -104,7 +148,7 @@ impl CholeskyFactor {
     ) -> Result<Self, PdError> {
         let n = pattern.nrows();
         let symbolic = symbolic_within(pattern, budget)?;
-        let par = if n >= PARALLEL_MIN_DOFS {
+        let par = if parallel_pays(n, factor_flops(&symbolic)) {
             Par::rayon(0)
         } else {
             Par::Seq
@@ -177,5 +221,36 @@ impl CholeskyFactor {
             self.par,
             stack,
         );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use faer::sparse::SymbolicSparseColMat;
+
+    /// The lower triangle of an `n x n` matrix whose column `j` holds rows `rows(j)`.
+    fn lower(n: usize, rows: impl Fn(usize) -> Vec<usize>) -> SymbolicSparseColMat<usize> {
+        let mut ptr = vec![0];
+        let mut idx = Vec::new();
+        for j in 0..n {
+            idx.extend(rows(j));
+            ptr.push(idx.len());
+        }
+        SymbolicSparseColMat::new_checked(n, n, ptr, None, idx)
+    }
+
+    #[test]
+    fn factor_flops_count_the_dense_and_the_diagonal_cases() {
+        // Dense: one supernode, sum_{c<n} (n-c)^2 = n(n+1)(2n+1)/6, about n^3/3.
+        let n = 60;
+        let dense = lower(n, |j| (j..n).collect());
+        let s = symbolic_within(dense.as_ref(), u64::MAX).unwrap();
+        let want = (n * (n + 1) * (2 * n + 1) / 6) as f64;
+        assert_eq!(factor_flops(&s), want);
+        // Diagonal: one flop per column.
+        let diag = lower(n, |j| vec![j]);
+        let s = symbolic_within(diag.as_ref(), u64::MAX).unwrap();
+        assert_eq!(factor_flops(&s), n as f64);
     }
 }
