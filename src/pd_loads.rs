@@ -120,10 +120,36 @@ pub fn initiation_notes(
     if let Some(first) = unsettled.first() {
         notes.push(format!(
             "{} load step(s) used up their break-and-re-solve rounds with bonds still breaking \
-             (first at load factor {}): the ramp went on from a state that was not an \
-             equilibrium there",
+             or a refinement not yet solved (first at load factor {}): the ramp went on from \
+             a state that was not an equilibrium there",
             unsettled.len(),
             round12(*first)
         ));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn initiation_notes_name_the_last_load_and_the_unsettled_ones() {
+        let scene = Scene::load(format!(
+            "{}/cases/seed004_edge_crack_initiation_displacement_cells.ron",
+            env!("CARGO_MANIFEST_DIR")
+        ))
+        .unwrap();
+        let mut notes = Vec::new();
+        initiation_notes(&scene, Some(8.1), 0.03, &[], &mut notes);
+        assert!(notes.is_empty(), "{notes:?}");
+        initiation_notes(&scene, None, 1e-3, &[8.1, 8.2], &mut notes);
+        assert_eq!(notes.len(), 2, "{notes:?}");
+        // The case's ramp: 80 steps of 0.1 from 3.
+        assert!(notes[0].contains("last load factor 10.9"), "{}", notes[0]);
+        assert!(
+            notes[1].starts_with("2 load step(s)") && notes[1].contains("load factor 8.1)"),
+            "{}",
+            notes[1]
+        );
     }
 }
