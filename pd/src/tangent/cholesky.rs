@@ -16,28 +16,33 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use crate::error::PdError;
 
-/// Flops per DOF of a factorisation from which it and its solves run in parallel.
-/// faer's supernodal factorisation runs its supernodes in order and only their dense
-/// kernels in parallel, so what pays is the size of the dense blocks, and flops per DOF
-/// measure it (they grow as the square of the separators). Measured on the 2 cores, best
-/// of five numeric factorisations, sequential over parallel time (above 1: parallel
-/// faster), two to four sessions each, on unit squares of n x n nodes:
-/// - PMB, n = 20 to 120 (up to 28 797 DOFs, 6.6 GFlop, 0.23 MFlop per DOF): 0.3-1.02;
-///   its solves from n = 80 on 0.95-0.65;
-/// - state-based (two-hop stencil): n = 40 (0.17 MFlop per DOF) 0.8-1.2, n = 60 (0.39)
-///   0.8-1.1, n = 80 (0.61) 1.1-1.5, n = 100 (0.86) 1.2-1.5, n = 120 (1.2) 1.3-1.5;
-/// - the displacement-controlled cells case (`seed004_edge_crack_initiation_displacement_cells`,
-///   up to 5099 DOFs, 0.47 MFlop per DOF): 50-52 s of factorisation sequential, 42-43 s
-///   parallel, the same loads and iterations.
-///
-/// The rule before (parallel from 8000 DOFs) ran the PMB factorisations of 8000-28 800
-/// DOFs in parallel, up to 1.6x slower.
+/// Free DOFs from which the numeric factorisation and its solves run in parallel
+/// whatever their density. Measured on the 2 shared cores: on the PMB tangent 900 DOFs
+/// 9.6 against 1.1 ms per factorisation sequential, 5000 DOFs equal; Newton's
+/// crack-initiation ramp on a uniform 1 mm PMB plate (10 000 DOFs, 196 factorisations):
+/// 10.4-11.0 s of factorisation and solves in parallel against 11.0-11.4 s sequential.
+const PARALLEL_MIN_DOFS: usize = 8_000;
+
+/// Flops per DOF of a factorisation from which it and its solves run in parallel below
+/// [`PARALLEL_MIN_DOFS`]. faer's supernodal factorisation runs its supernodes in order
+/// and only their dense kernels in parallel, so what pays is the size of the dense
+/// blocks, and flops per DOF measure it (they grow as the square of the separators). The
+/// state-based tangent's two-hop stencil makes them large at few DOFs: the
+/// displacement-controlled cells case (`seed004_edge_crack_initiation_displacement_cells`,
+/// 3551-5099 DOFs, 0.25-0.47 MFlop per DOF) took 50-52 s of factorisation sequential and
+/// 42-43 s with this rule (the same loads and iterations). On single factorisations of
+/// unit squares (best of five, sequential over parallel time, two to four sessions each,
+/// noisy on this machine): state-based n = 40 (3197 DOFs, 0.17 MFlop per DOF) 0.8-1.2,
+/// n = 60 (7197 DOFs, 0.39) 0.8-1.1, n = 80 (0.61) 1.1-1.5, n = 100 (0.86) 1.2-1.5; PMB
+/// (at most 0.23 MFlop per DOF up to 28 800 DOFs) below 1 at every size, although the
+/// whole ramp above gains slightly in parallel.
 const PARALLEL_MIN_FLOPS_PER_DOF: f64 = 3e5;
 
 /// Whether the factorisation of `dofs` DOFs and `flops` flops runs in parallel
-/// ([`PARALLEL_MIN_FLOPS_PER_DOF`], and more than one thread).
+/// ([`PARALLEL_MIN_DOFS`], [`PARALLEL_MIN_FLOPS_PER_DOF`]; more than one thread).
 fn parallel_pays(dofs: usize, flops: f64) -> bool {
-    rayon::current_num_threads() > 1 && flops >= PARALLEL_MIN_FLOPS_PER_DOF * dofs as f64
+    rayon::current_num_threads() > 1
+        && (dofs >= PARALLEL_MIN_DOFS || flops >= PARALLEL_MIN_FLOPS_PER_DOF * dofs as f64)
 }
 
 /// Bytes a factor's values may take ([`set_factor_budget`]); default 8 GiB.
