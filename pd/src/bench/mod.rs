@@ -256,7 +256,7 @@ pub fn kernel_of(n: usize, min_time: f64, material: PdMaterial) -> KernelBench {
         reps += 1;
     }
     let dt = t0.elapsed().as_secs_f64();
-    let times = factorization(&m);
+    let times = tangent_times(&m);
     KernelBench {
         model: match material {
             PdMaterial::Pmb => "Pmb".into(),
@@ -286,7 +286,7 @@ struct TangentTimes {
 }
 
 /// [`TangentTimes`] of `m`.
-fn factorization(m: &PdModel) -> TangentTimes {
+fn tangent_times(m: &PdModel) -> TangentTimes {
     let failed = TangentTimes {
         assembly_s: f64::NAN,
         factorization_s: f64::NAN,

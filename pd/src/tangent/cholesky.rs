@@ -20,7 +20,7 @@ use crate::error::PdError;
 /// whatever their density. Measured on the 2 shared cores: on the PMB tangent 900 DOFs
 /// 9.6 against 1.1 ms per factorisation sequential, 5000 DOFs equal; Newton's
 /// crack-initiation ramp on a uniform 1 mm PMB plate (10 000 DOFs, 196 factorisations):
-/// 10.4-11.0 s of factorisation and solves in parallel against 11.0-11.4 s sequential.
+/// 10.4-11.0 s of factorisation and solves in parallel against 11.0-12.1 s sequential.
 const PARALLEL_MIN_DOFS: usize = 8_000;
 
 /// Flops per DOF of a factorisation from which it and its solves run in parallel below
@@ -34,8 +34,8 @@ const PARALLEL_MIN_DOFS: usize = 8_000;
 /// unit squares (best of five, sequential over parallel time, two to four sessions each,
 /// noisy on this machine): state-based n = 40 (3197 DOFs, 0.17 MFlop per DOF) 0.8-1.2,
 /// n = 60 (7197 DOFs, 0.39) 0.8-1.1, n = 80 (0.61) 1.1-1.5, n = 100 (0.86) 1.2-1.5; PMB
-/// (at most 0.23 MFlop per DOF up to 28 800 DOFs) below 1 at every size, although the
-/// whole ramp above gains slightly in parallel.
+/// (at most 0.23 MFlop per DOF up to 28 800 DOFs) 0.3-1.02, although the whole ramp
+/// above gains slightly in parallel.
 const PARALLEL_MIN_FLOPS_PER_DOF: f64 = 3e5;
 
 /// Whether the factorisation of `dofs` DOFs and `flops` flops runs in parallel
