@@ -322,6 +322,12 @@ pub fn solve_observed(
     summary
         .extra
         .insert("iterations".into(), json!(info.iterations));
+    summary
+        .extra
+        .insert("factorizations".into(), json!(info.factorizations));
+    summary
+        .extra
+        .insert("kept_factor_solves".into(), json!(info.kept_factor_solves));
     summary.extra.insert("phases".into(), json!(info.phases));
     summary
         .extra

@@ -3,13 +3,14 @@
 //!
 //! Each iteration solves $K_m \Delta u_m = -E(u_m)$ (Eq. 5) over the free DOFs
 //! with the analytic tangent of Eqs. 8-10 and 14-15 ([`crate::tangent`]),
-//! prescribed DOFs removed (section 2.3). The bond history is frozen during
-//! the iterations and committed once a step converges; brittle bonds that
-//! pass `s0` then break and the step is re-solved until no bond breaks.
-//! Convergence: Eq. 16 on the Newton update, or the relative residual
-//! (checked before factorising, which saves the last solve). A backtracking
-//! line search halves the update while the residual grows; NaN, a residual
-//! growing past `1e6` times its start, or the iteration cap are errors.
+//! prescribed DOFs removed (section 2.3); while the residual falls fast enough a step
+//! solves with the factor of an earlier $K$ of the same bonds instead ([`Newton`]). The
+//! bond history is frozen during the iterations and committed once a step converges;
+//! brittle bonds that pass `s0` then break and the step is re-solved until no bond
+//! breaks. Convergence: Eq. 16 on the Newton update, or the relative residual (checked
+//! before factorising, which saves the last solve). A backtracking line search halves
+//! the update of a fresh step while the residual grows; NaN, a residual growing past
+//! `1e6` times its start, or the iteration cap are errors.
 
 use std::time::Instant;
 
@@ -19,6 +20,7 @@ use super::{norm2_free, residual_norms, Convergence, PhaseKind, SolveInfo, StepR
 use crate::error::PdError;
 use crate::forces::{History, TangentKind};
 use crate::geometry::P2;
+use crate::material::BondLaw;
 use crate::model::PdModel;
 use crate::tangent::{Factorization, Tangent};
 
@@ -53,12 +55,63 @@ impl Default for ImplicitParams {
     }
 }
 
+/// A Newton step on a kept factor ([`Newton`]) whose residual fell by at least this factor
+/// keeps the factor for the next step and may end the iteration: the chord iteration's
+/// threshold ([`super::secant::CONTRACTION_REFACTOR`]). Not tuned: in the crack-initiation
+/// ramps the kept steps lower the residual about 1e4-fold (docs/seed004.md, "Newton on a
+/// kept factor").
+pub const KEPT_FACTOR_CONTRACTION: f64 = super::secant::CONTRACTION_REFACTOR;
+
 /// Reusable Newton buffers: tangent pattern, symbolic factorisation, vectors.
+///
+/// **Steps on a kept factor.** A step may solve with the Cholesky factor of an earlier
+/// tangent of the same bonds (this Newton's last factorisation within the same
+/// [`Self::equilibrate`], or the factor of the [`Self::predict_to`] just before it)
+/// instead of a new one: two triangular solves instead of an assembly and a
+/// factorisation. The residual decides:
+/// a step that lowers it by [`KEPT_FACTOR_CONTRACTION`] or more keeps the factor; one
+/// that lowers it less is kept but the next step refactorises; one that does not lower
+/// it is undone and the step is taken with a fresh tangent. Only a step of the first
+/// kind or a fresh Newton step may end the iteration, so the convergence measure of a
+/// kept-factor step bounds the error as a Newton step's does. A factor is never reused
+/// across broken bonds or, for the degrading law, a changed bond history (the tangent
+/// changes there by more than a small strain): after a break round the first step
+/// factorises.
 pub struct Newton {
     /// Tangent pattern and values.
     pub tangent: Tangent,
     rhs: Vec<f64>,
     u_save: Vec<P2>,
+    /// The factor this Newton made last (the tangent's factor generation) and the
+    /// model's bond state then ([`bond_state`]).
+    kept: Option<(u64, (usize, u64))>,
+    /// The last call was [`Self::predict_to`]: the next [`Self::equilibrate`] may start on
+    /// its factor.
+    predicted: bool,
+    /// Whether steps may reuse a kept factor (type docs; default true). Off, every step
+    /// factorises, as before this rule.
+    pub reuse_factor: bool,
+}
+
+/// What the tangent depends on besides the displacements: the broken bonds, and for a
+/// degrading law the bonds' history (a fingerprint of its bits). Brittle and elastic bonds
+/// have no history in their tangent.
+fn bond_state(model: &PdModel) -> (usize, u64) {
+    let history = match model.law() {
+        BondLaw::Degrading { .. } => model.s_hist.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, s| {
+            (h ^ s.to_bits()).wrapping_mul(0x0100_0000_01b3)
+        }),
+        BondLaw::Elastic | BondLaw::Brittle { .. } => 0,
+    };
+    (model.broken_bonds(), history)
+}
+
+/// How a Newton step went ([`Newton::equilibrate`]).
+enum Stepped {
+    /// Taken; the residual is `r`; the next step may use the kept factor.
+    Taken { r: f64, du2: f64, keep: bool },
+    /// A kept-factor step that did not lower the residual, undone.
+    Undone,
 }
 
 impl Newton {
@@ -72,11 +125,124 @@ impl Newton {
             tangent,
             rhs: vec![0.0; nf],
             u_save: vec![[0.0; 2]; model.n_nodes()],
+            kept: None,
+            predicted: false,
+            reuse_factor: true,
         })
     }
 
+    /// Whether the tangent holds this Newton's last factor, made with the model's bonds
+    /// and history as they are.
+    fn factor_kept_for(&self, model: &PdModel) -> bool {
+        match (self.kept, self.tangent.factor_generation()) {
+            (Some((g, state)), Some(held)) => {
+                self.reuse_factor && g == held && state == bond_state(model)
+            }
+            _ => false,
+        }
+    }
+
+    /// Records the factor just made (a Cholesky factor; an LU solve keeps none).
+    fn record_factor(&mut self, model: &PdModel, fact: Factorization) {
+        self.kept = match (fact, self.tangent.factor_generation()) {
+            (Factorization::Cholesky, Some(g)) => Some((g, bond_state(model))),
+            _ => None,
+        };
+    }
+
+    /// The residual `F + lambda b` at the free DOFs into `rhs`.
+    fn fill_rhs(&mut self, model: &PdModel) {
+        let lam = model.load;
+        for i in 0..model.n_nodes() {
+            for c in 0..2 {
+                let d = self.tangent.dof[2 * i + c];
+                if d != usize::MAX {
+                    self.rhs[d] = model.force[i][c] + lam * model.bc.body[i][c];
+                }
+            }
+        }
+    }
+
+    /// `u = u_save + alpha rhs` at the free DOFs; returns the squared update.
+    fn apply_update(&self, model: &mut PdModel, alpha: f64) -> f64 {
+        let mut du2 = 0.0;
+        for i in 0..model.n_nodes() {
+            for c in 0..2 {
+                let d = self.tangent.dof[2 * i + c];
+                if d != usize::MAX {
+                    let du = alpha * self.rhs[d];
+                    model.u[i][c] = self.u_save[i][c] + du;
+                    du2 += du * du;
+                }
+            }
+        }
+        du2
+    }
+
+    /// A Newton step with a fresh tangent and factor, with backtracking while the
+    /// residual `r` grows.
+    fn fresh_step(
+        &mut self,
+        model: &mut PdModel,
+        r: f64,
+        info: &mut SolveInfo,
+    ) -> Result<Stepped, PdError> {
+        let ta = Instant::now();
+        model.assemble_tangent(&mut self.tangent, TangentKind::Consistent);
+        let tf = Instant::now();
+        info.time_assembly_s += (tf - ta).as_secs_f64();
+        self.fill_rhs(model);
+        let fact = self.tangent.solve(&mut self.rhs)?;
+        info.time_factorization_s += tf.elapsed().as_secs_f64();
+        info.factorizations += 1;
+        if fact == Factorization::Lu {
+            info.lu_fallbacks += 1;
+        }
+        self.record_factor(model, fact);
+        self.u_save.copy_from_slice(&model.u);
+        let (mut alpha, mut du2, mut rn) = (1.0, 0.0, r);
+        for _ in 0..6 {
+            du2 = self.apply_update(model, alpha);
+            model.compute_forces(History::Frozen);
+            rn = residual_norms(model).0;
+            if rn.is_finite() && (rn <= 1.5 * r || alpha < 0.05) {
+                break;
+            }
+            alpha *= 0.5;
+        }
+        let keep = self.reuse_factor && self.kept.is_some();
+        Ok(Stepped::Taken { r: rn, du2, keep })
+    }
+
+    /// A Newton step on the kept factor (type docs): taken whole, or undone if the
+    /// residual `r` does not fall.
+    fn kept_factor_step(
+        &mut self,
+        model: &mut PdModel,
+        r: f64,
+        info: &mut SolveInfo,
+    ) -> Result<Stepped, PdError> {
+        let t = Instant::now();
+        self.fill_rhs(model);
+        self.tangent.solve_with_last_factor(&mut self.rhs, 1)?;
+        info.time_factorization_s += t.elapsed().as_secs_f64();
+        info.kept_factor_solves += 1;
+        self.u_save.copy_from_slice(&model.u);
+        let du2 = self.apply_update(model, 1.0);
+        model.compute_forces(History::Frozen);
+        let rn = residual_norms(model).0;
+        if !(rn.is_finite() && rn < r) {
+            model.u.copy_from_slice(&self.u_save);
+            model.compute_forces(History::Frozen);
+            return Ok(Stepped::Undone);
+        }
+        let keep = rn <= KEPT_FACTOR_CONTRACTION * r;
+        Ok(Stepped::Taken { r: rn, du2, keep })
+    }
+
     /// Newton iterations to equilibrium at the model's current load (history
-    /// frozen). Returns (iterations, final measure).
+    /// frozen). Returns (iterations, final measure). Steps may reuse a kept factor (type
+    /// docs); an undone kept-factor step is not an iteration.
     pub fn equilibrate(
         &mut self,
         model: &mut PdModel,
@@ -89,73 +255,47 @@ impl Newton {
         let mut measure = f64::INFINITY;
         let mut prev_measure = f64::INFINITY;
         let mut last_rel = f64::INFINITY;
-        for it in 1..=p.max_iters {
+        // A call starts on a kept factor only after the predictor: a solve never depends
+        // on what this Newton solved before it (a growth run resumed from a checkpoint
+        // builds a new one and must repeat the uninterrupted run bit for bit).
+        let mut use_kept = std::mem::take(&mut self.predicted) && self.factor_kept_for(model);
+        let mut it = 0;
+        while it < p.max_iters {
             let rref = rref0.max(residual_norms(model).1);
             if !r.is_finite() {
                 return Err(PdError::NonFinite {
                     solver: "implicit",
-                    iteration: it,
+                    iteration: it + 1,
                     load: model.load,
                 });
             }
             let rel = if rref > 0.0 { r / rref } else { r };
             if rel < p.residual_tol || r == 0.0 {
                 info.residual_history.push(rel);
-                return Ok((it - 1, rel));
+                return Ok((it, rel));
             }
             if r > 1e6 * r0.max(f64::MIN_POSITIVE) {
                 return Err(PdError::Diverged {
                     solver: "implicit",
-                    iteration: it,
+                    iteration: it + 1,
                     load: model.load,
                     residual: r,
                     initial: r0,
                 });
             }
-            let ta = Instant::now();
-            model.assemble_tangent(&mut self.tangent, TangentKind::Consistent);
-            let tf = Instant::now();
-            info.time_assembly_s += (tf - ta).as_secs_f64();
-            // Right-hand side: residual F + lambda b at the free DOFs.
-            let lam = model.load;
-            for i in 0..model.n_nodes() {
-                for c in 0..2 {
-                    let d = self.tangent.dof[2 * i + c];
-                    if d != usize::MAX {
-                        self.rhs[d] = model.force[i][c] + lam * model.bc.body[i][c];
-                    }
-                }
-            }
-            let fact = self.tangent.solve(&mut self.rhs)?;
-            info.time_factorization_s += tf.elapsed().as_secs_f64();
-            info.factorizations += 1;
-            if fact == Factorization::Lu {
-                info.lu_fallbacks += 1;
-            }
-            // Update with backtracking while the residual grows.
-            self.u_save.copy_from_slice(&model.u);
-            let mut alpha = 1.0;
-            let mut du2 = 0.0;
-            for _ in 0..6 {
-                du2 = 0.0;
-                for i in 0..model.n_nodes() {
-                    for c in 0..2 {
-                        let d = self.tangent.dof[2 * i + c];
-                        if d != usize::MAX {
-                            let du = alpha * self.rhs[d];
-                            model.u[i][c] = self.u_save[i][c] + du;
-                            du2 += du * du;
-                        }
-                    }
-                }
-                model.compute_forces(History::Frozen);
-                let (rn, _) = residual_norms(model);
-                if rn.is_finite() && (rn <= 1.5 * r || alpha < 0.05) {
-                    r = rn;
-                    break;
-                }
-                alpha *= 0.5;
-            }
+            let on_kept = use_kept;
+            let stepped = if on_kept {
+                self.kept_factor_step(model, r, info)?
+            } else {
+                self.fresh_step(model, r, info)?
+            };
+            let Stepped::Taken { r: rn, du2, keep } = stepped else {
+                use_kept = false;
+                continue;
+            };
+            it += 1;
+            r = rn;
+            use_kept = keep;
             let u2 = norm2_free(&model.u, &model.bc.fixed);
             measure = if u2 > 0.0 { (du2 / u2).sqrt() } else { 0.0 };
             if it == 1 {
@@ -165,6 +305,11 @@ impl Newton {
             let rel = if rref > 0.0 { r / rref } else { r };
             info.residual_history.push(rel);
             last_rel = rel;
+            // A kept-factor step that contracted poorly says little about the error left.
+            if on_kept && !keep {
+                prev_measure = f64::INFINITY;
+                continue;
+            }
             let done = match p.convergence {
                 Convergence::Displacement { e0 } => measure < e0,
                 Convergence::Residual { tol } => rel < tol,
@@ -214,6 +359,7 @@ impl Newton {
             .iter()
             .zip(&model.bc.base)
             .any(|(f, b)| (f[0] && b[0] != 0.0) || (f[1] && b[1] != 0.0));
+        self.predicted = false;
         if dl == 0.0 || !any {
             model.set_load_factor(lam);
             return Ok(());
@@ -272,6 +418,8 @@ impl Newton {
         if fact == Factorization::Lu {
             info.lu_fallbacks += 1;
         }
+        self.record_factor(model, fact);
+        self.predicted = true;
         for i in 0..model.n_nodes() {
             for c in 0..2 {
                 let d = self.tangent.dof[2 * i + c];
@@ -333,3 +481,7 @@ pub fn solve(model: &mut PdModel, params: &ImplicitParams) -> Result<SolveInfo, 
     info.finish_single_phase(PhaseKind::Implicit, lam0, params.target_load, dt, broken);
     Ok(info)
 }
+
+#[cfg(test)]
+#[path = "implicit_tests.rs"]
+mod tests;

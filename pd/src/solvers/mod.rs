@@ -168,6 +168,9 @@ pub struct SolveInfo {
     pub time_factorization_s: f64,
     /// Number of numeric factorisations.
     pub factorizations: usize,
+    /// Newton steps solved on a kept factor instead of a new one
+    /// ([`implicit::Newton`]).
+    pub kept_factor_solves: usize,
     /// Factorisations that fell back to LU.
     pub lu_fallbacks: usize,
     /// Switching solver: secant equilibria solved by Newton in damage
@@ -216,6 +219,7 @@ impl SolveInfo {
         self.time_assembly_s += later.time_assembly_s;
         self.time_factorization_s += later.time_factorization_s;
         self.factorizations += later.factorizations;
+        self.kept_factor_solves += later.kept_factor_solves;
         self.lu_fallbacks += later.lu_fallbacks;
         self.secant_rounds += later.secant_rounds;
         self.adr_fallbacks += later.adr_fallbacks;

@@ -111,6 +111,8 @@ pub(super) struct CholeskyFactor {
     par: Par,
     /// `l_values` hold the factor of the last successful factorisation.
     valid: bool,
+    /// Successful numeric factorisations so far (names the factor held).
+    generation: u64,
 }
 
 /// Floating-point operations of one numeric factorisation of `symbolic`: per supernode
@@ -165,6 +167,7 @@ impl CholeskyFactor {
             scratch_cols: 0,
             par,
             valid: false,
+            generation: 0,
         };
         f.reserve_cols(1);
         Ok(f)
@@ -205,12 +208,18 @@ impl CholeskyFactor {
             Default::default(),
         )?;
         self.valid = true;
+        self.generation += 1;
         Ok(())
     }
 
     /// Whether a factor is held (the last factorisation succeeded).
     pub(super) fn is_valid(&self) -> bool {
         self.valid
+    }
+
+    /// The held factor's number among the successful factorisations (`None`: none held).
+    pub(super) fn generation(&self) -> Option<u64> {
+        self.valid.then_some(self.generation)
     }
 
     /// `rhs <- K^-1 rhs` with the last factor, `rhs` holding `cols`

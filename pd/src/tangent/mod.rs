@@ -282,6 +282,13 @@ impl Tangent {
         }
     }
 
+    /// Names the Cholesky factor held (a count of this tangent's successful
+    /// factorisations), `None` when none is: a solver that factorised can tell whether the
+    /// factor is still its own before [`Self::solve_with_last_factor`].
+    pub fn factor_generation(&self) -> Option<u64> {
+        self.llt.as_ref().and_then(|f| f.generation())
+    }
+
     /// Numeric Cholesky factorisation of the current values, kept for
     /// [`Self::solve_with_last_factor`] (no LU fallback).
     pub fn factorize(&mut self) -> Result<(), PdError> {
