@@ -150,6 +150,20 @@ impl Newton {
         };
     }
 
+    /// Factorises the tangent's values and solves `rhs` in place, counting and timing it
+    /// in `info`; the factor is kept for later steps ([`Self::record_factor`]).
+    fn factor_and_solve(&mut self, model: &PdModel, info: &mut SolveInfo) -> Result<(), PdError> {
+        let tf = Instant::now();
+        let fact = self.tangent.solve(&mut self.rhs)?;
+        info.time_factorization_s += tf.elapsed().as_secs_f64();
+        info.factorizations += 1;
+        if fact == Factorization::Lu {
+            info.lu_fallbacks += 1;
+        }
+        self.record_factor(model, fact);
+        Ok(())
+    }
+
     /// The residual `F + lambda b` at the free DOFs into `rhs`.
     fn fill_rhs(&mut self, model: &PdModel) {
         let lam = model.load;
@@ -189,16 +203,9 @@ impl Newton {
     ) -> Result<Stepped, PdError> {
         let ta = Instant::now();
         model.assemble_tangent(&mut self.tangent, TangentKind::Consistent);
-        let tf = Instant::now();
-        info.time_assembly_s += (tf - ta).as_secs_f64();
+        info.time_assembly_s += ta.elapsed().as_secs_f64();
         self.fill_rhs(model);
-        let fact = self.tangent.solve(&mut self.rhs)?;
-        info.time_factorization_s += tf.elapsed().as_secs_f64();
-        info.factorizations += 1;
-        if fact == Factorization::Lu {
-            info.lu_fallbacks += 1;
-        }
-        self.record_factor(model, fact);
+        self.factor_and_solve(model, info)?;
         self.u_save.copy_from_slice(&model.u);
         let (mut alpha, mut du2, mut rn) = (1.0, 0.0, r);
         for _ in 0..6 {
@@ -411,14 +418,7 @@ impl Newton {
                 }
             }
         }
-        let tf = Instant::now();
-        let fact = self.tangent.solve(&mut self.rhs)?;
-        info.time_factorization_s += tf.elapsed().as_secs_f64();
-        info.factorizations += 1;
-        if fact == Factorization::Lu {
-            info.lu_fallbacks += 1;
-        }
-        self.record_factor(model, fact);
+        self.factor_and_solve(model, info)?;
         self.predicted = true;
         for i in 0..model.n_nodes() {
             for c in 0..2 {

@@ -5,8 +5,8 @@
 
 use super::*;
 use crate::cases::{seed001_crack, CrackKind};
-use crate::problem::{BoundaryCondition, Layer, PdMaterial, Selection};
-use crate::solvers::limit::tests::notched_bar;
+use crate::problem::PdMaterial;
+use crate::solvers::limit::tests::pulled_notched_bar;
 
 /// What a ramp did: the model at its end, broken pairs after every step, factorisations,
 /// kept-factor solves.
@@ -74,17 +74,7 @@ fn kept_factor_steps_reach_newtons_equilibria_while_state_based_bonds_break() {
 fn kept_factor_steps_reach_newtons_equilibria_of_degrading_bonds_pulled_at_one_end() {
     // The notched tanh bar with its end column pulled, through its softening onset:
     // the linear predictor's factor serves the first step of each load.
-    let mut p = notched_bar(0.002, 0.006);
-    p.boundary[1] = BoundaryCondition::Displacement {
-        on: Selection::Box {
-            min: [0.2 - p.dx, -1.0],
-            max: [0.2, 1.0],
-        },
-        ux: Some(1e-5),
-        uy: None,
-        layer: Layer::Real,
-    };
-    let model = PdModel::new(&p).unwrap();
+    let model = PdModel::new(&pulled_notched_bar()).unwrap();
     let loads: Vec<f64> = (1..=15).map(|k| 0.1 * k as f64).collect();
     let params = ImplicitParams {
         max_iters: 25,
@@ -160,16 +150,7 @@ fn a_load_step_does_not_depend_on_what_the_newton_solved_before() {
     // under tractions (no predictor) and the notched bar pulled at one end (predictor).
     let mut plate = seed001_crack(CrackKind::Edge, 30).problem;
     plate.material = PdMaterial::StateBased { poisson_ratio: 0.3 };
-    let mut pulled = notched_bar(0.002, 0.006);
-    pulled.boundary[1] = BoundaryCondition::Displacement {
-        on: Selection::Box {
-            min: [0.2 - pulled.dx, -1.0],
-            max: [0.2, 1.0],
-        },
-        ux: Some(1e-5),
-        uy: None,
-        layer: Layer::Real,
-    };
+    let pulled = pulled_notched_bar();
     let steps = |n: usize, d: f64| (1..=n).map(|k| d * k as f64).collect::<Vec<_>>();
     for (p, loads) in [(plate, steps(14, 0.5)), (pulled, steps(13, 0.1))] {
         let params = ImplicitParams {

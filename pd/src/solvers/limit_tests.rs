@@ -36,10 +36,9 @@ fn ramp(last: f64, n: usize) -> Vec<f64> {
     (1..=n).map(|k| last * k as f64 / n as f64).collect()
 }
 
-/// The largest force the notched bar carries with its end column pulled by
-/// `ux = lambda 1e-5 m`, ramped in steps of 0.05 until Newton fails (past the peak the
-/// bar snaps back) or the force falls: a load the bar is shown to carry.
-fn displacement_controlled_peak() -> f64 {
+/// [`notched_bar`] (2 mm grid, 6 mm notches) with its end column pulled by
+/// `ux = lambda 1e-5 m` instead of the force.
+pub(crate) fn pulled_notched_bar() -> PdProblem {
     let mut p = notched_softening_bar();
     p.boundary[1] = BoundaryCondition::Displacement {
         on: Selection::Box {
@@ -50,7 +49,14 @@ fn displacement_controlled_peak() -> f64 {
         uy: None,
         layer: Layer::Real,
     };
-    let mut m = PdModel::new(&p).unwrap();
+    p
+}
+
+/// The largest force [`pulled_notched_bar`] carries, ramped in steps of 0.05 until Newton
+/// fails (past the peak the bar snaps back) or the force falls: a load the bar is shown
+/// to carry.
+fn displacement_controlled_peak() -> f64 {
+    let mut m = PdModel::new(&pulled_notched_bar()).unwrap();
     let mut newton = Newton::new(&m).unwrap();
     let mut info = SolveInfo::default();
     let mut peak: f64 = 0.0;
