@@ -85,9 +85,9 @@ pub struct Newton {
     /// The factor this Newton made last (the tangent's factor generation) and the
     /// model's bond state then ([`bond_state`]).
     kept: Option<(u64, (usize, u64))>,
-    /// The last call was [`Self::predict_to`]: the next [`Self::equilibrate`] may start on
-    /// its factor.
-    predicted: bool,
+    /// The last call was [`Self::predict_to`], to this load factor: the next
+    /// [`Self::equilibrate`] at that load may start on its factor.
+    predicted: Option<f64>,
     /// Whether steps may reuse a kept factor (type docs; default true). Off, every step
     /// factorises, as before this rule.
     pub reuse_factor: bool,
@@ -126,7 +126,7 @@ impl Newton {
             rhs: vec![0.0; nf],
             u_save: vec![[0.0; 2]; model.n_nodes()],
             kept: None,
-            predicted: false,
+            predicted: None,
             reuse_factor: true,
         })
     }
@@ -265,7 +265,7 @@ impl Newton {
         // A call starts on a kept factor only after the predictor: a solve never depends
         // on what this Newton solved before it (a growth run resumed from a checkpoint
         // builds a new one and must repeat the uninterrupted run bit for bit).
-        let mut use_kept = std::mem::take(&mut self.predicted) && self.factor_kept_for(model);
+        let mut use_kept = self.predicted.take() == Some(model.load) && self.factor_kept_for(model);
         let mut it = 0;
         while it < p.max_iters {
             let rref = rref0.max(residual_norms(model).1);
@@ -366,7 +366,7 @@ impl Newton {
             .iter()
             .zip(&model.bc.base)
             .any(|(f, b)| (f[0] && b[0] != 0.0) || (f[1] && b[1] != 0.0));
-        self.predicted = false;
+        self.predicted = None;
         if dl == 0.0 || !any {
             model.set_load_factor(lam);
             return Ok(());
@@ -419,7 +419,7 @@ impl Newton {
             }
         }
         self.factor_and_solve(model, info)?;
-        self.predicted = true;
+        self.predicted = Some(lam);
         for i in 0..model.n_nodes() {
             for c in 0..2 {
                 let d = self.tangent.dof[2 * i + c];

@@ -107,7 +107,7 @@ fn from_kept_factor(factor_scale: Option<f64>, reuse: bool) -> (PdModel, SolveIn
         newton.tangent.factorize().unwrap();
         newton.kept = Some((newton.tangent.factor_generation().unwrap(), bond_state(&m)));
         // As a predictor leaves it: the next solve may start on the factor.
-        newton.predicted = true;
+        newton.predicted = Some(m.load_factor());
     }
     let p = ImplicitParams {
         convergence: Convergence::Residual { tol: 1e-13 },
