@@ -36,7 +36,9 @@ pub struct ImplicitParams {
     pub convergence: Convergence,
     /// Relative residual accepted without a further solve.
     pub residual_tol: f64,
-    /// Newton iteration cap per solve.
+    /// Cap on the Newton iterations with a new tangent per solve; steps on a kept factor
+    /// ([`Newton`]) come on top (each lowers the residual tenfold, or is followed by a new
+    /// tangent).
     pub max_iters: usize,
     /// Re-solves per step after brittle bonds break.
     pub max_break_rounds: usize,
@@ -266,8 +268,9 @@ impl Newton {
         // on what this Newton solved before it (a growth run resumed from a checkpoint
         // builds a new one and must repeat the uninterrupted run bit for bit).
         let mut use_kept = self.predicted.take() == Some(model.load) && self.factor_kept_for(model);
-        let mut it = 0;
-        while it < p.max_iters {
+        // Iterations, and of them those with a new tangent (the cap counts these).
+        let (mut it, mut fresh) = (0, 0);
+        while fresh < p.max_iters {
             let rref = rref0.max(residual_norms(model).1);
             if !r.is_finite() {
                 return Err(PdError::NonFinite {
@@ -294,6 +297,7 @@ impl Newton {
             let stepped = if on_kept {
                 self.kept_factor_step(model, r, info)?
             } else {
+                fresh += 1;
                 self.fresh_step(model, r, info)?
             };
             let Stepped::Taken { r: rn, du2, keep } = stepped else {
@@ -333,7 +337,7 @@ impl Newton {
         }
         Err(PdError::NoConvergence {
             solver: "implicit",
-            iterations: p.max_iters,
+            iterations: it,
             load: model.load,
             // The quantity the criterion tests (the relative residual for `Residual`, not
             // the displacement change).
