@@ -67,18 +67,18 @@ pub const KEPT_FACTOR_CONTRACTION: f64 = super::secant::CONTRACTION_REFACTOR;
 /// Reusable Newton buffers: tangent pattern, symbolic factorisation, vectors.
 ///
 /// **Steps on a kept factor.** A step may solve with the Cholesky factor of an earlier
-/// tangent of the same bonds (this Newton's last factorisation within the same
-/// [`Self::equilibrate`], or the factor of the [`Self::predict_to`] just before it)
-/// instead of a new one: two triangular solves instead of an assembly and a
-/// factorisation. The residual decides:
-/// a step that lowers it by [`KEPT_FACTOR_CONTRACTION`] or more keeps the factor; one
-/// that lowers it less is kept but the next step refactorises; one that does not lower
-/// it is undone and the step is taken with a fresh tangent. Only a step of the first
-/// kind or a fresh Newton step may end the iteration, so the convergence measure of a
-/// kept-factor step bounds the error as a Newton step's does. A factor is never reused
-/// across broken bonds or, for the degrading law, a changed bond history (the tangent
-/// changes there by more than a small strain): after a break round the first step
-/// factorises.
+/// tangent of the same bonds instead of a new one: two triangular solves instead of an
+/// assembly and a factorisation. The factor is this Newton's last one within the same
+/// [`Self::equilibrate`], or that of the [`Self::predict_to`] just before it, at the load
+/// it predicted. The residual decides: a step that lowers it by
+/// [`KEPT_FACTOR_CONTRACTION`] or more keeps the factor; one that lowers it less is kept
+/// but the next step refactorises; one that does not lower it is undone and the step is
+/// taken with a fresh tangent. Only a step of the first kind or a fresh Newton step may
+/// end the iteration, so the convergence measure of a kept-factor step bounds the error
+/// as a Newton step's does. A factor is never reused across broken bonds or, for the
+/// degrading law, a changed bond history (the tangent changes there by more than a small
+/// strain): after a break round the first step factorises. `max_iters` counts the steps
+/// with a new tangent.
 pub struct Newton {
     /// Tangent pattern and values.
     pub tangent: Tangent,
