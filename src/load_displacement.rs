@@ -198,20 +198,29 @@ impl LoadDisplacement {
         i
     }
 
-    /// |sum of the forces| / max |force| at the last state (0 without forces).
+    /// |sum of the forces| at the last state over the largest |force| of any group at
+    /// any state (0 without forces). The scale is the run's, not the last state's: a
+    /// plate cracked through by its last step carries round-off reactions (1e-10 N after
+    /// 2.6e3 N), whose sum is not an imbalance of the loads.
     pub fn imbalance(&self) -> f64 {
-        let last: Vec<BcResultant> = self
+        let sum = self
             .groups
             .iter()
             .filter_map(|g| g.states.last())
-            .map(|s| BcResultant {
-                kind: BcKind::Load,
-                force: s.force,
-                displacement: s.displacement,
-                nodes: 0,
-            })
-            .collect();
-        pdbem_pd::reaction::imbalance(&last)
+            .fold([0.0f64; 2], |s, st| {
+                [s[0] + st.force[0], s[1] + st.force[1]]
+            });
+        let scale = self
+            .groups
+            .iter()
+            .flat_map(|g| g.states.iter())
+            .map(|st| st.force[0].hypot(st.force[1]))
+            .fold(0.0f64, f64::max);
+        if scale == 0.0 {
+            0.0
+        } else {
+            sum[0].hypot(sum[1]) / scale
+        }
     }
 
     /// `load_displacement.csv`.
@@ -387,6 +396,42 @@ mod tests {
             }],
             displacement_known: true,
         }
+    }
+
+    /// A plate cracked through by its last step: the reactions fall from 2.6e3 N to
+    /// round-off, whose sum is no imbalance of the run's loads; a last state out of
+    /// balance by 2 % of the run's force is one.
+    #[test]
+    fn the_imbalance_is_measured_against_the_runs_largest_force() {
+        let state = |fy: f64| State {
+            force: [0.0, fy],
+            displacement: [0.0, 0.0],
+        };
+        let group = |name: &str, fys: &[f64]| GroupCurve {
+            group: name.into(),
+            kind: BcKind::Support,
+            states: fys.iter().map(|&f| state(f)).collect(),
+            displacement_known: true,
+        };
+        let cracked = LoadDisplacement {
+            loads: vec![7.3, 7.4, 7.5],
+            groups: vec![
+                group("top", &[2639.16, 856.94, 7.9e-10]),
+                group("bottom", &[-2639.16, -856.94, -4.0e-10]),
+            ],
+        };
+        let imb = cracked.imbalance();
+        assert!(imb < 1e-12, "{imb}");
+        let unbalanced = LoadDisplacement {
+            loads: vec![1.0, 2.0],
+            groups: vec![
+                group("top", &[1000.0, 2000.0]),
+                group("bottom", &[-1000.0, -1960.0]),
+            ],
+        };
+        let imb = unbalanced.imbalance();
+        assert!((imb - 0.02).abs() < 1e-12, "{imb}");
+        assert!(imb > IMBALANCE_LIMIT);
     }
 
     /// A self-balanced plate: the two loads get curves, the pin (round-off reaction, a

@@ -101,16 +101,32 @@ pub fn report_initiation(
     extra.insert("kink_deg_per_tip".into(), json!(kinks));
 }
 
-/// The notes of an initiation ramp that ended short of a full answer: the crack did not
-/// run by the last load factor (`extension`, m, at the end), or loads (factors) used up
-/// their break-and-re-solve rounds before the bonds settled.
+/// The notes of an initiation ramp that ended short of a full answer: bonds broke at the
+/// ramp's first load (`first_break`, a factor, equal to `load.initial`), so the first-break
+/// and initiation loads are only upper bounds; the crack did not run by the last load
+/// factor (`extension`, m, at the end); or loads (factors) used up their
+/// break-and-re-solve rounds before the bonds settled.
 pub fn initiation_notes(
     scene: &Scene,
+    first_break: Option<f64>,
     initiation: Option<f64>,
     extension: f64,
     unsettled: &[f64],
     notes: &mut Vec<String>,
 ) {
+    let start = scene.load.initial;
+    if first_break.is_some_and(|f| round12(f) <= round12(start)) {
+        let what = if initiation.is_some_and(|i| round12(i) <= round12(start)) {
+            "the first-break and initiation loads are"
+        } else {
+            "the first-break load is"
+        };
+        notes.push(format!(
+            "bonds already broke at the ramp's first load factor {} (load.initial): {what} \
+             upper bounds, the true ones lie below it; start the ramp lower",
+            round12(start)
+        ));
+    }
     if initiation.is_none() {
         let last = round12(scene.load.factors().last().copied().unwrap_or(1.0));
         notes.push(format!(
@@ -140,9 +156,9 @@ mod tests {
         ))
         .unwrap();
         let mut notes = Vec::new();
-        initiation_notes(&scene, Some(8.1), 0.03, &[], &mut notes);
+        initiation_notes(&scene, Some(6.9), Some(8.1), 0.03, &[], &mut notes);
         assert!(notes.is_empty(), "{notes:?}");
-        initiation_notes(&scene, None, 1e-3, &[8.1, 8.2], &mut notes);
+        initiation_notes(&scene, Some(6.9), None, 1e-3, &[8.1, 8.2], &mut notes);
         assert_eq!(notes.len(), 2, "{notes:?}");
         // The case's ramp: 80 steps of 0.1 from 3.
         assert!(notes[0].contains("last load factor 10.9"), "{}", notes[0]);
@@ -150,6 +166,22 @@ mod tests {
             notes[1].starts_with("2 load step(s)") && notes[1].contains("load factor 8.1)"),
             "{}",
             notes[1]
+        );
+        // Bonds broke at the ramp's first load, 3 (a ramp start of 3 + 0 steps).
+        let mut notes = Vec::new();
+        initiation_notes(&scene, Some(3.0), Some(3.0), 0.03, &[], &mut notes);
+        assert_eq!(notes.len(), 1, "{notes:?}");
+        assert!(
+            notes[0].contains("first load factor 3 ")
+                && notes[0].contains("first-break and initiation loads are upper bounds"),
+            "{}",
+            notes[0]
+        );
+        let mut notes = Vec::new();
+        initiation_notes(&scene, Some(3.0), Some(3.5), 0.03, &[], &mut notes);
+        assert!(
+            notes[0].contains("the first-break load is upper"),
+            "{notes:?}"
         );
     }
 }

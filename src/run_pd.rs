@@ -239,6 +239,7 @@ pub fn solve_observed(
         );
         initiation_notes(
             scene,
+            init.first_break_load,
             init.initiation_load,
             init.extension,
             &init.unsettled_loads,

@@ -156,6 +156,7 @@ fn report_ramp(
         .collect();
     initiation_notes(
         scene,
+        rec.first_break_load,
         rec.initiation_load,
         rec.extension,
         &unsettled,

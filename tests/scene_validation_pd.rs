@@ -228,6 +228,15 @@ fn pd_refinement_rules() {
     );
     load(&base_with("pd: (dx: 0.5, model: StateBased, refinement: (max_level: 2, circles: [(centre: (3, 10), radius: 2, level: 1), (centre: (3, 10), radius: 1)]))"))
         .expect("nested circles");
+    // A circle beside the 10 x 20 body (its centre in millimetres, say) refines nothing;
+    // one that reaches into it from outside does.
+    assert_invalid(
+        &base_with("pd: (dx: 0.5, model: StateBased, refinement: (circles: [(centre: (3000, 10000), radius: 1)]))"),
+        "pd.refinement.circles.0.centre = (3000.0, 10000.0)",
+        "lies outside the body (x 0 to 10 m, y 0 to 20 m): it refines nothing",
+    );
+    load(&base_with("pd: (dx: 0.5, model: StateBased, refinement: (circles: [(centre: (-0.5, 10), radius: 1)]))"))
+        .expect("a circle reaching into the body");
     let displaced = r#"[(on: "top", y: Displacement(0.1)), (on: "bottom", y: Traction(-1))]"#;
     // The quasi-static solves and adaptive dynamics hold the fictitious layer of a
     // displacement condition.

@@ -3,7 +3,9 @@
 
 use super::limits::relative_tolerance;
 use super::Checker;
-use crate::scene::{Failure, PdSolver, Scene};
+use crate::geometry::{bounding_box, P2};
+use crate::scene::shapes::outline_loop;
+use crate::scene::{Failure, PdSolver, RefineCircle, Scene};
 
 /// `pd.refinement`: stand-alone; on the grid's cells the rules of
 /// [`check_cell_refinement`], on particles the state-based model; the law the solver can
@@ -53,20 +55,22 @@ pub(super) fn check(
             "distance from the pre-cracks",
         );
     }
+    let bbox = outline_loop(&scene.body.outline).map(|o| bounding_box(&o.points));
     for (i, circle) in r.circles.iter().enumerate() {
-        c.finite(
+        let placed = c.finite(
             &format!("pd.refinement.circles.{i}.centre"),
             circle.centre.0,
-        );
-        c.finite(
+        ) & c.finite(
             &format!("pd.refinement.circles.{i}.centre"),
             circle.centre.1,
-        );
-        c.positive(
+        ) & c.positive(
             &format!("pd.refinement.circles.{i}.radius"),
             circle.radius,
             "radius",
         );
+        if let (true, Some((lo, hi))) = (placed, bbox) {
+            check_circle_meets_body(c, i, circle, (lo, hi));
+        }
         if let Some(l) = circle.level {
             if !(1..=r.max_level).contains(&l) {
                 c.fail(
@@ -81,6 +85,24 @@ pub(super) fn check(
         c.fail("pd.refinement.max_level", r.max_level, "must be 1 to 4");
     }
     relative_tolerance(c, "pd.refinement.tolerance", r.tolerance);
+}
+
+/// A circle must reach into the body's bounding box: one that misses it refines nothing,
+/// which is a mistyped centre (millimetres for metres, say), not a choice.
+fn check_circle_meets_body(c: &mut Checker, i: usize, circle: &RefineCircle, (lo, hi): (P2, P2)) {
+    let (x, y) = circle.centre;
+    // The box's point nearest the centre.
+    let near = (x.clamp(lo.x, hi.x), y.clamp(lo.y, hi.y));
+    if (near.0 - x).hypot(near.1 - y) > circle.radius {
+        c.fail(
+            format!("pd.refinement.circles.{i}.centre"),
+            format!("{:?}", circle.centre),
+            format!(
+                "the circle of radius {} m lies outside the body (x {} to {} m, y {} to {} m): it refines nothing (coordinates are in metres)",
+                circle.radius, lo.x, hi.x, lo.y, hi.y
+            ),
+        );
+    }
 }
 
 /// The solver and failure law a refined body can run: the elastic solve (`failure:
