@@ -221,6 +221,17 @@ fn pd_refinement_rules() {
         "pd.refinement.circles.0.radius",
         "radius must be > 0",
     );
+    // The refined conjugate gradients stall at 4e-14 of the load on 1 mm particles: their
+    // floor is 1e-12, above the solvers' 1e-14.
+    assert_invalid(
+        &base_with("pd: (dx: 0.5, model: StateBased, refinement: (tolerance: 1e-13))"),
+        "pd.refinement.tolerance = 0.0000000000001",
+        "a relative tolerance must lie in [1e-12, 1)",
+    );
+    load(&base_with(
+        "pd: (dx: 0.5, model: StateBased, refinement: (tolerance: 1e-12))",
+    ))
+    .expect("the floor");
     assert_invalid(
         &base_with("pd: (dx: 0.5, model: StateBased, refinement: (max_level: 2, circles: [(centre: (3, 10), radius: 2, level: 1), (centre: (3, 10), radius: 1, level: 3)]))"),
         "pd.refinement.circles.1.level",

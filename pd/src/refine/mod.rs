@@ -85,10 +85,13 @@ pub use ramp::{ramp, ramp_with, RampRecord, RampStep, RefinedRamp};
 pub use run::{run, set_up, set_up_static, RefinedRun, Round};
 pub use split::{BOND_BYTES, PARTICLE_BYTES};
 
-/// Smallest relative residual [`Refinement::tolerance`] may ask: the conjugate gradients'
-/// true residual stalls at 1e-14 to 1e-13 of the load on the Table 2 plate at dx =
-/// 0.5 mm ([`linear`]), and f64 resolves 2.2e-16.
-pub const MIN_TOLERANCE: f64 = 1e-14;
+/// Smallest relative residual [`Refinement::tolerance`] may ask. The conjugate gradients'
+/// true residual stalls in round-off (`cases/seed004_edge_crack_adaptive.ron`: at 4.0e-14
+/// of the load on the 1 mm particles, 4.1e-14 asked 3e-14 and failed, and at 1.2e-13
+/// on 0.5 mm ones), about 3x higher per halving of the spacing, so 1e-12 holds to about
+/// 0.125 mm. Until 2026-12-01 the floor was 1e-14, which passed validation and could not
+/// be met.
+pub const MIN_TOLERANCE: f64 = 1e-12;
 
 use serde::{Deserialize, Serialize};
 

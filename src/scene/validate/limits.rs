@@ -11,22 +11,30 @@
 use super::Checker;
 use crate::scene::{PdSolver, Scene};
 
-/// Smallest relative tolerance of a PD solve (`pd.solver.tolerance`,
-/// `pd.refinement.tolerance`): the library's floor for the refined conjugate gradients
-/// ([`pdbem_pd::refine::MIN_TOLERANCE`]), which holds for every PD solve: f64 resolves
-/// relative changes of 2.2e-16, and a solve's round-off floor lies some tens to hundreds
-/// of times above (the refined plate's conjugate gradients stall at 1e-14 to 1e-13 of the
-/// load at dx = 0.5 mm; ADR's displacement change at 2.2e-16), so a smaller tolerance
-/// cannot mean convergence.
-pub const MIN_PD_TOLERANCE: f64 = pdbem_pd::refine::MIN_TOLERANCE;
+/// Smallest relative tolerance of a PD solver (`pd.solver.tolerance`): f64 resolves
+/// relative changes of 2.2e-16 and a solve's round-off floor lies some tens of times
+/// above (Newton's residual meets 1e-14 on `pd_cantilever`; ADR's displacement change
+/// reaches 2.2e-16), so a smaller tolerance cannot mean convergence.
+pub const MIN_PD_TOLERANCE: f64 = 1e-14;
 
-/// A relative tolerance of a PD solve at `path`: in [[`MIN_PD_TOLERANCE`], 1).
+/// A relative tolerance of a PD solver at `path`: in [[`MIN_PD_TOLERANCE`], 1).
 pub(super) fn relative_tolerance(c: &mut Checker, path: &str, v: f64) {
-    if c.finite(path, v) && !(MIN_PD_TOLERANCE..1.0).contains(&v) {
+    tolerance_from(c, path, v, MIN_PD_TOLERANCE);
+}
+
+/// `pd.refinement.tolerance`: in [[`pdbem_pd::refine::MIN_TOLERANCE`], 1), the floor of
+/// the refined particles' conjugate gradients, which stall in round-off above
+/// [`MIN_PD_TOLERANCE`].
+pub(super) fn refinement_tolerance(c: &mut Checker, path: &str, v: f64) {
+    tolerance_from(c, path, v, pdbem_pd::refine::MIN_TOLERANCE);
+}
+
+fn tolerance_from(c: &mut Checker, path: &str, v: f64, floor: f64) {
+    if c.finite(path, v) && !(floor..1.0).contains(&v) {
         c.fail(
             path,
             v,
-            format!("a relative tolerance must lie in [{MIN_PD_TOLERANCE:e}, 1): below it a solve's measure is round-off (f64 resolves 2.2e-16), from 1 on the first iterate passes"),
+            format!("a relative tolerance must lie in [{floor:e}, 1): below it the solve's measure is round-off (f64 resolves 2.2e-16; the solve stalls above it), from 1 on the first iterate passes"),
         );
     }
 }

@@ -1,7 +1,7 @@
 //! Validation of `pd.refinement` (seed 004's criteria on particles, `pdbem_pd::refine`, or
 //! on the grid's cells, `pdbem_pd::adapt`).
 
-use super::limits::relative_tolerance;
+use super::limits::refinement_tolerance;
 use super::Checker;
 use crate::geometry::{bounding_box, P2};
 use crate::scene::shapes::outline_loop;
@@ -84,7 +84,7 @@ pub(super) fn check(
     if !(1..=4).contains(&r.max_level) {
         c.fail("pd.refinement.max_level", r.max_level, "must be 1 to 4");
     }
-    relative_tolerance(c, "pd.refinement.tolerance", r.tolerance);
+    refinement_tolerance(c, "pd.refinement.tolerance", r.tolerance);
 }
 
 /// A circle must reach into the body's bounding box: one that misses it refines nothing,
