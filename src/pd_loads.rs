@@ -117,13 +117,13 @@ pub fn initiation_notes(
     let start = scene.load.initial;
     if first_break.is_some_and(|f| round12(f) <= round12(start)) {
         let what = if initiation.is_some_and(|i| round12(i) <= round12(start)) {
-            "the first-break and initiation loads are"
+            "the first-break and initiation loads are upper bounds, the true ones lie"
         } else {
-            "the first-break load is"
+            "the first-break load is an upper bound, the true one lies"
         };
         notes.push(format!(
             "bonds already broke at the ramp's first load factor {} (load.initial): {what} \
-             upper bounds, the true ones lie below it; start the ramp lower",
+             below it; start the ramp lower",
             round12(start)
         ));
     }
