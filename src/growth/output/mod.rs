@@ -90,13 +90,46 @@ pub fn growth_summary(scene: &Scene, h: &GrowthHistory) -> RunSummary {
         extra.insert("bem_overstrain".into(), json!(h.overstrain));
         extra.insert("window_stray_damage".into(), json!(h.stray_damage));
     }
+    let mut notes = h.notes.clone();
+    notes.extend(first_step_bounds(h));
     RunSummary {
         scene: scene.name.clone(),
         mode: "growth".into(),
-        notes: h.notes.clone(),
+        notes,
         extra,
         ..Default::default()
     }
+}
+
+/// Notes for an initiation or failure load that is the first step's: the crack grew (or
+/// the body failed) at the first load it was given, so that load is only an upper bound.
+pub fn first_step_bounds(h: &GrowthHistory) -> Vec<String> {
+    let Some(first) = h.steps.first().map(|s| s.load) else {
+        return Vec::new();
+    };
+    let at_first = |f: Option<f64>| f.is_some_and(|f| f <= first);
+    let mut what = Vec::new();
+    if at_first(h.initiation_load) {
+        what.push("the crack grew");
+    }
+    if h.failure && at_first(h.failure_load) {
+        what.push("the body failed");
+    }
+    if what.is_empty() {
+        return Vec::new();
+    }
+    vec![format!(
+        "{} in the first load step (load factor {first}): {} only an upper bound, the true \
+         value lies below it; start the ramp lower (load.initial)",
+        what.join(" and "),
+        if what.len() == 2 {
+            "the initiation and failure loads are each"
+        } else if what[0] == "the crack grew" {
+            "the initiation load is"
+        } else {
+            "the failure load is"
+        }
+    )]
 }
 
 /// `tips_final`: name, last position, length grown and why each tip stopped.

@@ -157,3 +157,52 @@ fn snapshots_show_the_path_as_far_as_it_had_grown() {
     assert_eq!(paths, vec![vec![(0.0, 0.0), (0.0, 1.0), (0.0, 1.1)]]);
     assert_eq!(marks[0].0, (0.0, 1.1));
 }
+
+/// A crack that grows, or a body that fails, in the first load step gets a note: that
+/// load is an upper bound. A later initiation gets none.
+#[test]
+fn growth_in_the_first_load_step_is_noted_as_an_upper_bound() {
+    let step = |k: usize| StepRecord {
+        step: k,
+        load: 10.0 + 0.1 * k as f64,
+        ..Default::default()
+    };
+    let mut h = GrowthHistory {
+        mode: "bem-only".into(),
+        steps: vec![step(0), step(1), step(2)],
+        initiation_load: Some(10.1),
+        failure: true,
+        failure_load: Some(10.2),
+        ..Default::default()
+    };
+    assert!(first_step_bounds(&h).is_empty());
+    h.initiation_load = Some(10.0);
+    let n = first_step_bounds(&h);
+    assert_eq!(n.len(), 1, "{n:?}");
+    assert!(
+        n[0].starts_with("the crack grew in the first load step (load factor 10)")
+            && n[0].contains("the initiation load is only an upper bound"),
+        "{}",
+        n[0]
+    );
+    h.failure_load = Some(10.0);
+    let n = first_step_bounds(&h);
+    assert!(
+        n[0].starts_with("the crack grew and the body failed in the first load step")
+            && n[0].contains("the initiation and failure loads are each only an upper bound"),
+        "{}",
+        n[0]
+    );
+    // The summary carries the note.
+    let scene = Scene::load(format!(
+        "{}/cases/growth_tension_edge.ron",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    let s = growth_summary(&scene, &h);
+    assert!(
+        s.notes.iter().any(|m| m.contains("upper bound")),
+        "{:?}",
+        s.notes
+    );
+}
