@@ -174,6 +174,23 @@ pub fn check(scene: &Scene) -> Result<()> {
             dynamics::MAX_BOND_STEPS
         );
     }
+    check_refinement_checks(scene, steps)
+}
+
+/// Adaptive dynamics checks its criteria every `check_every` steps: a run of fewer steps
+/// would never check them, so the refinement it asks for could not happen.
+fn check_refinement_checks(scene: &Scene, steps: f64) -> Result<()> {
+    let Some(r) = scene.pd.as_ref().and_then(|pd| pd.refinement.as_ref()) else {
+        return Ok(());
+    };
+    let criteria = r.critical_damage.is_some() || r.strain_factor.is_some();
+    if criteria && r.check_every as f64 > steps {
+        bail!(
+            "{}: pd.refinement.check_every = {} exceeds the run's {steps:.0} time steps: the criteria would never be checked; take a smaller check_every (the seed's 10)",
+            scene.file_label().display(),
+            r.check_every
+        );
+    }
     Ok(())
 }
 

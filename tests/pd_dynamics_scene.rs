@@ -55,6 +55,27 @@ fn a_step_above_the_stable_step_is_refused_at_check() {
     assert!(e.contains("pd.solver.end_time"), "{e}");
 }
 
+/// Adaptive dynamics whose `check_every` exceeds the run's steps would never check its
+/// criteria: refused at check; a short run that checks them once passes.
+#[test]
+fn refinement_checks_beyond_the_runs_end_are_refused_at_check() {
+    let short = case_text("seed004_branching_case1_adaptive.ron")
+        .replace("end_time: 8e-5", "end_time: 2e-6")
+        .replace("snapshots: [2e-5, 3.5e-5, 5e-5, 8e-5]", "snapshots: []");
+    let rare = short.replace("check_every: 10", "check_every: 201");
+    let e = format!(
+        "{:#}",
+        pdbem::setup::estimate::check(&parse(&rare).expect("valid at the scene level"))
+            .expect_err("never checked")
+    );
+    assert!(
+        e.contains("pd.refinement.check_every = 201 exceeds the run's 200 time steps"),
+        "{e}"
+    );
+    let once = short.replace("check_every: 10", "check_every: 200");
+    pdbem::setup::estimate::check(&parse(&once).unwrap()).expect("checked at the last step");
+}
+
 /// The branching plate at dx = 2 mm for 30 us (automatic dt): the run writes
 /// dynamics.csv with rising fracture energy, a snapshot plot, the energy plot and the
 /// summary entry; the crack has started by 30 us.
