@@ -34,6 +34,14 @@ fn run(
     let r = ramp_to_initiation(&mut m, &tips, &p)
         .map_err(|e| format!("{e}"))
         .unwrap();
+    // Bonds breaking at the ramp's first load would make every load found an upper
+    // bound (the ramp's start), not a result.
+    if let Some(f) = r.first_break_load {
+        assert!(
+            f > start,
+            "{kind:?}: bonds broke at the ramp's start {start}"
+        );
+    }
     (m, r)
 }
 
