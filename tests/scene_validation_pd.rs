@@ -172,6 +172,28 @@ fn growth_pd_bem_needs_coupling() {
 }
 
 #[test]
+fn state_based_pd_refuses_a_negative_poisson_ratio() {
+    // Below 0 the discrete state-based energy is not positive definite; the BEM and PMB
+    // take any nu in (-1, 0.5).
+    let scene = |nu: &str, model: &str| {
+        make(
+            &format!("(E: 1e4, nu: {nu}, plane: Stress)"),
+            BODY,
+            CRACKS,
+            BOUNDARY,
+            &format!("pd: (dx: 0.5, model: {model})"),
+        )
+    };
+    assert_invalid(
+        &scene("-0.1", "StateBased"),
+        "material.nu = -0.1",
+        "takes a Poisson ratio from 0 on",
+    );
+    load(&scene("0", "StateBased")).expect("nu = 0");
+    load(&scene("-0.1", "Pmb")).expect("PMB notes nu, does not refuse it");
+}
+
+#[test]
 fn pd_refinement_rules() {
     let ok = "pd: (dx: 0.5, model: StateBased, refinement: (near_cracks: 1, circles: [(centre: (3, 10), radius: 1)]))";
     load(&base_with(ok)).expect("valid refinement");

@@ -28,6 +28,20 @@ pub enum Plane {
     Strain,
 }
 
+/// Smallest Poisson ratio of the state-based model. Its energy density
+/// $a\theta^2 + \frac12\sum\beta e^2/|\xi|\,V'$ has $a = (\kappa - 2\mu)/2 < 0$ below
+/// nu = 1/3 (plane stress), and from some negative nu on the dilatation term outweighs
+/// the bond term for local modes: the tangent of a free, surface-corrected 12 x 12 plate
+/// (dx = 1) has negative eigenvalues from nu = -0.30 (plane stress) and -0.40 (plane
+/// strain) at m = 3.015, from nu = -0.10 at m = 4 and 6 and -0.20 at m = 2 (without
+/// the correction from -0.85, plane stress). Solutions there are not equilibria of a
+/// stable body: ADR diverges, and the Table 2 plate under Newton opens 17 % less than at
+/// nu = 1/3 at nu = -0.9 (plane stress, where Irwin's opening does not depend on nu).
+/// From nu = 0 on every plate tried is positive definite beyond its three rigid motions
+/// (horizon factors 2 to 6, a pre-crack with and without the crack-face correction, a
+/// refined zone; `pd/tests/properties_state_based.rs`).
+pub const MIN_STATE_BASED_NU: f64 = 0.0;
+
 /// The constitutive model of the PD body.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, Default)]
 pub enum PdMaterial {
@@ -36,7 +50,7 @@ pub enum PdMaterial {
     #[default]
     Pmb,
     /// Ordinary state-based PD (seed 004 Eqs. 3-8, [`crate::state_based`]) with the
-    /// given Poisson's ratio, in (-1, 1/2).
+    /// given Poisson's ratio, in [0, 1/2) ([`MIN_STATE_BASED_NU`]).
     StateBased {
         /// Poisson's ratio nu (-).
         poisson_ratio: f64,
@@ -387,10 +401,10 @@ impl PdProblem {
         positive("thickness", self.thickness)?;
         positive("youngs_modulus", self.youngs_modulus)?;
         if let PdMaterial::StateBased { poisson_ratio: nu } = self.material {
-            if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
+            if !(nu.is_finite() && (MIN_STATE_BASED_NU..0.5).contains(&nu)) {
                 return Err(PdError::invalid(
                     "material.poisson_ratio",
-                    format!("state-based PD needs a Poisson ratio in (-1, 0.5) (positive bulk and shear moduli), got {nu}"),
+                    format!("state-based PD needs a Poisson ratio in [{MIN_STATE_BASED_NU}, 0.5): below 0 its discrete energy is not positive definite on every grid (crate::state_based, MIN_STATE_BASED_NU), from 0.5 on the bulk modulus is unbounded; got {nu}"),
                 ));
             }
         }

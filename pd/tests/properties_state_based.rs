@@ -139,7 +139,8 @@ fn tangent_matches_finite_differences_elastic_large_strain() {
     for (nu, plane) in [
         (0.2, Plane::Strain),
         (0.3, Plane::Stress),
-        (-0.2, Plane::Stress),
+        (0.0, Plane::Stress),
+        (0.45, Plane::Strain),
     ] {
         let mut m = PdModel::new(&problem(Failure::None, nu, plane)).unwrap();
         fd_check(&mut m, 0.05, None);
@@ -242,4 +243,80 @@ fn force_is_minus_energy_gradient() {
     eprintln!("energy gradient: {:e}", err / fmax);
     // Measured: 7.5e-11 of the largest nodal force.
     assert!(err < 1e-6 * fmax, "force vs -dPi/du: {:e}", err / fmax);
+}
+
+/// Lowest eigenvalue beyond the three rigid motions of the tangent of `p` (free: no
+/// supports), over the largest.
+fn lowest_elastic_mode(p: &PdProblem) -> f64 {
+    use nalgebra::{DMatrix, SymmetricEigen};
+    let k = PdModel::new(p).unwrap().tangent_dense();
+    let d = k.len();
+    let sym = DMatrix::from_fn(d, d, |i, j| 0.5 * (k[i][j] + k[j][i]));
+    let mut ev: Vec<f64> = SymmetricEigen::new(sym)
+        .eigenvalues
+        .iter()
+        .copied()
+        .collect();
+    ev.sort_by(f64::total_cmp);
+    // The three rigid motions are zero to round-off, and nothing lies below them.
+    assert!(ev[0] > -1e-12 * ev[d - 1], "{:e}", ev[0] / ev[d - 1]);
+    ev[3] / ev[d - 1]
+}
+
+/// The state-based energy is positive definite from nu = 0 (the smallest Poisson ratio
+/// validation takes, `MIN_STATE_BASED_NU`) to near 1/2: on a free, surface-corrected
+/// 12 x 12 plate every mode beyond the three rigid motions has positive stiffness, for
+/// horizon factors 2 to 6, both planes, with a pre-crack (with and without the crack-face
+/// correction) and with a refined zone. Measured: the lowest such eigenvalue is 1.0e-2
+/// to 7.4e-2 of the largest on the square plates from nu = 0 to 0.45 (6.8e-4 to 6.8e-3
+/// at nu = 0.49 in plane strain, whose bulk stiffness sets the largest) and 1.3e-3 to
+/// 1.7e-3 with the pre-crack's flap (1.7e-4 to 2.0e-4 at 0.49); below 0 it turns
+/// negative (nu = -0.1 at m = 4: -1.0e-2; -0.3 at m = 3.015: -6.5e-3), which is why
+/// validation refuses it.
+#[test]
+fn the_energy_is_positive_definite_from_nu_zero() {
+    use pdbem_pd::problem::MIN_STATE_BASED_NU;
+    use pdbem_pd::refine_zone::RefineZone;
+    assert_eq!(MIN_STATE_BASED_NU, 0.0);
+    let plate = |nu: f64, plane: Plane, m: f64| PdProblem {
+        region: Region::rectangle([0.0, 0.0], [12.0, 12.0]),
+        dx: 1.0,
+        horizon_factor: m,
+        youngs_modulus: 1.0,
+        plane,
+        material: PdMaterial::StateBased { poisson_ratio: nu },
+        surface_correction: true,
+        ..Default::default()
+    };
+    for (nu, plane) in [
+        (MIN_STATE_BASED_NU, Plane::Stress),
+        (0.2, Plane::Stress),
+        (0.45, Plane::Stress),
+        (0.49, Plane::Strain),
+    ] {
+        for m in [2.0, 3.015, 4.015, 6.0] {
+            let low = lowest_elastic_mode(&plate(nu, plane, m));
+            eprintln!("nu {nu} {plane:?} m {m}: {low:e}");
+            assert!(low > 5e-4, "nu {nu} {plane:?} m {m}: {low:e}");
+        }
+        let mut cracked = plate(nu, plane, 3.015);
+        cracked.cracks = vec![vec![[0.0, 6.0], [6.0, 6.0]]];
+        for faces in [false, true] {
+            cracked.crack_face_correction = faces;
+            let low = lowest_elastic_mode(&cracked);
+            eprintln!("nu {nu} {plane:?} crack {faces}: {low:e}");
+            assert!(low > 1e-4, "nu {nu} {plane:?} crack {faces}: {low:e}");
+        }
+        cracked.refine_zones = vec![RefineZone {
+            centre: [6.0, 6.0],
+            half_size: 2.0,
+            levels: 1,
+        }];
+        let low = lowest_elastic_mode(&cracked);
+        eprintln!("nu {nu} {plane:?} crack and zone: {low:e}");
+        assert!(low > 1e-4, "nu {nu} {plane:?} crack and zone: {low:e}");
+    }
+    // Validation refuses a negative nu.
+    let e = PdModel::new(&plate(-0.1, Plane::Stress, 3.015)).unwrap_err();
+    assert!(format!("{e}").contains("poisson_ratio"), "{e}");
 }

@@ -1,5 +1,6 @@
 //! Ordinary state-based peridynamics in 2-D (seed 004 section 2.1), plane stress and
-//! plane strain, any Poisson ratio in (-1, 1/2).
+//! plane strain, any Poisson ratio in [0, 1/2): below 0 the discrete energy is not
+//! positive definite on every grid ([`crate::problem::MIN_STATE_BASED_NU`]).
 //!
 //! **Model.** Seed 004 Eqs. 3-5 with the 2-D constants of Eqs. 6-8. The strain energy
 //! density of node $k$ is (Eq. 4)

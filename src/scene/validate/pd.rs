@@ -56,6 +56,7 @@ fn check_pd(c: &mut Checker, scene: &Scene, pd: &crate::scene::PdSettings) {
     if scene.coupling.is_none() {
         check_body_spans_horizons(c, scene, pd);
     }
+    check_state_based_nu(c, scene, pd);
     check_solver(c, &pd.solver);
     if let PdSolver::Explicit(p) = &pd.solver {
         check_explicit(c, scene, p);
@@ -164,6 +165,21 @@ fn check_body_spans_horizons(c: &mut Checker, scene: &Scene, pd: &crate::scene::
                 pd.horizon_factor,
                 w.min(h)
             ),
+        );
+    }
+}
+
+/// `pd.model: StateBased` (stand-alone or in the windows, which take the body's nu):
+/// nu from [`pdbem_pd::problem::MIN_STATE_BASED_NU`] = 0 on, where the discrete energy
+/// is positive definite.
+fn check_state_based_nu(c: &mut Checker, scene: &Scene, pd: &crate::scene::PdSettings) {
+    let nu = scene.material.nu;
+    let min = pdbem_pd::problem::MIN_STATE_BASED_NU;
+    if pd.model == crate::scene::PdModelKind::StateBased && nu.is_finite() && nu < min {
+        c.fail(
+            "material.nu",
+            nu,
+            format!("state-based PD (pd.model: StateBased) takes a Poisson ratio from {min} on: below, its discrete energy is not positive definite (negative tangent eigenvalues on free plates from nu = -0.1 at some horizon factors; solves there diverge or return no equilibrium); the BEM alone takes any nu in (-1, 0.5)"),
         );
     }
 }
