@@ -55,6 +55,22 @@ fn a_step_above_the_stable_step_is_refused_at_check() {
     assert!(e.contains("pd.solver.end_time"), "{e}");
 }
 
+/// An impact velocity strains the body by |v| / c (c = sqrt(E / rho), 4873 m/s for the
+/// Kalthoff steel): from strain 1 on it is refused like a load, naming the velocity.
+#[test]
+fn an_impact_beyond_small_strain_is_refused() {
+    let case = case_text("seed004_kalthoff_coarse.ron");
+    parse(&case).expect("16.5 m/s");
+    let fast = case.replace("velocity: (16.5, 0)", "velocity: (0, -5000)");
+    let e = parse(&fast).expect_err("5000 m/s");
+    assert!(
+        e.contains("pd.solver.velocities.0.velocity = (0.0, -5000.0)")
+            && e.contains("strains the body by about 1.026e0"),
+        "{e}"
+    );
+    parse(&case.replace("velocity: (16.5, 0)", "velocity: (4800, 0)")).expect("below c");
+}
+
 /// Adaptive dynamics whose `check_every` exceeds the run's steps would never check its
 /// criteria: refused at check; a short run that checks them once passes.
 #[test]
