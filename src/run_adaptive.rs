@@ -140,6 +140,9 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
         "dynamics".into(),
         crate::run_dynamic::summary_entry(&info.dynamics, &last),
     );
+    summary
+        .notes
+        .extend(crate::run_dynamic::energy_balance_note(&rec.records));
     let angles = crate::run_dynamic::deflections(&problem, body.positions(), &phi);
     crate::run_dynamic::log_deflections(ctx, &angles);
     e.insert("deflection_deg".into(), json!(angles));
