@@ -180,7 +180,7 @@ mod tests {
         let mut notes = Vec::new();
         initiation_notes(&scene, Some(3.0), Some(3.5), 0.03, &[], &mut notes);
         assert!(
-            notes[0].contains("the first-break load is upper"),
+            notes[0].contains("the first-break load is an upper bound, the true one lies below"),
             "{notes:?}"
         );
     }
