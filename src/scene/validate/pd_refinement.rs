@@ -91,8 +91,12 @@ pub(super) fn check(
 /// which is a mistyped centre (millimetres for metres, say), not a choice.
 fn check_circle_meets_body(c: &mut Checker, i: usize, circle: &RefineCircle, (lo, hi): (P2, P2)) {
     let (x, y) = circle.centre;
-    // The box's point nearest the centre.
-    let near = (x.clamp(lo.x, hi.x), y.clamp(lo.y, hi.y));
+    // The body's own checks name a non-finite outline.
+    if ![lo.x, lo.y, hi.x, hi.y].iter().all(|v| v.is_finite()) {
+        return;
+    }
+    // The box's point nearest the centre (max / min: no panic on an inverted box).
+    let near = (x.max(lo.x).min(hi.x), y.max(lo.y).min(hi.y));
     if (near.0 - x).hypot(near.1 - y) > circle.radius {
         c.fail(
             format!("pd.refinement.circles.{i}.centre"),
