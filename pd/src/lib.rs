@@ -8,7 +8,8 @@
 //!   grid with fictitious layers, CSR bond families with partial volumes,
 //!   surface correction, boundary data).
 //! - [`state_based`]: ordinary state-based PD (seed 004 section 2.1), any Poisson
-//!   ratio, chosen by [`PdProblem::material`]; the solvers call the model-agnostic
+//!   ratio in [0, 1/2) ([`problem::MIN_STATE_BASED_NU`]), chosen by
+//!   [`PdProblem::material`]; the solvers call the model-agnostic
 //!   methods of [`PdModel`] (`new_tangent`, `assemble_tangent`, ...).
 //! - [`mixed`]: mixed-spacing grids (refinement zones) with dual-horizon PMB forces
 //!   (seed 004 section 2.2) in [`PdModel`] and every solver.
