@@ -99,7 +99,6 @@ pub fn check(scene: &Scene) -> Vec<Issue> {
     boundary::check(&mut c, scene);
     if body_ok {
         strain::check(&mut c, scene);
-        strain::check_velocities(&mut c, scene);
         strain::check_origin(&mut c, scene);
     }
     sections::check(&mut c, scene, body_ok);

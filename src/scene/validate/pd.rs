@@ -1,6 +1,7 @@
 //! Rules of `pd` and `coupling` (`growth`: [`super::growth`]).
 
 use super::limits::relative_tolerance;
+use super::strain::MAX_NOMINAL_STRAIN;
 use super::Checker;
 use crate::geometry::{bounding_box, direction, p2, point_in_polygon, P2};
 use crate::scene::shapes::outline_loop;
@@ -185,9 +186,18 @@ fn check_state_based_nu(c: &mut Checker, scene: &Scene, pd: &crate::scene::PdSet
 }
 
 /// `pd.solver.velocities`: finite boxes with `min` below `max` that overlap the body's
-/// bounding box, finite velocities (that a box holds a particle is checked by the run).
+/// bounding box, finite velocities (that a box holds a particle is checked by the run)
+/// below the bar wave speed c = sqrt(E / rho): a velocity v sent into a bar strains it by
+/// v / c (sigma = rho c v), so from [`MAX_NOMINAL_STRAIN`] times c on an impact is outside
+/// small-strain elasticity, as a load is (1e6 m/s on the steel Kalthoff plate: a fracture
+/// energy of -6.6e4 J).
 fn check_velocities(c: &mut Checker, scene: &Scene, v: &[crate::scene::RegionVelocity]) {
     let bbox = outline_loop(&scene.body.outline).map(|o| bounding_box(&o.points));
+    let wave = scene
+        .material
+        .density
+        .map(|rho| (scene.material.e / rho).sqrt())
+        .filter(|c| c.is_finite() && *c > 0.0);
     for (i, r) in v.iter().enumerate() {
         let path = |f: &str| format!("pd.solver.velocities.{i}.{f}");
         let finite = [r.min.0, r.min.1, r.max.0, r.max.1]
@@ -200,6 +210,17 @@ fn check_velocities(c: &mut Checker, scene: &Scene, v: &[crate::scene::RegionVel
                 path("velocity"),
                 format!("{:?}", r.velocity),
                 "a zero initial velocity changes nothing (the body starts at rest): drop the entry, or set `hold: true` to hold the box still",
+            );
+        }
+        let strain = wave.map_or(0.0, |w| r.velocity.0.hypot(r.velocity.1) / w);
+        if moving && strain >= MAX_NOMINAL_STRAIN {
+            c.fail(
+                path("velocity"),
+                format!("{:?}", r.velocity),
+                format!(
+                    "the impact strains the body by about {strain:.3e} (|v| / c, c = sqrt(E / rho) = {:.4e} m/s the bar wave speed): from {MAX_NOMINAL_STRAIN} on it is outside the small-strain elasticity PD solves (check the units, m/s)",
+                    wave.unwrap_or(f64::NAN)
+                ),
             );
         }
         if !finite {

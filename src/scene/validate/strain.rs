@@ -76,36 +76,6 @@ pub fn check(c: &mut Checker, scene: &Scene) {
     }
 }
 
-/// Explicit dynamics' initial velocities (`pd.solver.velocities`): a velocity v sent into
-/// a bar strains it by v / c, c = sqrt(E / rho) the bar wave speed (sigma = rho c v), so
-/// from [`MAX_NOMINAL_STRAIN`] times c on an impact is outside small-strain elasticity
-/// too (1e6 m/s on the steel Kalthoff plate: a fracture energy of -6.6e4 J).
-pub fn check_velocities(c: &mut Checker, scene: &Scene) {
-    let (e, Some(rho)) = (scene.material.e, scene.material.density) else {
-        return;
-    };
-    let Some(crate::scene::PdSolver::Explicit(p)) = scene.pd.as_ref().map(|pd| &pd.solver) else {
-        return;
-    };
-    let wave = (e / rho).sqrt();
-    if !(wave.is_finite() && wave > 0.0) {
-        return;
-    }
-    for (i, r) in p.velocities.iter().enumerate() {
-        let v = r.velocity.0.hypot(r.velocity.1);
-        if v.is_finite() && v / wave >= MAX_NOMINAL_STRAIN {
-            c.fail(
-                format!("pd.solver.velocities.{i}.velocity"),
-                format!("{:?}", r.velocity),
-                format!(
-                    "the impact strains the body by about {:.3e} (|v| / c, c = sqrt(E / rho) = {wave:.4e} m/s the bar wave speed): from {MAX_NOMINAL_STRAIN} on it is outside the small-strain elasticity PD solves (check the units, m/s)",
-                    v / wave
-                ),
-            );
-        }
-    }
-}
-
 /// The load with the largest nominal strain at factor 1 (the first of equals); `None`
 /// when nothing is loaded (an impact alone, or every value zero).
 fn largest(scene: &Scene, e: f64) -> Option<Nominal> {
