@@ -101,6 +101,31 @@ pub fn report_initiation(
     extra.insert("kink_deg_per_tip".into(), json!(kinks));
 }
 
+/// The note of a PD load ramp whose first load (factor `first`) already broke bonds: its
+/// first-break load, and the initiation load if the crack ran there too, are then only
+/// upper bounds. Every PD ramp reports through it: the crack-initiation ramps
+/// ([`initiation_notes`]) and the ramps to the final load (`crate::run_pd`).
+pub fn first_load_note(
+    first: f64,
+    first_break: Option<f64>,
+    initiation: Option<f64>,
+) -> Option<String> {
+    let at_first = |f: f64| round12(f) <= round12(first);
+    if !first_break.is_some_and(at_first) {
+        return None;
+    }
+    let what = if initiation.is_some_and(at_first) {
+        "the first-break and initiation loads are upper bounds, the true ones lie"
+    } else {
+        "the first-break load is an upper bound, the true one lies"
+    };
+    Some(format!(
+        "bonds already broke at the ramp's first load factor {}: {what} below it; start the \
+         ramp lower (load.initial)",
+        round12(first)
+    ))
+}
+
 /// The notes of an initiation ramp that ended short of a full answer: bonds broke at the
 /// ramp's first load (`first_break`, a factor, equal to `load.initial`), so the first-break
 /// and initiation loads are only upper bounds; the crack did not run by the last load
@@ -114,19 +139,7 @@ pub fn initiation_notes(
     unsettled: &[f64],
     notes: &mut Vec<String>,
 ) {
-    let start = scene.load.initial;
-    if first_break.is_some_and(|f| round12(f) <= round12(start)) {
-        let what = if initiation.is_some_and(|i| round12(i) <= round12(start)) {
-            "the first-break and initiation loads are upper bounds, the true ones lie"
-        } else {
-            "the first-break load is an upper bound, the true one lies"
-        };
-        notes.push(format!(
-            "bonds already broke at the ramp's first load factor {} (load.initial): {what} \
-             below it; start the ramp lower",
-            round12(start)
-        ));
-    }
+    notes.extend(first_load_note(scene.load.initial, first_break, initiation));
     if initiation.is_none() {
         let last = round12(scene.load.factors().last().copied().unwrap_or(1.0));
         notes.push(format!(
@@ -147,6 +160,20 @@ pub fn initiation_notes(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A ramp to the final load (no initiation): a first break in the first load step
+    /// makes the first-break load a bound, noted; a later first break is a result.
+    #[test]
+    fn a_first_break_at_the_first_load_is_noted() {
+        let note = first_load_note(0.05, Some(0.05), None).expect("a note");
+        assert!(
+            note.contains("first load factor 0.05 ")
+                && note.contains("the first-break load is an upper bound"),
+            "{note}"
+        );
+        assert!(first_load_note(0.05, Some(0.1), None).is_none());
+        assert!(first_load_note(0.05, None, None).is_none());
+    }
 
     #[test]
     fn initiation_notes_name_the_last_load_and_the_unsettled_ones() {

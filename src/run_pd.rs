@@ -28,8 +28,8 @@
 
 use crate::load_displacement::LoadDisplacement;
 use crate::pd_loads::{
-    initiation_notes, initiation_ramp, load_unit, report_initiation, round12, scene_tips,
-    traction_scale,
+    first_load_note, initiation_notes, initiation_ramp, load_unit, report_initiation, round12,
+    scene_tips, traction_scale,
 };
 use crate::runner::context::RunContext;
 use crate::runner::summary::RunSummary;
@@ -43,7 +43,7 @@ use pdbem_pd::error::factor_text;
 use pdbem_pd::measure::{kink_angle, ramp_to_initiation};
 use pdbem_pd::solvers::limit::{RampEvent, Stop};
 use pdbem_pd::solvers::limit_solvers::{solve_to_limit, QuasiStatic};
-use pdbem_pd::solvers::{adr, implicit, switching, Convergence, StepRecord};
+use pdbem_pd::solvers::{adr, implicit, switching, Convergence};
 use pdbem_pd::PdModel;
 use serde_json::json;
 use std::time::Instant;
@@ -301,9 +301,10 @@ pub fn solve_observed(
             "first_break_load".into(),
             json!(first_break.map(|f| round12(f * scale))),
         );
+        let first = info.steps.first().map(|s| s.load);
         summary
             .notes
-            .extend(first_step_break_note(first_break, &info.steps));
+            .extend(first.and_then(|f| first_load_note(f, first_break, None)));
     }
     // The unit of the loads above: the largest applied traction times the factor, or the
     // factor alone when the scene applies no traction.
@@ -363,19 +364,6 @@ fn report_cells(cells: &AdaptiveCells, rounds: &[Round], summary: &mut RunSummar
             "rounds": rounds,
         }),
     );
-}
-
-/// The note of a load ramp whose first step already broke bonds: its first-break load is
-/// then only an upper bound (the initiation ramp says the same in
-/// [`crate::pd_loads::initiation_notes`]).
-fn first_step_break_note(first_break: Option<f64>, steps: &[StepRecord]) -> Option<String> {
-    let first = steps.first()?.load;
-    (first_break? <= first).then(|| {
-        format!(
-            "bonds already broke in the ramp's first load step (load factor {}): the first-break load is an upper bound, the true one lies below it; start the ramp lower (load.initial) to find it",
-            round12(first)
-        )
-    })
 }
 
 /// Break-and-re-solve rounds of one load of the crack-initiation ramp before the load is
@@ -472,38 +460,4 @@ fn report_stop(scene: &Scene, stop: &Stop, refined: bool, summary: &mut RunSumma
             "cutbacks": stop.cutbacks,
         }),
     );
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use pdbem_pd::solvers::PhaseKind;
-
-    fn step(load: f64, broken_bonds: usize) -> StepRecord {
-        StepRecord {
-            load,
-            iterations: 1,
-            broken_bonds,
-            max_stretch: 0.0,
-            measure: 0.0,
-            kind: PhaseKind::Implicit,
-            resultants: Vec::new(),
-        }
-    }
-
-    /// Bonds broken in the first load step make the first-break load a bound, noted;
-    /// a later first break is a result.
-    #[test]
-    fn a_first_break_in_the_first_step_is_noted() {
-        let steps = [step(0.05, 3), step(0.1, 5)];
-        let note = first_step_break_note(Some(0.05), &steps).expect("a note");
-        assert!(
-            note.contains("first load step (load factor 0.05)"),
-            "{note}"
-        );
-        let later = [step(0.05, 0), step(0.1, 5)];
-        assert!(first_step_break_note(Some(0.1), &later).is_none());
-        assert!(first_step_break_note(None, &later).is_none());
-        assert!(first_step_break_note(Some(0.1), &[]).is_none());
-    }
 }
