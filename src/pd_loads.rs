@@ -167,7 +167,7 @@ mod tests {
     fn a_first_break_at_the_first_load_is_noted() {
         let note = first_load_note(0.05, Some(0.05), None).expect("a note");
         assert!(
-            note.contains("first load factor 0.05 ")
+            note.contains("first load factor 0.05:")
                 && note.contains("the first-break load is an upper bound"),
             "{note}"
         );
@@ -199,7 +199,7 @@ mod tests {
         initiation_notes(&scene, Some(3.0), Some(3.0), 0.03, &[], &mut notes);
         assert_eq!(notes.len(), 1, "{notes:?}");
         assert!(
-            notes[0].contains("first load factor 3 ")
+            notes[0].contains("first load factor 3:")
                 && notes[0].contains("first-break and initiation loads are upper bounds"),
             "{}",
             notes[0]
