@@ -1,6 +1,7 @@
 //! Checkpoint and resume of growth runs (issue 18 item 3) and the end of a run whose load
 //! step cannot be solved (item 2). A run stopped after load step k (the runner's
-//! `stop_after` hook, or a `pdbem` child killed with SIGKILL) and resumed with `--resume`
+//! `stop_after` hook, or a `pdbem` child killed with SIGKILL), or inside one (full PD after
+//! a break round, PD-BEM after a relocation: `stop_within`) and resumed with `--resume`
 //! writes the same outputs as an uninterrupted run, bit for bit except wall times; a
 //! changed scene is refused. Scenes are small (seconds each).
 
@@ -238,6 +239,40 @@ fn pd_bem_resumed_after_a_step_with_broken_bonds_equals_an_uninterrupted_run() {
     let scene = tension_edge(sparse_k);
     assert_eq!(scene.growth.as_ref().unwrap().sif_spacing, Some(2.0));
     stop_and_resume(&scene, 0, "pd-bem");
+}
+
+#[test]
+fn pd_bem_resumed_inside_a_load_step_after_a_relocation_equals_an_uninterrupted_run() {
+    // The seed's PD-BEM runs grow the whole path in one load step (3.3 here): a checkpoint
+    // only at step ends would lose all of it at a kill. Inside a step it is taken just
+    // after a relocation, where the BEM system, every window and the accelerator are built
+    // anew in every run. With no least interval the first relocation of step 1 writes
+    // one; the run stopped after the third resumes from that one's checkpoint (written
+    // after the third), and equals the uninterrupted run (default 5 minute interval: no
+    // checkpoint inside a step, so it does not stop).
+    let sparse_k = |t: String| {
+        t.replace(
+            "growth: (mode: PdBem,",
+            "growth: (mode: PdBem, sif_spacing: 2.0,",
+        )
+    };
+    let scene = tension_edge(sparse_k);
+    let whole = RunOptions {
+        quiet: true,
+        stop_within: Some((1, 3)),
+        ..Default::default()
+    };
+    let stop = RunOptions {
+        round_checkpoint_every: Some(Duration::ZERO),
+        ..whole
+    };
+    // Inside step 1 (0-based): step 0 is complete.
+    stop_and_resume_with(
+        &scene,
+        (&whole, &stop),
+        ("in load step 1 after relocation 3", 1),
+        "pd-bem-relocation",
+    );
 }
 
 #[test]

@@ -202,6 +202,17 @@ pub enum CouplingError {
         /// The last completed break round of it (0-based).
         round: usize,
     },
+    /// A PD-BEM growth run was stopped by its observer inside a load step, just after a
+    /// relocation whose checkpoint was offered (the run can be resumed from it).
+    #[error(
+        "growth run stopped by its observer in load step {step} after relocation {relocation}"
+    )]
+    InterruptedAtRelocation {
+        /// The load step in progress (0-based).
+        step: usize,
+        /// Relocation records of the run so far.
+        relocation: usize,
+    },
     /// A growth checkpoint does not fit the run it is to resume (another scene or
     /// version).
     #[error("checkpoint: {message}")]

@@ -6,8 +6,10 @@
 //! ([`pdbem_coupling::growth::checkpoint`]), what the observer gathered (snapshots, the
 //! PD-BEM initial window outlines and relocation count) and the text of
 //! `growth_log.jsonl` so far. Full PD also writes one inside a load step, after a break
-//! round at which its solvers are renewed, when [`RunContext::round_checkpoint_every`]
-//! (5 minutes) has passed since the last ([`save_within`]). It lives in the run folder, outside the staging folder, so it
+//! round at which its solvers are renewed, and PD-BEM just after a relocation (where its
+//! state is whole; the seed's runs grow the whole path in one load step), when
+//! [`RunContext::round_checkpoint_every`] (5 minutes) has passed since the last
+//! ([`save_within`]). It lives in the run folder, outside the staging folder, so it
 //! survives a kill; a run that finishes (complete or not) deletes it with its commit.
 //!
 //! `pdbem run SCENE --out DIR --resume` reads it, refuses it when the scene (resolved:
@@ -73,7 +75,8 @@ pub struct RunCheckpoint {
     pub mode: String,
     /// The last completed load step (0-based); with `within`, the step in progress.
     pub step: usize,
-    /// Written inside `step`, after a break round (full PD): the step is not complete.
+    /// Written inside `step`, after a break round (full PD) or a relocation (PD-BEM): the
+    /// step is not complete.
     /// Absent in checkpoints written before it was kept (they were all at step ends or
     /// read as such).
     #[serde(default)]
@@ -215,16 +218,17 @@ pub fn save(
     Ok(ctx.stop_after == Some(step))
 }
 
-/// [`save`] inside load step `step`, after break round `round` (full PD); whether the run
-/// is to stop here (the test hook [`RunContext::stop_within`]).
+/// [`save`] inside load step `step`, after break round `round` (full PD) or with `round`
+/// relocation records in the run (PD-BEM, just after a relocation); whether the run is to
+/// stop here (the test hook [`RunContext::stop_within`]).
 pub fn save_within(
     ctx: &RunContext,
     scene: &Scene,
     mode: &str,
     (step, round): (usize, usize),
-    engine: EngineState,
+    (engine, observer): (EngineState, ObserverState),
 ) -> Result<bool> {
-    let mut cp = RunCheckpoint::new(scene, mode, step, engine, Default::default(), String::new());
+    let mut cp = RunCheckpoint::new(scene, mode, step, engine, observer, String::new());
     cp.within = true;
     write_now(ctx, cp)?;
     Ok(ctx.stop_within == Some((step, round)))

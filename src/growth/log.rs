@@ -234,6 +234,7 @@ impl EngineObserver for RunObserver<'_> {
             return ControlFlow::Continue(());
         }
         let engine = EngineState::Engine(save());
+        let engine = (engine, Default::default());
         let saved = checkpoint::save_within(self.ctx, scene, mode, (step, round), engine);
         self.flow(saved)
     }

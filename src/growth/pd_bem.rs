@@ -28,6 +28,7 @@ use pdbem_coupling::setup::WindowModel;
 use serde_json::json;
 
 use std::ops::ControlFlow;
+use std::time::Instant;
 
 use pdbem_coupling::growth::checkpoint::PdBemCheckpoint;
 use pdbem_coupling::growth::history::WindowOutline;
@@ -54,6 +55,8 @@ struct Progress<'a> {
     relocations: usize,
     /// Outlines of the initial windows (kept in checkpoints).
     initial_windows: Vec<WindowOutline>,
+    /// When the last checkpoint was written (or the run started).
+    last_saved: Instant,
     error: Option<anyhow::Error>,
 }
 
@@ -62,6 +65,29 @@ impl Progress<'_> {
         if let Some(l) = &self.log {
             if let Err(e) = l.event(kind, fields) {
                 self.error.get_or_insert(e);
+            }
+        }
+    }
+
+    /// What a checkpoint keeps of this observer.
+    fn observer_state(&self) -> ObserverState {
+        ObserverState {
+            snapshots: self.snapshots.clone(),
+            relocations: self.relocations,
+            initial_windows: self.initial_windows.clone(),
+        }
+    }
+
+    /// After a checkpoint was written (or failed to be): restarts the interval; `Break`
+    /// when the run is to stop there (a test hook).
+    fn flow(&mut self, saved: Result<bool>) -> ControlFlow<()> {
+        self.last_saved = Instant::now();
+        match saved {
+            Ok(true) => ControlFlow::Break(()),
+            Ok(false) => ControlFlow::Continue(()),
+            Err(e) => {
+                self.error.get_or_insert(e);
+                ControlFlow::Continue(())
             }
         }
     }
@@ -157,20 +183,25 @@ impl Observer for Progress<'_> {
         step: usize,
         save: &mut dyn FnMut() -> PdBemCheckpoint,
     ) -> ControlFlow<()> {
-        let observer = ObserverState {
-            snapshots: self.snapshots.clone(),
-            relocations: self.relocations,
-            initial_windows: self.initial_windows.clone(),
-        };
+        let observer = self.observer_state();
         let engine = EngineState::PdBem(save());
-        match checkpoint::save(self.ctx, self.scene, "pd-bem", step, engine, observer) {
-            Ok(true) => ControlFlow::Break(()),
-            Ok(false) => ControlFlow::Continue(()),
-            Err(e) => {
-                self.error.get_or_insert(e);
-                ControlFlow::Continue(())
-            }
+        let saved = checkpoint::save(self.ctx, self.scene, "pd-bem", step, engine, observer);
+        self.flow(saved)
+    }
+
+    fn checkpoint_within(
+        &mut self,
+        step: usize,
+        relocations: usize,
+        save: &mut dyn FnMut() -> PdBemCheckpoint,
+    ) -> ControlFlow<()> {
+        if self.last_saved.elapsed() < self.ctx.round_checkpoint_every {
+            return ControlFlow::Continue(());
         }
+        let state = (EngineState::PdBem(save()), self.observer_state());
+        let at = (step, relocations);
+        let saved = checkpoint::save_within(self.ctx, self.scene, "pd-bem", at, state);
+        self.flow(saved)
     }
 
     fn state(&mut self, s: &StepResult, pb: &CoupledProblem, sol: Option<&CoupledSolution>) {
@@ -254,13 +285,22 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
     let tip_names = inp.setup.tips.iter().map(|t| t.name.clone()).collect();
     let (mut g, observed, at) = match cp {
         Some(c) => {
+            let at = c.steps_done();
             let EngineState::PdBem(state) = c.engine else {
                 anyhow::bail!("--resume: the checkpoint is not of a PD-BEM run");
             };
-            ctx.log(&format!("resuming after load step {}", c.step));
+            ctx.log(&if c.within {
+                format!(
+                    "resuming inside load step {} after relocation {}",
+                    c.step,
+                    state.result.relocations.len()
+                )
+            } else {
+                format!("resuming after load step {}", c.step)
+            });
             let g = Growth::resume(inp.setup, &inp.scenario, inp.params, state)
                 .with_context(|| format!("{}: PD-BEM growth resume", file.display()))?;
-            (g, Some(c.observer), c.step + 1)
+            (g, Some(c.observer), at)
         }
         None => {
             let g = Growth::new(inp.setup, &inp.scenario, inp.params)
@@ -282,6 +322,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
         snapshots: observed.snapshots,
         relocations: observed.relocations,
         initial_windows: observed.initial_windows,
+        last_saved: Instant::now(),
         error: None,
     };
     progress.bar.set_position(at as u64);

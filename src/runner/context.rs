@@ -31,17 +31,19 @@ pub struct RunContext {
     /// fail as a solver failure does (full PD: the equilibrium before any bond broke;
     /// BEM-only: every re-meshed geometry of step k, which has no retry).
     pub fail_tries: Option<(usize, usize)>,
-    /// Full PD: the least time between two checkpoints inside load steps
+    /// Full PD and PD-BEM: the least time between two checkpoints inside load steps
     /// ([`ROUND_CHECKPOINT_INTERVAL`] unless a test sets it).
     pub round_checkpoint_every: Duration,
-    /// Full PD: stop after break round r of load step k, `Some((k, r))`, once its
-    /// checkpoint is written (a test hook like `stop_after`).
+    /// Inside load step k, `Some((k, r))`, once its checkpoint is written, stop (a test
+    /// hook like `stop_after`): full PD after break round r, PD-BEM after the relocation
+    /// that brings the run's relocation records to r.
     pub stop_within: Option<(usize, usize)>,
 }
 
-/// Full PD writes a checkpoint inside a load step (after a break round at which its
-/// solvers are renewed) when this long has passed since the run's last checkpoint: 5
-/// minutes, a few seconds of writing against minutes of work lost at a kill.
+/// Full PD (after a break round at which its solvers are renewed) and PD-BEM (just after a
+/// relocation) write a checkpoint inside a load step when this long has passed since the
+/// run's last checkpoint: 5 minutes, a few seconds of writing against minutes of work lost
+/// at a kill.
 pub const ROUND_CHECKPOINT_INTERVAL: Duration = Duration::from_secs(300);
 
 impl RunContext {

@@ -51,11 +51,12 @@ pub struct RunOptions {
     /// Growth runs: failures injected into the tries of a load step (a test hook of the
     /// back-off, [`RunContext::fail_tries`]).
     pub fail_tries: Option<(usize, usize)>,
-    /// Full PD: the least time between checkpoints inside load steps (None: 5 minutes,
-    /// [`context::ROUND_CHECKPOINT_INTERVAL`]).
+    /// Full PD and PD-BEM: the least time between checkpoints inside load steps (None: 5
+    /// minutes, [`context::ROUND_CHECKPOINT_INTERVAL`]).
     pub round_checkpoint_every: Option<std::time::Duration>,
-    /// Full PD: stop after break round r of load step k, `Some((k, r))`, once its
-    /// checkpoint is written (a test hook).
+    /// Inside load step k, `Some((k, r))`, once its checkpoint is written, stop (a test
+    /// hook): full PD after break round r, PD-BEM after the relocation that brings the
+    /// run's relocation records to r.
     pub stop_within: Option<(usize, usize)>,
 }
 

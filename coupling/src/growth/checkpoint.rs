@@ -12,7 +12,11 @@
 //!   are deterministic functions of the layout), the PD state of every window
 //!   ([`WindowState`]: displacements, bond flags, bond history, load factor, the virtual
 //!   nodes' prescribed displacements), the tips and their traced paths, the interface
-//!   state the next step starts from, the per-tip progress and the records so far.
+//!   state the next step starts from, the per-tip progress and the records so far; also
+//!   inside a load step, just after a relocation ([`PdBemWithin`]: the try of the
+//!   back-off, its counters and the state the step started from). A relocation builds
+//!   the BEM system, every window and the accelerator anew in every run, so nothing the
+//!   state leaves out is carried past it.
 //! - BEM-only ([`BemOnlyCheckpoint`]): the crack front as grown and the history; every
 //!   geometry is meshed and solved anew from the front.
 //! - Full PD ([`FullPdCheckpoint`]): the model state, the front, the tracker's recorded
@@ -115,6 +119,47 @@ pub struct PdBemCheckpoint {
     pub result: GrowthResult,
     /// Load steps so far in which the interface accelerator restarted or handed over.
     pub noted_steps: usize,
+    /// Taken inside load step `next_step`, just after a relocation (None: before the
+    /// step). Absent in checkpoints written before it was kept.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub within: Option<Box<PdBemWithin>>,
+}
+
+/// The place of a PD-BEM checkpoint inside a load step: just after a relocation, where
+/// every window, the BEM system and the accelerator were built anew (so the state is
+/// whole in [`GrowthState`]), within one try of the step's back-off.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PdBemWithin {
+    /// The try of the step (index into the back-off's tries).
+    pub attempt: usize,
+    /// A try with half the load increment: solving at the step's own load, after the
+    /// half-way load (whose counters are `first`).
+    pub second: bool,
+    /// The half-way load's counters of a try with half the load increment.
+    pub first: Option<TryProgress>,
+    /// This try's counters so far.
+    pub progress: TryProgress,
+    /// The state the step started from (the back-off returns to it).
+    pub step_start: GrowthState,
+    /// Relocation records before the step.
+    pub relocations_before: usize,
+    /// Initiation load before the step.
+    pub initiation_before: Option<f64>,
+}
+
+/// What a try at a load step has done so far.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct TryProgress {
+    /// The load it solves at.
+    pub load: f64,
+    /// Algorithm 1 iterations.
+    pub iterations: usize,
+    /// PD seconds.
+    pub pd_s: f64,
+    /// Relocations.
+    pub relocations: usize,
+    /// The accelerator reported a restart or hand-over.
+    pub noted: bool,
 }
 
 /// A BEM-only checkpoint.

@@ -42,6 +42,19 @@ pub trait Observer {
     ) -> ControlFlow<()> {
         ControlFlow::Continue(())
     }
+    /// Just after a relocation inside load step `step` (`relocations` records in the run
+    /// so far), where the run's state is whole ([`crate::growth::checkpoint::PdBemWithin`]):
+    /// `save` builds the checkpoint (call it only when one is wanted, e.g. when some time
+    /// has passed since the last). `Break` stops the run there with
+    /// [`crate::CouplingError::InterruptedAtRelocation`] (a test's stand-in for a kill).
+    fn checkpoint_within(
+        &mut self,
+        _step: usize,
+        _relocations: usize,
+        _save: &mut dyn FnMut() -> PdBemCheckpoint,
+    ) -> ControlFlow<()> {
+        ControlFlow::Continue(())
+    }
 }
 
 /// An observer that ignores everything.

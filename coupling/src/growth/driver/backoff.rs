@@ -13,10 +13,9 @@
 //! observer. Other errors of a step (a window that cannot move, a geometry that cannot
 //! be built) end the run the same way without a retry.
 
-use super::step::StepRun;
+use super::step::{StepRun, StepStart, TryCx};
 use super::Growth;
 use crate::error::CouplingError;
-use crate::growth::checkpoint::GrowthState;
 use crate::growth::observer::Observer;
 use crate::growth::records::{GrowthResult, Scenario};
 use crate::iteration::{Acceleration, CouplingParams};
@@ -108,20 +107,32 @@ fn outcome(e: &CouplingError) -> String {
 
 impl<S: Scenario> Growth<'_, S> {
     /// Step `k` at load `load` (the last step's load `prev`) with the back-off of the
-    /// module docs; `saved` is the state at the start of the step. `Ok(Err(reason))`: no
-    /// attempt solved it, the state is back at `saved` and `out` as it was.
+    /// module docs; `start.state` is the state at the start of the step, and a resumed run
+    /// goes on inside the try of `start.resumed`. `Ok(Err(reason))`: no attempt solved it,
+    /// the state is back at the step's start and `out` as it was.
     pub(super) fn step_with_backoff(
         &mut self,
         (k, load, prev): (usize, f64, f64),
-        saved: &GrowthState,
+        start: &StepStart<'_>,
         out: &mut GrowthResult,
         observer: &mut dyn Observer,
     ) -> Result<Result<StepRun, String>, CouplingError> {
+        let saved = start.state;
         let base = self.params.coupling.clone();
-        let (relocations, initiation) = (out.relocations.len(), out.initiation_load);
+        let (relocations, initiation) = match start.resumed {
+            Some(w) => (w.relocations_before, w.initiation_before),
+            None => (out.relocations.len(), out.initiation_load),
+        };
         let mut tried = Vec::new();
         for (i, a) in attempts(&base).into_iter().enumerate() {
-            if i > 0 {
+            // A resumed step goes on inside its try (the tries before it failed, and
+            // their notes are in the log already).
+            let here = match start.resumed {
+                Some(w) if w.attempt > i => continue,
+                Some(w) if w.attempt == i => Some(w),
+                _ => None,
+            };
+            if i > 0 && here.is_none() {
                 self.set_state(saved)?;
                 out.relocations.truncate(relocations);
                 out.initiation_load = initiation;
@@ -131,21 +142,43 @@ impl<S: Scenario> Growth<'_, S> {
                 ));
             }
             self.params.coupling = a.coupling.clone();
+            let cx = TryCx {
+                attempt: i,
+                second: false,
+                first: None,
+                start,
+                relocations_before: relocations,
+                initiation_before: initiation,
+            };
             let r = if a.split {
                 let mid = 0.5 * (prev + load);
-                self.attempt(k, mid, out, observer)
-                    .and_then(|first| match first.cut {
-                        Some(_) => Ok(first),
-                        None => self
-                            .attempt(k, load, out, observer)
-                            .map(|second| second.after(&first)),
-                    })
+                let first = match here {
+                    Some(w) if w.second => Ok(StepRun::resumed(&w.first.unwrap_or_default())),
+                    Some(w) => self.attempt((k, mid), out, observer, &cx, Some(&w.progress)),
+                    None => self.attempt((k, mid), out, observer, &cx, None),
+                };
+                first.and_then(|first| match first.cut {
+                    Some(_) => Ok(first),
+                    None => {
+                        let cx = TryCx {
+                            second: true,
+                            first: Some(first.progress()),
+                            ..cx
+                        };
+                        let from = here.filter(|w| w.second).map(|w| &w.progress);
+                        self.attempt((k, load), out, observer, &cx, from)
+                            .map(|second| second.after(&first))
+                    }
+                })
             } else {
-                self.attempt(k, load, out, observer)
+                let from = here.map(|w| &w.progress);
+                self.attempt((k, load), out, observer, &cx, from)
             };
             self.params.coupling = base.clone();
             match r {
                 Ok(s) => return Ok(Ok(s)),
+                // A stop inside the step (a checkpoint was offered): no retry.
+                Err(e @ CouplingError::InterruptedAtRelocation { .. }) => return Err(e),
                 Err(e) if retryable(&e) => tried.push(format!("{}: {}", a.label, outcome(&e))),
                 Err(e) => {
                     tried.push(format!("{}: {e}", a.label));

@@ -8,9 +8,10 @@ use pdbem_bem::post::field::FieldEvaluator;
 use pdbem_bem::V2;
 
 use super::join::Joined;
-use super::step::StepRun;
+use super::step::{StepRun, StepStart, TryCx};
 use super::Growth;
 use crate::error::CouplingError;
+use crate::growth::checkpoint::TryProgress;
 use crate::growth::fine_zone::path_leaves_fine_zone;
 use crate::growth::geometry::turn_note;
 use crate::growth::observer::Observer;
@@ -171,17 +172,23 @@ impl<'s, S: Scenario> Growth<'s, S> {
 
     /// One try at load step `k` at load `load` on the current state: Algorithm 1 with the
     /// geometry iteration (relocations) until the step converged or a tip ended the run.
+    /// After every relocation the observer may take a checkpoint ([`TryCx`] says where in
+    /// the step); `from` holds the counters of a try resumed from one.
     pub(super) fn attempt(
         &mut self,
-        k: usize,
-        load: f64,
+        (k, load): (usize, f64),
         out: &mut GrowthResult,
         observer: &mut dyn Observer,
+        cx: &TryCx<'_>,
+        from: Option<&TryProgress>,
     ) -> Result<StepRun, CouplingError> {
-        let mut run = StepRun {
-            load,
-            ..StepRun::default()
-        };
+        let mut run = from.map_or_else(
+            || StepRun {
+                load,
+                ..StepRun::default()
+            },
+            StepRun::resumed,
+        );
         // Every try at a step starts its quasi-Newton model afresh: a step's result
         // depends only on the state it starts from (back-offs, resumed runs).
         self.secants = SecantColumns::default();
@@ -279,6 +286,17 @@ impl<'s, S: Scenario> Growth<'s, S> {
             }
             run.relocations += recs.len();
             out.relocations.extend(recs);
+            // Every window, the BEM system and the accelerator were built anew: the state
+            // is whole here, and a run resumed from it repeats this one bit for bit.
+            let n = out.relocations.len();
+            let flow =
+                observer.checkpoint_within(k, n, &mut || self.checkpoint_within(k, cx, &run, out));
+            if flow.is_break() {
+                return Err(CouplingError::InterruptedAtRelocation {
+                    step: k,
+                    relocation: n,
+                });
+            }
         }
     }
 
@@ -286,11 +304,11 @@ impl<'s, S: Scenario> Growth<'s, S> {
     /// from its checkpoint. A step that no back-off solves ([`super::backoff`]) ends the
     /// run with [`GrowthResult::failure_reason`] and the records of the steps before it.
     pub fn run(&mut self, observer: &mut dyn Observer) -> Result<GrowthResult, CouplingError> {
-        let (mut out, mut noted_steps, first) = match self.resume_from.take() {
-            Some(r) => (r.result, r.noted_steps, r.next_step),
+        let (mut out, mut noted_steps, first, mut within) = match self.resume_from.take() {
+            Some(r) => (r.result, r.noted_steps, r.next_step, r.within),
             None => {
                 self.record_progress(0, self.params.loads.initial);
-                (GrowthResult::default(), 0, 0)
+                (GrowthResult::default(), 0, 0, None)
             }
         };
         let count = self.params.loads.count;
@@ -302,8 +320,17 @@ impl<'s, S: Scenario> Growth<'s, S> {
                 self.params.loads.factor(k - 1)
             };
             let t0 = Instant::now();
-            let saved = self.state();
-            let run = match self.step_with_backoff((k, load, prev), &saved, &mut out, observer)? {
+            let resumed = within.take();
+            let saved = match &resumed {
+                Some(w) => w.step_start.clone(),
+                None => self.state(),
+            };
+            let start = StepStart {
+                state: &saved,
+                resumed: resumed.as_deref(),
+                noted_steps,
+            };
+            let run = match self.step_with_backoff((k, load, prev), &start, &mut out, observer)? {
                 Ok(run) => run,
                 Err(reason) => {
                     observer.note(&reason);

@@ -3,19 +3,24 @@
 //! step (the checkpoint the observer may save), and put back by
 //! [`Growth::set_state`] and [`Growth::resume`].
 
+use super::step::{StepRun, TryCx};
 use super::{build_geometry, join_name, Growth};
 use crate::error::CouplingError;
-use crate::growth::checkpoint::{mismatch, CrackState, GrowthState, PdBemCheckpoint, WindowState};
+use crate::growth::checkpoint::{
+    mismatch, CrackState, GrowthState, PdBemCheckpoint, PdBemWithin, WindowState,
+};
 use crate::growth::params::GrowthParams;
 use crate::growth::records::{GrowthResult, GrowthSetup, Scenario};
 use crate::setup::MacroCrack;
 
-/// Where a resumed run goes on: the records so far and the next step.
+/// Where a resumed run goes on: the records so far and the next step (and the place
+/// inside it).
 #[derive(Debug, Clone)]
 pub(crate) struct ResumePoint {
     pub result: GrowthResult,
     pub noted_steps: usize,
     pub next_step: usize,
+    pub within: Option<Box<PdBemWithin>>,
 }
 
 impl<'s, S: Scenario> Growth<'s, S> {
@@ -65,6 +70,33 @@ impl<'s, S: Scenario> Growth<'s, S> {
             state: self.state(),
             result: result.clone(),
             noted_steps,
+            within: None,
+        }
+    }
+
+    /// The checkpoint just after a relocation inside load step `k`, in the try `cx` whose
+    /// counters are `run`.
+    pub(super) fn checkpoint_within(
+        &self,
+        k: usize,
+        cx: &TryCx<'_>,
+        run: &StepRun,
+        result: &GrowthResult,
+    ) -> PdBemCheckpoint {
+        PdBemCheckpoint {
+            next_step: k,
+            state: self.state(),
+            result: result.clone(),
+            noted_steps: cx.start.noted_steps,
+            within: Some(Box::new(PdBemWithin {
+                attempt: cx.attempt,
+                second: cx.second,
+                first: cx.first,
+                progress: run.progress(),
+                step_start: cx.start.state.clone(),
+                relocations_before: cx.relocations_before,
+                initiation_before: cx.initiation_before,
+            })),
         }
     }
 
@@ -172,7 +204,8 @@ impl<'s, S: Scenario> Growth<'s, S> {
     }
 
     /// A run that goes on from `checkpoint` (taken from a run of the same setup and
-    /// parameters): [`Growth::run`] then starts at its next step with its records.
+    /// parameters): [`Growth::run`] then starts at its next step with its records, or
+    /// inside it just after the relocation the checkpoint was taken at.
     pub fn resume(
         setup: GrowthSetup,
         scenario: &'s S,
@@ -185,6 +218,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
             result: checkpoint.result,
             noted_steps: checkpoint.noted_steps,
             next_step: checkpoint.next_step,
+            within: checkpoint.within,
         });
         Ok(g)
     }
