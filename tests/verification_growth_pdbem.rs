@@ -542,3 +542,57 @@ fn a_second_crack_in_a_window_ends_the_run() {
     assert!(!h.failure);
     assert_eq!(h.steps.last().map(|st| st.load), Some(s.load));
 }
+
+/// A crack held by bonds that cannot break (a window's no-fail band, the coarse cells of a
+/// refined window) is noted with the steps it was held over, and ends the run when no
+/// window move can free it. Before (2026-12-01) both runs below went to load 5.25 with
+/// "grew 0 m", no note, `complete: true` and exit 0. On the refined tension plate
+/// (`growth_tension_edge_refined`, whose crack runs through at load 3.3):
+/// - `growth.damage_threshold: 0.95`: the crack runs to the end of the fine cells (0.55 m)
+///   but the tracker, which needs damage above 0.95, sees no tip, so the window neither
+///   moves nor re-zones; bonds between coarse nodes do not break (measured: 10 pairs up
+///   to 2.27 s0 at (10, 7.35)). Held after steps 0 and 1 with no traced tip: the end.
+/// - `growth.trigger_ratio: 0.51`: the no-fail band covers all but 0.06 m of the 3 m
+///   window, so the crack hardly leaves its pre-crack (4 pairs up to 1.09 s0 beside the
+///   tip at (10.025, 8)). Its tip is traced, so the run goes on, with the note over
+///   every step.
+///
+/// The shear plate (`growth_shear_edge`) gets the note too: its crack is held by the band
+/// of the window at (8.8, 3.4) over loads 0.12-0.18 (its traced tip, 0.65 m from the
+/// window side, stays 0.05 m short of the trigger distance), and again at 0.22.
+#[test]
+fn a_crack_held_by_bonds_that_cannot_break_is_noted_and_ends_the_run_when_nothing_frees_it() {
+    let held = |field: &str| {
+        let mut sc = scene("growth_tension_edge_refined");
+        let g = sc.growth.as_mut().unwrap();
+        match field {
+            "damage_threshold" => g.damage_threshold = 0.95,
+            _ => g.trigger_ratio = 0.51,
+        }
+        run_pd_bem(&sc, &format!("held-{field}"))
+    };
+    let h = held("damage_threshold");
+    let reason = h.failure_reason.clone().expect("the run ended early");
+    eprintln!("{reason}");
+    assert!(reason.contains("steps 0 and 1"), "{reason}");
+    assert!(
+        reason.contains("coarse cells of the refined window"),
+        "{reason}"
+    );
+    assert!(reason.contains("growth.damage_threshold 0.95"), "{reason}");
+    assert!(!h.failure);
+    assert_eq!(h.steps.len(), 2);
+    let noted = |h: &pdbem::growth::GrowthHistory, what: &str| {
+        h.notes
+            .iter()
+            .find(|n| n.contains("cannot break"))
+            .unwrap_or_else(|| panic!("{what}: no held note in {:?}", h.notes))
+            .clone()
+    };
+    assert!(noted(&h, "threshold").starts_with("steps 0-1 (loads 3.3-3.35)"));
+    let h = held("trigger_ratio");
+    assert_eq!(h.failure_reason, None, "a traced tip may still be freed");
+    let note = noted(&h, "trigger");
+    assert!(note.starts_with("steps 0-39 (loads 3.3-5.25)"), "{note}");
+    assert!(note.contains("no-fail band") && note.contains("to the end of the run"));
+}

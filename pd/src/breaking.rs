@@ -85,6 +85,59 @@ pub fn commit_most_stretched(model: &mut PdModel, fraction: f64) -> usize {
     broken / 2
 }
 
+/// Bonds that cannot break ([`crate::forces::NO_FAIL`]: a window's no-fail band, the
+/// coarse cells of a refined window) although stretched past the brittle law's $s_0$:
+/// the crack there is held by that protection, not by its toughness.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HeldBonds {
+    /// Bond pairs past $s_0$.
+    pub pairs: usize,
+    /// The largest stretch among them over $s_0$.
+    pub worst: f64,
+    /// The midpoint of that bond (reference configuration, m).
+    pub at: [f64; 2],
+}
+
+/// The [`HeldBonds`] of `model` whose midpoints (reference configuration) `keep` accepts
+/// (None without any, or under a law other than the brittle one: the tanh law's protected
+/// bonds stay elastic by design).
+pub fn held_bonds(model: &PdModel, keep: impl Fn([f64; 2]) -> bool) -> Option<HeldBonds> {
+    let BondLaw::Brittle { s0 } = model.law() else {
+        return None;
+    };
+    let stretch = stretches(model);
+    let b = model.bonds();
+    let pos = &model.grid().pos;
+    let intact = model.bond_intact();
+    let mut held: Option<HeldBonds> = None;
+    let mut directed = 0_usize;
+    for i in 0..model.n_nodes() {
+        for k in b.row(i) {
+            if intact[k] != crate::forces::NO_FAIL || stretch[k] < s0 {
+                continue;
+            }
+            let j = b.nbr[k] as usize;
+            let at = [0.5 * (pos[i][0] + pos[j][0]), 0.5 * (pos[i][1] + pos[j][1])];
+            if !keep(at) {
+                continue;
+            }
+            directed += 1;
+            let ratio = stretch[k] / s0;
+            if held.is_none_or(|h| ratio > h.worst) {
+                held = Some(HeldBonds {
+                    pairs: 0,
+                    worst: ratio,
+                    at,
+                });
+            }
+        }
+    }
+    held.map(|h| HeldBonds {
+        pairs: directed.div_ceil(2),
+        ..h
+    })
+}
+
 /// Current stretch of every bond (CSR order).
 fn stretches(model: &PdModel) -> Vec<f64> {
     let b = model.bonds();
@@ -144,5 +197,54 @@ mod tests {
         // Nothing is past s0 at rest.
         let mut rest = bar();
         assert_eq!(commit_most_stretched(&mut rest, 0.1), 0);
+    }
+
+    #[test]
+    fn held_bonds_are_the_protected_ones_past_s0() {
+        // u_x = 0.002 x^2 on the 10 x 3 bar (s0 = 1 %, nodes at the cell centres): an
+        // axial bond from a to b stretches by 0.002 (a + b), past s0 from a + b = 5 on;
+        // the bonds of the first column (a = 0.5, b <= 3.5) stay below it.
+        let stretched = |m: &mut PdModel| {
+            let u: Vec<[f64; 2]> = (m.positions().iter())
+                .map(|x| [0.002 * x[0] * x[0], 0.0])
+                .collect();
+            m.set_displacements(&u).unwrap();
+        };
+        let mut free = bar();
+        stretched(&mut free);
+        assert_eq!(held_bonds(&free, |_| true), None, "nothing protected");
+        let mut left = bar();
+        left.protect_bonds(|x| x[0] < 1.0);
+        stretched(&mut left);
+        assert_eq!(held_bonds(&left, |_| true), None, "protected, but below s0");
+        let mut right = bar();
+        right.protect_bonds(|x| x[0] > 8.0);
+        stretched(&mut right);
+        let h = held_bonds(&right, |_| true).expect("protected bonds past s0");
+        // The breakable ones past s0 are not counted: after the commit, the held ones are
+        // exactly the intact bonds past s0.
+        let mut after = right.clone();
+        commit_most_stretched(&mut after, 1.0);
+        assert_eq!(held_bonds(&after, |_| true), Some(h));
+        let past = count_intact_past(&after, 0.01);
+        assert_eq!(h.pairs, past / 2);
+        assert!(h.worst > 1.0 && h.at[0] > 8.0, "{h:?}");
+        // Only those `keep` accepts: the protected bonds have an end at x = 8.5 or 9.5
+        // and reach 3 cells, so their midpoints lie at x >= 7.
+        assert_eq!(held_bonds(&right, |x| x[0] < 7.0), None);
+        let top = held_bonds(&right, |x| x[1] > 2.0).expect("held in the top row");
+        assert!(top.pairs < h.pairs && top.at[1] > 2.0, "{top:?}");
+        // The largest stretch: the axial bond from 8.5 to 9.5, 0.002 (8.5 + 9.5) = 0.036,
+        // first met in the bottom row.
+        assert!((h.worst * 0.01 - 0.036).abs() < 1e-12, "{h:?}");
+        assert_eq!(h.at, [9.0, 0.5], "{h:?}");
+    }
+
+    /// Directed intact bonds of `m` past stretch `s0`.
+    fn count_intact_past(m: &PdModel, s0: f64) -> usize {
+        let s = stretches(m);
+        (s.iter().zip(m.bond_intact()))
+            .filter(|(s, &f)| f != 0 && **s >= s0)
+            .count()
     }
 }

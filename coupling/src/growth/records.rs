@@ -87,6 +87,21 @@ pub struct StepResult {
     /// [`crate::growth::driver`]'s stray-damage watch); None when there is none.
     #[serde(default)]
     pub stray: Option<StrayDamage>,
+    /// Bonds past their breaking stretch that cannot break near a tip after the step
+    /// (the crack held by a window's protection, not by its toughness,
+    /// [`crate::growth::driver`]); None when there are none.
+    #[serde(default)]
+    pub held: Option<HeldCrack>,
+}
+
+/// A crack held by bonds that cannot break after a load step ([`StepResult::held`]).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct HeldCrack {
+    /// What holds it, where, and what to change.
+    pub account: String,
+    /// A tip of the window has a traced path, so a window move may still free the crack;
+    /// false when the tracker sees no growth at all.
+    pub traced: bool,
 }
 
 /// Damage in a PD window farther than [`STRAY_REACH`] horizons from every crack line the

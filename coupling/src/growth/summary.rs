@@ -473,6 +473,7 @@ mod tests {
                 distance: 0.6,
                 horizon: 0.15,
             }),
+            held: None,
         };
         let loads = LoadSteps {
             initial: 0.1,

@@ -1,5 +1,6 @@
 //! How tips and runs end: tips at the outline, a hole or another crack, a ligament giving
-//! way, damage beyond the tracked tips, damage off the tracked cracks (a second crack).
+//! way, damage beyond the tracked tips, damage off the tracked cracks (a second crack); a
+//! crack held by bonds that cannot break is [`super::held`]'s.
 
 use pdbem_bem::V2;
 

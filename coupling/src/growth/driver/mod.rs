@@ -58,11 +58,17 @@
 //!   ([`StepResult::stray`](crate::growth::records::StepResult::stray)), noted, and with
 //!   `end_on_overstrain` it ends the run after the first such step, like the strain
 //!   watch outside the windows.
+//! - `held`: a crack held by bonds that cannot break (the no-fail band, a refined
+//!   window's coarse cells) after a converged step; recorded per step
+//!   ([`StepResult::held`](crate::growth::records::StepResult::held)), noted per run of
+//!   such steps, and the end of the run when the tracker sees no tip that a move could
+//!   free.
 //! - `join`: a tip that ended at a hole joins it in the BEM geometry (its crack runs on
 //!   to the hole rim, [`join_name`]).
 
 mod backoff;
 mod ends;
+mod held;
 mod join;
 mod run;
 mod state;

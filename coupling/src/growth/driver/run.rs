@@ -7,6 +7,7 @@ use std::time::Instant;
 use pdbem_bem::post::field::FieldEvaluator;
 use pdbem_bem::V2;
 
+use super::held::{held_end, held_notes};
 use super::join::Joined;
 use super::step::{StepRun, StepStart, TryCx};
 use super::Growth;
@@ -374,6 +375,11 @@ impl<'s, S: Scenario> Growth<'s, S> {
                 // Only an equilibrium says how strained the body is.
                 overstrain: if converged { self.overstrain() } else { None },
                 stray: self.stray_damage(),
+                held: if converged {
+                    self.held_by_protection()
+                } else {
+                    None
+                },
             };
             observer.step(&rec);
             observer.state(&rec, &self.problem, self.last.as_ref());
@@ -387,6 +393,11 @@ impl<'s, S: Scenario> Growth<'s, S> {
                     load,
                     tip: name,
                 });
+                break;
+            }
+            if let Some(reason) = held_end(&out.steps) {
+                observer.note(&reason);
+                out.failure_reason = Some(reason);
                 break;
             }
             if let Some(reason) = overstrain_end(&self.params, &out.steps)
@@ -423,6 +434,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
         let turns: Vec<String> = out.relocations.iter().filter_map(turn_note).collect();
         out.notes.extend(turns);
         out.notes.extend(self.damage_beyond_tips());
+        out.notes.extend(held_notes(&out.steps));
         if noted_steps > 0 {
             out.notes.push(format!(
                 "the interface accelerator restarted or handed over to IQN-ILS in \
