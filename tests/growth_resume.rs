@@ -39,6 +39,20 @@ fn tension_edge(edit: impl Fn(String) -> String) -> Scene {
     inline(&edit(text))
 }
 
+/// [`tension_edge`] with the K record at 2 m spacing (a row per 2 m of growth instead of
+/// per 0.25 m, the default; each row is a BEM solve of the path), which still goes through
+/// the checkpoint and the resumed outputs.
+fn tension_edge_sparse_k() -> Scene {
+    let scene = tension_edge(|t| {
+        t.replace(
+            "growth: (mode: PdBem,",
+            "growth: (mode: PdBem, sif_spacing: 2.0,",
+        )
+    });
+    assert_eq!(scene.growth.as_ref().unwrap().sif_spacing, Some(2.0));
+    scene
+}
+
 /// SENT plate of `verification_growth_modes`, BEM-only: no growth at 5.3 and 5.4, the
 /// crack runs through at 5.5 (K_c reached near 5.44).
 fn sent_bem_only() -> Scene {
@@ -223,21 +237,28 @@ fn stop_and_resume_with(
     (whole, split)
 }
 
+/// [`stop_and_resume_with`] inside load step `k` at `(k, r)` (the runner's `stop_within`:
+/// full PD after break round r, PD-BEM after the run's r-th relocation), with no least
+/// interval between checkpoints. The uninterrupted run has the same stop hook but the
+/// default 5 minute interval: it writes no checkpoint inside a step, so it does not stop.
+fn stop_inside_a_step_and_resume(scene: &Scene, (k, r): (usize, usize), stopped: &str, tag: &str) {
+    let whole = RunOptions {
+        quiet: true,
+        stop_within: Some((k, r)),
+        ..Default::default()
+    };
+    let stop = RunOptions {
+        round_checkpoint_every: Some(Duration::ZERO),
+        ..whole
+    };
+    stop_and_resume_with(scene, (&whole, &stop), (stopped, k), tag);
+}
+
 #[test]
 fn pd_bem_resumed_after_a_step_with_broken_bonds_equals_an_uninterrupted_run() {
-    // The K record at 2 m spacing (a row per 2 m of growth instead of per 0.25 m, the
-    // default; each row is a BEM solve of the path) still goes through the checkpoint and
-    // the resumed outputs.
     // Measured: uninterrupted 17 s, stopped after step 0 + resumed 14 s (2 cores shared)
-    // with the default spacing.
-    let sparse_k = |t: String| {
-        t.replace(
-            "growth: (mode: PdBem,",
-            "growth: (mode: PdBem, sif_spacing: 2.0,",
-        )
-    };
-    let scene = tension_edge(sparse_k);
-    assert_eq!(scene.growth.as_ref().unwrap().sif_spacing, Some(2.0));
+    // with the default K record spacing.
+    let scene = tension_edge_sparse_k();
     stop_and_resume(&scene, 0, "pd-bem");
 }
 
@@ -246,33 +267,13 @@ fn pd_bem_resumed_inside_a_load_step_after_a_relocation_equals_an_uninterrupted_
     // The seed's PD-BEM runs grow the whole path in one load step (3.3 here): a checkpoint
     // only at step ends would lose all of it at a kill. Inside a step it is taken just
     // after a relocation, where the BEM system, every window and the accelerator are built
-    // anew in every run. With no least interval the first relocation of step 1 writes
-    // one; the run stopped after the third resumes from that one's checkpoint (written
-    // after the third), and equals the uninterrupted run (default 5 minute interval: no
-    // checkpoint inside a step, so it does not stop).
-    let sparse_k = |t: String| {
-        t.replace(
-            "growth: (mode: PdBem,",
-            "growth: (mode: PdBem, sif_spacing: 2.0,",
-        )
-    };
-    let scene = tension_edge(sparse_k);
-    let whole = RunOptions {
-        quiet: true,
-        stop_within: Some((1, 3)),
-        ..Default::default()
-    };
-    let stop = RunOptions {
-        round_checkpoint_every: Some(Duration::ZERO),
-        ..whole
-    };
+    // anew in every run. With no least interval every relocation writes one; the run
+    // stops after the third (step 0 only breaks bonds, so all three are in step 1) and is
+    // resumed from its checkpoint. Measured: 10 s in all.
     // Inside step 1 (0-based): step 0 is complete.
-    stop_and_resume_with(
-        &scene,
-        (&whole, &stop),
-        ("in load step 1 after relocation 3", 1),
-        "pd-bem-relocation",
-    );
+    let scene = tension_edge_sparse_k();
+    let stopped = "in load step 1 after relocation 3";
+    stop_inside_a_step_and_resume(&scene, (1, 3), stopped, "pd-bem-relocation");
 }
 
 #[test]
@@ -290,31 +291,16 @@ fn full_pd_resumed_after_bonds_broke_equals_an_uninterrupted_run() {
 #[test]
 fn full_pd_resumed_inside_a_load_step_equals_an_uninterrupted_run() {
     // Step 9 runs 57 break rounds to the cut; the solvers are renewed after rounds 24 and
-    // 49 in every run. With no least interval the checkpoint after round 24 is written,
-    // and the run stopped there. The uninterrupted run has the same stop hook but the
-    // default 5 minute interval: it writes no checkpoint inside a step (it would stop),
-    // and the resumed run equals it. Measured (2 cores shared, loaded): 17-21 s each.
+    // 49 in every run; the run is stopped after round 24 and resumed. Measured (2 cores
+    // shared, loaded): 17-21 s each.
     // On this small plate the chord iteration refactorises almost every round (94
     // factorisations in the run), so it passes also without the renewal: it checks the
     // resume bookkeeping (try, load, round, state, log); the renewal is tested in
     // `pdbem_coupling::growth::full_pd::rounds`.
-    let scene = inline(EDGE_FULL_PD);
-    let whole = RunOptions {
-        quiet: true,
-        stop_within: Some((9, 24)),
-        ..Default::default()
-    };
-    let stop = RunOptions {
-        round_checkpoint_every: Some(Duration::ZERO),
-        ..whole
-    };
     // Inside step 9 (0-based): steps 0-8 are complete.
-    stop_and_resume_with(
-        &scene,
-        (&whole, &stop),
-        ("in load step 9 after break round 24", 9),
-        "full-pd-round",
-    );
+    let scene = inline(EDGE_FULL_PD);
+    let stopped = "in load step 9 after break round 24";
+    stop_inside_a_step_and_resume(&scene, (9, 24), stopped, "full-pd-round");
 }
 
 #[test]

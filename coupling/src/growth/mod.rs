@@ -131,11 +131,32 @@ pub(crate) mod fixtures {
     use pdbem_bem::post::Background;
     use pdbem_bem::{Bc, Material, Mesh, SolveParams, V2};
 
-    use crate::growth::records::{GrowthSetup, Scenario};
+    use crate::growth::records::{GrowthSetup, Scenario, StepResult};
     use crate::growth::tips::TipSpec;
     use crate::pd_window::{EdgeCondition, PdSettings};
     use crate::setup::{Layout, MacroCrack};
     use crate::window::{Body, Window, WindowSpec};
+
+    /// A converged step record `k` at load `load` with nothing else to say (no moves,
+    /// no overstrain, no stray damage, nothing held).
+    pub(crate) fn step_result(k: usize, load: f64) -> StepResult {
+        StepResult {
+            step: k,
+            load,
+            iterations: 1,
+            residual: 0.0,
+            converged: true,
+            broken_bonds: 0,
+            tips: Vec::new(),
+            cmod: None,
+            relocations: 0,
+            wall_s: 0.0,
+            pd_s: 0.0,
+            overstrain: None,
+            stray: None,
+            held: None,
+        }
+    }
 
     /// The 20 m x 10 m plate of seed 002 section 3.2.
     pub(crate) fn body() -> Body {

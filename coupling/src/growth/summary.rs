@@ -284,7 +284,7 @@ pub fn overstrain_note(o: &Overstrain) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::growth::fixtures::{plate_setup, PlateScenario};
+    use crate::growth::fixtures::{plate_setup, step_result, PlateScenario};
     use crate::growth::params::LoadSteps;
     use crate::growth::records::StrayDamage;
     use crate::growth::Silent;
@@ -454,18 +454,6 @@ mod tests {
     #[test]
     fn stray_damage_ends_the_run_once_and_only_when_asked() {
         let step = |k: usize, stray: bool| StepResult {
-            step: k,
-            load: 0.1 * (k + 1) as f64,
-            iterations: 1,
-            residual: 0.0,
-            converged: true,
-            broken_bonds: 0,
-            tips: Vec::new(),
-            cmod: None,
-            relocations: 0,
-            wall_s: 0.0,
-            pd_s: 0.0,
-            overstrain: None,
             stray: stray.then_some(StrayDamage {
                 window: 1,
                 position: V2::new(10.0, 0.5),
@@ -473,7 +461,7 @@ mod tests {
                 distance: 0.6,
                 horizon: 0.15,
             }),
-            held: None,
+            ..step_result(k, 0.1 * (k + 1) as f64)
         };
         let loads = LoadSteps {
             initial: 0.1,

@@ -133,28 +133,18 @@ pub(super) fn held_end(steps: &[StepResult]) -> Option<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::growth::fixtures::step_result;
 
     /// Step `k` after which the crack is held (`held`: traced or not) with `relocations`
     /// moves in it.
     fn step(k: usize, held: Option<bool>, relocations: usize) -> StepResult {
         StepResult {
-            step: k,
-            load: 1.0 + k as f64,
-            iterations: 1,
-            residual: 0.0,
-            converged: true,
-            broken_bonds: 0,
-            tips: Vec::new(),
-            cmod: None,
             relocations,
-            wall_s: 0.0,
-            pd_s: 0.0,
-            overstrain: None,
-            stray: None,
             held: held.map(|traced| HeldCrack {
                 account: format!("held {k}: cannot break"),
                 traced,
             }),
+            ..step_result(k, 1.0 + k as f64)
         }
     }
 
