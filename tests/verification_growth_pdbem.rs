@@ -558,8 +558,9 @@ fn a_second_crack_in_a_window_ends_the_run() {
 ///   every step.
 ///
 /// The shear plate (`growth_shear_edge`) gets the note too: its crack is held by the band
-/// of the window at (8.8, 3.4) over loads 0.12-0.18 (its traced tip, 0.65 m from the
-/// window side, stays 0.05 m short of the trigger distance), and again at 0.22.
+/// after steps 2-7 (loads 0.12-0.22). From step 2 to 5 its tip stands at (8.65, 3.05) in the
+/// window centred at (8.8, 3.4): the traced tip, 0.65 m from the window side, stays 0.05 m
+/// short of the trigger distance. The move in step 6 does not free it; step 8 does.
 #[test]
 fn a_crack_held_by_bonds_that_cannot_break_is_noted_and_ends_the_run_when_nothing_frees_it() {
     let held = |field: &str| {

@@ -81,8 +81,8 @@ impl<S: Scenario> Growth<'_, S> {
 
 /// The notes of the runs of steps after which the crack was held by bonds that cannot
 /// break ([`StepResult::held`]): its growth over those loads was held back (the shear
-/// plate of `growth_shear_edge` at loads 0.12-0.14, until the traced tip passed the margin
-/// and the window moved).
+/// plate of `growth_shear_edge` after steps 2-7, loads 0.12-0.22, until its traced tip
+/// passed the margin in step 8).
 pub(super) fn held_notes(steps: &[StepResult]) -> Vec<String> {
     let mut notes = Vec::new();
     let mut k = 0;
