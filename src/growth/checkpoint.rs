@@ -21,7 +21,9 @@
 //! back exactly (`tests::ron_floats_round_trip_bit_for_bit`); NaN is written as `NaN` and
 //! read back as NaN (its payload is not kept; none is used).
 
+use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use pdbem_coupling::growth::checkpoint::{EngineCheckpoint, PdBemCheckpoint};
@@ -232,6 +234,26 @@ pub fn save_within(
     cp.within = true;
     write_now(ctx, cp)?;
     Ok(ctx.stop_within == Some((step, round)))
+}
+
+/// After a checkpoint was written (or failed to be, `saved` of [`save`] or
+/// [`save_within`]): restarts the interval at `last_saved`, keeps the first error in
+/// `error` (the run reports it at its end); `Break` when the run is to stop there (the
+/// test hooks).
+pub fn after_save(
+    saved: Result<bool>,
+    last_saved: &mut Instant,
+    error: &mut Option<anyhow::Error>,
+) -> ControlFlow<()> {
+    *last_saved = Instant::now();
+    match saved {
+        Ok(true) => ControlFlow::Break(()),
+        Ok(false) => ControlFlow::Continue(()),
+        Err(e) => {
+            error.get_or_insert(e);
+            ControlFlow::Continue(())
+        }
+    }
 }
 
 /// Writes `cp` into the run folder of `ctx` with the log as written so far.

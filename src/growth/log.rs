@@ -244,17 +244,8 @@ impl RunObserver<'_> {
     /// After a checkpoint was written (or failed to be): restarts the interval; `Break`
     /// when the run is to stop there.
     fn flow(&mut self, saved: Result<bool>) -> ControlFlow<()> {
-        self.last_saved = Instant::now();
-        match saved {
-            Ok(true) => {
-                self.stopped = true;
-                ControlFlow::Break(())
-            }
-            Ok(false) => ControlFlow::Continue(()),
-            Err(e) => {
-                self.error.get_or_insert(e);
-                ControlFlow::Continue(())
-            }
-        }
+        let flow = checkpoint::after_save(saved, &mut self.last_saved, &mut self.error);
+        self.stopped |= flow.is_break();
+        flow
     }
 }

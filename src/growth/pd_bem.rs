@@ -78,18 +78,9 @@ impl Progress<'_> {
         }
     }
 
-    /// After a checkpoint was written (or failed to be): restarts the interval; `Break`
-    /// when the run is to stop there (a test hook).
+    /// After a checkpoint was written (or failed to be): [`checkpoint::after_save`].
     fn flow(&mut self, saved: Result<bool>) -> ControlFlow<()> {
-        self.last_saved = Instant::now();
-        match saved {
-            Ok(true) => ControlFlow::Break(()),
-            Ok(false) => ControlFlow::Continue(()),
-            Err(e) => {
-                self.error.get_or_insert(e);
-                ControlFlow::Continue(())
-            }
-        }
+        checkpoint::after_save(saved, &mut self.last_saved, &mut self.error)
     }
 
     fn tips_text(&self, tips: &[V2]) -> String {

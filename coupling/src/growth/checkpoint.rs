@@ -132,10 +132,8 @@ pub struct PdBemCheckpoint {
 pub struct PdBemWithin {
     /// The try of the step (index into the back-off's tries).
     pub attempt: usize,
-    /// A try with half the load increment: solving at the step's own load, after the
-    /// half-way load (whose counters are `first`).
-    pub second: bool,
-    /// The half-way load's counters of a try with half the load increment.
+    /// A try with half the load increment solving at the step's own load: the counters
+    /// of its half-way load, done (None: the try's first or only load).
     pub first: Option<TryProgress>,
     /// This try's counters so far.
     pub progress: TryProgress,

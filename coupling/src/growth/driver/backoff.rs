@@ -144,7 +144,6 @@ impl<S: Scenario> Growth<'_, S> {
             self.params.coupling = a.coupling.clone();
             let cx = TryCx {
                 attempt: i,
-                second: false,
                 first: None,
                 start,
                 relocations_before: relocations,
@@ -152,20 +151,21 @@ impl<S: Scenario> Growth<'_, S> {
             };
             let r = if a.split {
                 let mid = 0.5 * (prev + load);
-                let first = match here {
-                    Some(w) if w.second => Ok(StepRun::resumed(&w.first.unwrap_or_default())),
-                    Some(w) => self.attempt((k, mid), out, observer, &cx, Some(&w.progress)),
-                    None => self.attempt((k, mid), out, observer, &cx, None),
+                let first = match (here, here.and_then(|w| w.first.as_ref())) {
+                    (_, Some(done)) => Ok(StepRun::resumed(done)),
+                    (Some(w), None) => {
+                        self.attempt((k, mid), out, observer, &cx, Some(&w.progress))
+                    }
+                    (None, None) => self.attempt((k, mid), out, observer, &cx, None),
                 };
                 first.and_then(|first| match first.cut {
                     Some(_) => Ok(first),
                     None => {
                         let cx = TryCx {
-                            second: true,
                             first: Some(first.progress()),
                             ..cx
                         };
-                        let from = here.filter(|w| w.second).map(|w| &w.progress);
+                        let from = here.filter(|w| w.first.is_some()).map(|w| &w.progress);
                         self.attempt((k, load), out, observer, &cx, from)
                             .map(|second| second.after(&first))
                     }

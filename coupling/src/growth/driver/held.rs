@@ -52,7 +52,8 @@ impl<S: Scenario> Growth<'_, S> {
             "window {w}: {} bond pair(s) past the critical stretch (up to {:.2} s0, at \
              ({:.4}, {:.4})) cannot break, and the window did not move on: the crack is held \
              by {by}, not by its toughness, because the tracker (growth.damage_threshold \
-             {}) did not see its tip pass the trigger margin. Raise growth.trigger_ratio \
+             {}) did not see its tip pass the trigger margin or reach the end of the fine \
+             cells. Raise growth.trigger_ratio \
              (seed 002: 0.9) or lower growth.damage_threshold (a fresh crack between node \
              rows has damage about 0.365 at m = 3)",
             h.pairs, h.worst, h.at[0], h.at[1], self.params.path.threshold

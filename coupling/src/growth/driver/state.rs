@@ -90,7 +90,6 @@ impl<'s, S: Scenario> Growth<'s, S> {
             noted_steps: cx.start.noted_steps,
             within: Some(Box::new(PdBemWithin {
                 attempt: cx.attempt,
-                second: cx.second,
                 first: cx.first,
                 progress: run.progress(),
                 step_start: cx.start.state.clone(),

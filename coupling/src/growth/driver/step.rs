@@ -64,7 +64,7 @@ pub(super) struct StepStart<'a> {
 #[derive(Clone, Copy)]
 pub(super) struct TryCx<'a> {
     pub attempt: usize,
-    pub second: bool,
+    /// The half-way load's counters once a try with half the increment is past it.
     pub first: Option<TryProgress>,
     pub start: &'a StepStart<'a>,
     pub relocations_before: usize,
