@@ -100,7 +100,11 @@ pub struct HeldBonds {
 
 /// The [`HeldBonds`] of `model` whose midpoints (reference configuration) `keep` accepts
 /// (None without any, or under a law other than the brittle one: the tanh law's protected
-/// bonds stay elastic by design).
+/// bonds stay elastic by design). Bonds between two nodes outside the body (a displacement
+/// condition's fictitious layer, a coupling window's virtual nodes) are no part of what
+/// could crack and do not count (measured on `growth_shear_edge_refined`: 10 such pairs
+/// up to 2.56 s0 at the window corner below the end of the bottom clamp, from the clamp's
+/// layer to the window's virtual nodes).
 pub fn held_bonds(model: &PdModel, keep: impl Fn([f64; 2]) -> bool) -> Option<HeldBonds> {
     let BondLaw::Brittle { s0 } = model.law() else {
         return None;
@@ -111,12 +115,16 @@ pub fn held_bonds(model: &PdModel, keep: impl Fn([f64; 2]) -> bool) -> Option<He
     let intact = model.bond_intact();
     let mut held: Option<HeldBonds> = None;
     let mut directed = 0_usize;
+    let n_real = model.n_real();
     for i in 0..model.n_nodes() {
         for k in b.row(i) {
             if intact[k] != crate::forces::NO_FAIL || stretch[k] < s0 {
                 continue;
             }
             let j = b.nbr[k] as usize;
+            if i >= n_real && j >= n_real {
+                continue;
+            }
             let at = [0.5 * (pos[i][0] + pos[j][0]), 0.5 * (pos[i][1] + pos[j][1])];
             if !keep(at) {
                 continue;
@@ -163,17 +171,20 @@ fn stretches(model: &PdModel) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{Failure, PdProblem, Region};
+    use crate::{BoundaryCondition, Failure, Layer, PdProblem, Region, Selection};
 
-    fn bar() -> PdModel {
-        let p = PdProblem {
+    fn bar_problem() -> PdProblem {
+        PdProblem {
             region: Region::rectangle([0.0, 0.0], [10.0, 3.0]),
             dx: 1.0,
             youngs_modulus: 1.0,
             failure: Failure::CriticalStretch { s0: 0.01 },
             ..Default::default()
-        };
-        PdModel::new(&p).unwrap()
+        }
+    }
+
+    fn bar() -> PdModel {
+        PdModel::new(&bar_problem()).unwrap()
     }
 
     #[test]
@@ -238,6 +249,28 @@ mod tests {
         // first met in the bottom row.
         assert!((h.worst * 0.01 - 0.036).abs() < 1e-12, "{h:?}");
         assert_eq!(h.at, [9.0, 0.5], "{h:?}");
+        // With a fictitious layer beyond x = 10 (u_y held, u_x free): the most stretched
+        // protected bond from a real node, 9.5 to 12.5, 0.002 (9.5 + 12.5) = 0.044,
+        // counts; the layer's own bonds, up to 0.002 (11.5 + 12.5) = 0.048, do not.
+        let mut layered = PdModel::new(&PdProblem {
+            boundary: vec![BoundaryCondition::Displacement {
+                on: Selection::Box {
+                    min: [10.0, -5.0],
+                    max: [15.0, 8.0],
+                },
+                ux: None,
+                uy: Some(0.0),
+                layer: Layer::Fictitious,
+            }],
+            ..bar_problem()
+        })
+        .unwrap();
+        assert!(layered.n_nodes() > layered.n_real());
+        layered.protect_bonds(|x| x[0] > 8.0);
+        stretched(&mut layered);
+        let h = held_bonds(&layered, |_| true).expect("held");
+        assert!((h.worst * 0.01 - 0.044).abs() < 1e-12, "{h:?}");
+        assert_eq!(h.at[0], 11.0, "{h:?}");
     }
 
     /// Directed intact bonds of `m` past stretch `s0`.
