@@ -94,7 +94,8 @@ pub struct StepResult {
     pub held: Option<HeldCrack>,
 }
 
-/// A crack held by bonds that cannot break after a load step ([`StepResult::held`]).
+/// A crack held by bonds that cannot break after a load step, or such bonds away from
+/// the cracks ([`StepResult::held`]).
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct HeldCrack {
     /// What holds it, where, and what to change.
@@ -102,6 +103,10 @@ pub struct HeldCrack {
     /// A tip of the window has a traced path, so a window move may still free the crack;
     /// false when the tracker sees no growth at all.
     pub traced: bool,
+    /// The bonds lie away from every tracked crack (where a second crack would start),
+    /// so they hold no crack the window follows.
+    #[serde(default)]
+    pub off_crack: bool,
 }
 
 /// Damage in a PD window farther than [`STRAY_REACH`] horizons from every crack line the

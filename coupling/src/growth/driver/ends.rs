@@ -4,6 +4,7 @@
 
 use pdbem_bem::V2;
 
+use super::held::HELD_THRESHOLD_FACTOR;
 use super::Growth;
 use crate::error::CouplingError;
 use crate::growth::observer::Observer;
@@ -180,7 +181,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
         for tip in self.tips.iter().filter(|t| t.active()) {
             let wm = &self.problem.windows[tip.window];
             let mut low = self.params.path;
-            low.threshold *= UNDER_THRESHOLD_FACTOR;
+            low.threshold *= HELD_THRESHOLD_FACTOR;
             let Ok(wide) = track(wm, tip.window, tip.entry, &low) else {
                 continue;
             };
@@ -203,9 +204,6 @@ impl<'s, S: Scenario> Growth<'s, S> {
         notes
     }
 }
-/// Fraction of the damage threshold down to which [`Growth::damage_beyond_tips`] looks.
-const UNDER_THRESHOLD_FACTOR: f64 = 0.8;
-
 /// Reach beyond the tracked tip (dx) at which [`Growth::damage_beyond_tips`] notes it.
 const UNDER_THRESHOLD_REACH: f64 = 3.0;
 

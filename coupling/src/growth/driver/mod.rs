@@ -435,7 +435,8 @@ impl<'s, S: Scenario> Growth<'s, S> {
         }
     }
 
-    /// Traces every active tip in its window.
+    /// Traces every active tip in its window (a held crack down to a lower threshold,
+    /// [`Growth::follow_held`]).
     pub(super) fn retrace(&mut self) -> Result<(), CouplingError> {
         for t in 0..self.tips.len() {
             if !self.tips[t].active() {
@@ -448,6 +449,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
                 self.tips[t].entry,
                 &self.params.path,
             )?;
+            self.follow_held(t)?;
         }
         Ok(())
     }
