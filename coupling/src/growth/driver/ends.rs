@@ -94,8 +94,18 @@ impl<'s, S: Scenario> Growth<'s, S> {
     ///   crack's entry into the window (the crack runs towards the outline through PD):
     ///   that tip.
     ///
-    /// Otherwise None. Returns the tip and a one-line account of the breakdown.
+    /// Otherwise None, and None whenever no load is a force ([`Growth::force_loaded`]):
+    /// under prescribed displacements alone a ligament that breaks still leaves an
+    /// equilibrium (the cut body), so a breakdown there is no failure; the back-off tries
+    /// smaller load steps, and a step none of them solves ends the run with its reason.
+    /// (The shear plate of `growth_shear_edge` in a uniform 3 m, 30 x 30 window broke down
+    /// at load 0.14 with its tip 1.8 m above the clamped edge, and was declared failed
+    /// there; full PD cuts that plate at 0.22.) Returns the tip and a one-line account of
+    /// the breakdown.
     pub(super) fn ligament_gave_way(&self, e: &CouplingError) -> Option<(usize, String)> {
+        if !self.force_loaded() {
+            return None;
+        }
         let what = match e {
             CouplingError::Diverged {
                 reason, iterations, ..
@@ -111,6 +121,28 @@ impl<'s, S: Scenario> Growth<'s, S> {
         }
         let t = (0..self.tips.len()).find(|&t| self.runs_to_outline_in_pd(t))?;
         Some((t, what))
+    }
+
+    /// Whether some load is a force: a traction on the BEM body's boundary (the interface
+    /// elements, whose values the coupling sets, carry none here), a remote stress, or a
+    /// traction or force on a window's outer side.
+    fn force_loaded(&self) -> bool {
+        use pdbem_bem::Bc;
+        use pdbem_pd::BoundaryCondition as PdBc;
+        let bem =
+            (self.problem.bcs.iter().flatten()).any(|b| matches!(b, Bc::Traction(v) if *v != 0.0));
+        let remote = self.setup.background.stress.iter().any(|&s| s != 0.0);
+        let window = (self
+            .problem
+            .windows
+            .iter()
+            .flat_map(|w| &w.problem.boundary))
+        .any(|b| match b {
+            PdBc::Traction { traction, .. } => traction.iter().any(|&t| t != 0.0),
+            PdBc::Force { force, .. } => force.iter().any(|&f| f != 0.0),
+            PdBc::Displacement { .. } => false,
+        });
+        bem || remote || window
     }
 
     /// Whether active tip `t` lies in a window on the outline and is closer to the
@@ -212,6 +244,9 @@ mod tests {
     use super::*;
     use crate::growth::fixtures::{plate_setup, PlateScenario};
     use crate::growth::params::{GrowthParams, LoadSteps};
+    use crate::pd_window::EdgeCondition;
+    use crate::window::Window;
+    use pdbem_bem::{Bc, Mesh};
 
     /// Collects the notes.
     #[derive(Default)]
@@ -226,6 +261,15 @@ mod tests {
     /// A 10 m x 5 m plate with an edge crack from (5, 0) up to (5, `tip_y`), its window
     /// (1 m) centred at (5, `window_y`).
     fn edge_crack_plate(tip_y: f64, window_y: f64) -> Growth<'static, PlateScenario> {
+        edge_crack_plate_under(&PlateScenario, tip_y, window_y)
+    }
+
+    /// [`edge_crack_plate`] under `scenario`'s conditions.
+    fn edge_crack_plate_under<S: Scenario>(
+        scenario: &'static S,
+        tip_y: f64,
+        window_y: f64,
+    ) -> Growth<'static, S> {
         let crack = vec![V2::new(5.0, 0.0), V2::new(5.0, tip_y)];
         let mut setup = plate_setup((10.0, 5.0), vec![], vec![crack], Some(3e-3));
         setup.layout.windows[0].center = V2::new(5.0, window_y);
@@ -234,7 +278,26 @@ mod tests {
             step: 0.5,
             count: 1,
         };
-        Growth::new(setup, &PlateScenario, GrowthParams::new(loads, 0.5)).unwrap()
+        Growth::new(setup, scenario, GrowthParams::new(loads, 0.5)).unwrap()
+    }
+
+    /// [`PlateScenario`] with the right edge moved by 1 mm along x instead of pulled.
+    struct MovedEdge;
+
+    impl Scenario for MovedEdge {
+        fn bem_conditions(&self, mesh: &Mesh) -> Result<Vec<[Bc; 2]>, String> {
+            let mut bcs = PlateScenario.bem_conditions(mesh)?;
+            for (e, bc) in mesh.elements.iter().zip(bcs.iter_mut()) {
+                if mesh.groups[e.group] == "right" {
+                    *bc = [Bc::Displacement(1e-3), Bc::Traction(0.0)];
+                }
+            }
+            Ok(bcs)
+        }
+
+        fn outer_conditions(&self, window: &Window) -> Vec<EdgeCondition> {
+            PlateScenario.outer_conditions(window)
+        }
     }
 
     #[test]
@@ -269,6 +332,11 @@ mod tests {
             .sides
             .contains(&SideKind::Outer));
         assert!(inside.ligament_gave_way(&stall).is_none());
+        // The right edge moved instead of pulled: no load is a force, a broken ligament
+        // leaves an equilibrium, and the stall is an error (for the back-off).
+        let moved = edge_crack_plate_under(&MovedEdge, 4.3, 4.5);
+        assert!(!moved.force_loaded() && g.force_loaded());
+        assert!(moved.ligament_gave_way(&stall).is_none());
     }
 
     /// The stray-damage watch: the window's own crack (the pre-crack cut: its face nodes
