@@ -98,14 +98,18 @@ pub struct HeldBonds {
     pub at: [f64; 2],
 }
 
-/// The [`HeldBonds`] of `model` whose midpoints (reference configuration) `keep` accepts
+/// The [`HeldBonds`] of `model` that `keep` accepts, given each bond's midpoint and its two
+/// end nodes (reference configuration)
 /// (None without any, or under a law other than the brittle one: the tanh law's protected
 /// bonds stay elastic by design). Bonds between two nodes outside the body (a displacement
 /// condition's fictitious layer, a coupling window's virtual nodes) are no part of what
 /// could crack and do not count (measured on `growth_shear_edge_refined`: 10 such pairs
 /// up to 2.56 s0 at the window corner below the end of the bottom clamp, from the clamp's
 /// layer to the window's virtual nodes).
-pub fn held_bonds(model: &PdModel, keep: impl Fn([f64; 2]) -> bool) -> Option<HeldBonds> {
+pub fn held_bonds(
+    model: &PdModel,
+    keep: impl Fn([f64; 2], [[f64; 2]; 2]) -> bool,
+) -> Option<HeldBonds> {
     let BondLaw::Brittle { s0 } = model.law() else {
         return None;
     };
@@ -126,7 +130,7 @@ pub fn held_bonds(model: &PdModel, keep: impl Fn([f64; 2]) -> bool) -> Option<He
                 continue;
             }
             let at = [0.5 * (pos[i][0] + pos[j][0]), 0.5 * (pos[i][1] + pos[j][1])];
-            if !keep(at) {
+            if !keep(at, [pos[i], pos[j]]) {
                 continue;
             }
             directed += 1;
@@ -223,27 +227,31 @@ mod tests {
         };
         let mut free = bar();
         stretched(&mut free);
-        assert_eq!(held_bonds(&free, |_| true), None, "nothing protected");
+        assert_eq!(held_bonds(&free, |_, _| true), None, "nothing protected");
         let mut left = bar();
         left.protect_bonds(|x| x[0] < 1.0);
         stretched(&mut left);
-        assert_eq!(held_bonds(&left, |_| true), None, "protected, but below s0");
+        assert_eq!(
+            held_bonds(&left, |_, _| true),
+            None,
+            "protected, but below s0"
+        );
         let mut right = bar();
         right.protect_bonds(|x| x[0] > 8.0);
         stretched(&mut right);
-        let h = held_bonds(&right, |_| true).expect("protected bonds past s0");
+        let h = held_bonds(&right, |_, _| true).expect("protected bonds past s0");
         // The breakable ones past s0 are not counted: after the commit, the held ones are
         // exactly the intact bonds past s0.
         let mut after = right.clone();
         commit_most_stretched(&mut after, 1.0);
-        assert_eq!(held_bonds(&after, |_| true), Some(h));
+        assert_eq!(held_bonds(&after, |_, _| true), Some(h));
         let past = count_intact_past(&after, 0.01);
         assert_eq!(h.pairs, past / 2);
         assert!(h.worst > 1.0 && h.at[0] > 8.0, "{h:?}");
         // Only those `keep` accepts: the protected bonds have an end at x = 8.5 or 9.5
         // and reach 3 cells, so their midpoints lie at x >= 7.
-        assert_eq!(held_bonds(&right, |x| x[0] < 7.0), None);
-        let top = held_bonds(&right, |x| x[1] > 2.0).expect("held in the top row");
+        assert_eq!(held_bonds(&right, |x, _| x[0] < 7.0), None);
+        let top = held_bonds(&right, |x, _| x[1] > 2.0).expect("held in the top row");
         assert!(top.pairs < h.pairs && top.at[1] > 2.0, "{top:?}");
         // The largest stretch: the axial bond from 8.5 to 9.5, 0.002 (8.5 + 9.5) = 0.036,
         // first met in the bottom row.
@@ -268,7 +276,7 @@ mod tests {
         assert!(layered.n_nodes() > layered.n_real());
         layered.protect_bonds(|x| x[0] > 8.0);
         stretched(&mut layered);
-        let h = held_bonds(&layered, |_| true).expect("held");
+        let h = held_bonds(&layered, |_, _| true).expect("held");
         assert!((h.worst * 0.01 - 0.044).abs() < 1e-12, "{h:?}");
         assert_eq!(h.at[0], 11.0, "{h:?}");
     }
