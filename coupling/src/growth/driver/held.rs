@@ -87,7 +87,8 @@ impl<S: Scenario> Growth<'_, S> {
         let account = format!(
             "{bonds}, and the window did not move on: the crack is held by {by}, not by its \
              toughness, because the tracker (growth.damage_threshold {thr}, and {:.3} where \
-             a crack is held) did not see its tip pass the trigger margin or reach the end \
+             the no-fail band holds a crack) did not see its tip pass the trigger margin or \
+             reach the end \
              of the fine cells. Raise growth.trigger_ratio (seed 002: 0.9) or lower \
              growth.damage_threshold (a fresh crack between node rows has damage about \
              0.365 at m = 3)",
