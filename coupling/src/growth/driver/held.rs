@@ -88,10 +88,9 @@ impl<S: Scenario> Growth<'_, S> {
             "{bonds}, and the window did not move on: the crack is held by {by}, not by its \
              toughness, because the tracker (growth.damage_threshold {thr}, and {:.3} where \
              the no-fail band holds a crack) did not see its tip pass the trigger margin or \
-             reach the end \
-             of the fine cells. Raise growth.trigger_ratio (seed 002: 0.9) or lower \
-             growth.damage_threshold (a fresh crack between node rows has damage about \
-             0.365 at m = 3)",
+             reach the end of the fine cells. Raise growth.trigger_ratio (seed 002: 0.9) or \
+             lower growth.damage_threshold (a fresh crack between node rows has damage \
+             about 0.365 at m = 3)",
             thr * HELD_THRESHOLD_FACTOR
         );
         let traced = tips().any(|t| !t.path.is_empty());
@@ -107,17 +106,20 @@ impl<S: Scenario> Growth<'_, S> {
     /// threshold, and taken when it reaches more than a dx farther and bonds of the
     /// window's no-fail band nearer the tip than its entry, within [`crack_reach`] of its
     /// nodes, are past their breaking stretch ([`held_bonds`]): the crack runs on to them.
+    ///
+    /// On the regular lattice with m = 3 a node beside a fresh crack between two node rows
+    /// has damage about 0.365, under seed 002's 0.38, and a crack between node columns
+    /// that has not opened evenly splits it (0.29-0.44 on `growth_shear_edge`): the traced
+    /// tip then stops short of the trigger margin while the crack reaches the no-fail band
+    /// (the shear plate at load 0.12: tip traced at (8.65, 3.05), held bonds at (8.75,
+    /// 2.65)). Away from a hold the tracker keeps its threshold, so a run whose crack is
+    /// never held is unchanged bit for bit.
+    ///
     /// A crack held by a refined window's coarse cells is not followed: there the lower
     /// threshold takes in coarse nodes beside the size jump and the path strays sideways
-    /// (the tension plate with a 0.3 m zone in a 2 m window: a tip 0.04 m off the line,
-    /// whose moved window's pre-crack then led the crack 0.1 m off it, where the tracker
-    /// at its threshold keeps it within 0.006 m). On the regular
-    /// lattice with m = 3 a node beside a fresh crack between two node rows has damage
-    /// about 0.365, under seed 002's 0.38, and a crack between node columns that has not
-    /// opened evenly splits it (0.29-0.44 on `growth_shear_edge`): the traced tip then stops short of the trigger
-    /// margin while the crack reaches the no-fail band (the shear plate at load 0.12: tip
-    /// traced at (8.65, 3.05), held bonds at (8.75, 2.65)). Away from a hold the tracker
-    /// keeps its threshold, so a run whose crack is never held is unchanged bit for bit.
+    /// (the tension plate with a 0.3 m zone in a 2 m window: a followed tip 0.1 m off the
+    /// line, whose moved window's pre-crack then led the crack along x = 10.1 m, where the
+    /// tracker at its threshold keeps the path within 0.006 m of the line).
     pub(super) fn follow_held(&mut self, t: usize) -> Result<(), CouplingError> {
         let tip = &self.tips[t];
         if !tip.active() || tip.path.is_empty() {
