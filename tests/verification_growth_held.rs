@@ -16,7 +16,8 @@ use growth_common::{run_pd_bem, scene};
 /// - `growth.damage_threshold: 0.95`: the crack runs to the end of the fine cells (0.55 m)
 ///   but the tracker, which needs damage above 0.95, sees no tip, so the window neither
 ///   moves nor re-zones; bonds between coarse nodes do not break (measured: 10 pairs up
-///   to 2.27 s0 at (10, 7.35)). Held after steps 0 and 1 with no traced tip: the end.
+///   to 2.27 s0 at (10, 7.35)), and a crack the coarse cells hold is not followed below
+///   the threshold. Held after steps 0 and 1 with no traced tip: the end.
 /// - `growth.trigger_ratio: 0.51`: the no-fail band covers all but 0.06 m of the 3 m
 ///   window, so the crack hardly leaves its pre-crack (4 pairs up to 1.09 s0 beside the
 ///   tip at (10.025, 8)). Its tip is traced, so the run goes on, with the note over
@@ -65,8 +66,8 @@ fn a_crack_held_by_bonds_that_cannot_break_is_noted_and_ends_the_run_when_nothin
 /// 0.33-0.36, under the seed's 0.38 tracking threshold. Until 2026-12-01 the tracked tip
 /// stood at (8.65, 3.05) from load 0.12 to 0.22 while the crack ran on into the window's
 /// no-fail band (held after steps 2-7), and the run ended with its tip at (8.43, 1.05), 0.33
-/// m from full PD's path. Where a crack is held, the driver now follows it down to 0.8 of
-/// the threshold (`Growth::follow_held`): it is held after step 2 only, runs to y = 1.95 m
+/// m from full PD's path. Where the band holds a crack, the driver now follows it down to
+/// 0.8 of the threshold (`Growth::follow_held`): it is held after step 2 only, runs to y = 1.95 m
 /// in step 3, and ends with its tip at (8.76, 0.86) (the path 0.113 m from full PD's over
 /// 4.3 m, `pdbem bench growth --case growth_shear_edge`, 114 s; full PD's main tip at
 /// (8.73, 0.85) when a second crack from the clamp's end cuts the plate at load 0.22). The
