@@ -96,12 +96,13 @@ pub struct HeldBonds {
     pub worst: f64,
     /// The midpoint of that bond (reference configuration, m).
     pub at: [f64; 2],
+    /// Its end nodes (reference configuration, m).
+    pub ends: [[f64; 2]; 2],
 }
 
 /// The [`HeldBonds`] of `model` that `keep` accepts, given each bond's midpoint and its two
-/// end nodes (reference configuration)
-/// (None without any, or under a law other than the brittle one: the tanh law's protected
-/// bonds stay elastic by design). Bonds between two nodes outside the body (a displacement
+/// end nodes (reference configuration); None without any, or under a law other than the
+/// brittle one (the tanh law's protected bonds stay elastic by design). Bonds between two nodes outside the body (a displacement
 /// condition's fictitious layer, a coupling window's virtual nodes) are no part of what
 /// could crack and do not count (measured on `growth_shear_edge_refined`: 10 such pairs
 /// up to 2.56 s0 at the window corner below the end of the bottom clamp, from the clamp's
@@ -130,7 +131,8 @@ pub fn held_bonds(
                 continue;
             }
             let at = [0.5 * (pos[i][0] + pos[j][0]), 0.5 * (pos[i][1] + pos[j][1])];
-            if !keep(at, [pos[i], pos[j]]) {
+            let ends = [pos[i], pos[j]];
+            if !keep(at, ends) {
                 continue;
             }
             directed += 1;
@@ -140,6 +142,7 @@ pub fn held_bonds(
                     pairs: 0,
                     worst: ratio,
                     at,
+                    ends,
                 });
             }
         }
@@ -257,6 +260,7 @@ mod tests {
         // first met in the bottom row.
         assert!((h.worst * 0.01 - 0.036).abs() < 1e-12, "{h:?}");
         assert_eq!(h.at, [9.0, 0.5], "{h:?}");
+        assert_eq!(h.ends, [[8.5, 0.5], [9.5, 0.5]], "{h:?}");
         // With a fictitious layer beyond x = 10 (u_y held, u_x free): the most stretched
         // protected bond from a real node, 9.5 to 12.5, 0.002 (9.5 + 12.5) = 0.044,
         // counts; the layer's own bonds, up to 0.002 (11.5 + 12.5) = 0.048, do not.

@@ -51,7 +51,8 @@ impl<S: Scenario> Growth<'_, S> {
         let wm = &self.problem.windows[w];
         let band = margins(&wm.window, self.params.trigger_ratio).0;
         let at = V2::new(h.at[0], h.at[1]);
-        let by = if in_band(wm, self.params.trigger_ratio, at) || finest_spacing(wm).is_none() {
+        let by = if band_bond(wm, self.params.trigger_ratio, h.ends) || finest_spacing(wm).is_none()
+        {
             format!(
                 "the window's no-fail band ({band:.4} m along its interface sides, \
                  1 - growth.trigger_ratio of its side)"
@@ -134,12 +135,10 @@ impl<S: Scenario> Growth<'_, S> {
         let reach = crack_reach(wm);
         let (at, entry) = (tip.position(), tip.entry);
         let ratio = self.params.trigger_ratio;
-        let band = margins(&wm.window, ratio).0;
-        let of_band = |e: [f64; 2]| near_interface_side(&wm.window, V2::new(e[0], e[1]), band);
         let held_at_crack = |x: [f64; 2], ends: [[f64; 2]; 2]| {
             let v = V2::new(x[0], x[1]);
             (v - at).norm() < (v - entry).norm()
-                && ends.into_iter().any(of_band)
+                && band_bond(wm, ratio, ends)
                 && near_nodes(pos, &wide.nodes, x, reach)
         };
         if held_bonds(&wm.model, held_at_crack).is_some() {
@@ -206,12 +205,13 @@ impl<S: Scenario> Growth<'_, S> {
     }
 }
 
-/// Whether a held bond with its midpoint at `x` is one of the no-fail band of window `wm`
-/// (trigger ratio `ratio`): a band bond has an end within the band, so its midpoint lies
-/// up to half a horizon beyond it.
-fn in_band(wm: &WindowModel, ratio: f64, x: V2) -> bool {
+/// Whether the bond between `ends` is one of the no-fail band of window `wm` (trigger ratio
+/// `ratio`): an end within the band or beyond an interface side ([`protect_band`]'s rule).
+///
+/// [`protect_band`]: crate::growth::tips::protect_band
+fn band_bond(wm: &WindowModel, ratio: f64, ends: [[f64; 2]; 2]) -> bool {
     let band = margins(&wm.window, ratio).0;
-    near_interface_side(&wm.window, x, band + 0.5 * wm.window.delta())
+    (ends.into_iter()).any(|e| near_interface_side(&wm.window, V2::new(e[0], e[1]), band))
 }
 
 /// How far from a crack node held bonds still hold that crack: a horizon and a dx of the
