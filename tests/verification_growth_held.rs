@@ -1,7 +1,7 @@
 //! PD-BEM growth with a crack held by bonds that cannot break (a window's no-fail band, a
 //! refined window's coarse cells; `pdbem_coupling::growth::driver`'s `held` module): the
-//! note, the end of a run no window move can free, and the crack the band holds followed
-//! below the tracking threshold.
+//! note, the end of a run no window move can free, and the crack the band or the coarse
+//! cells hold followed below the tracking threshold.
 //!
 //! Every tolerance carries the measured value (release build, 2 cores).
 
@@ -16,8 +16,8 @@ use growth_common::{run_pd_bem, scene};
 /// - `growth.damage_threshold: 0.95`: the crack runs to the end of the fine cells (0.55 m)
 ///   but the tracker, which needs damage above 0.95, sees no tip, so the window neither
 ///   moves nor re-zones; bonds between coarse nodes do not break (measured: 10 pairs up
-///   to 2.27 s0 at (10, 7.35)), and a crack the coarse cells hold is not followed below
-///   the threshold. Held after steps 0 and 1 with no traced tip: the end.
+///   to 2.27 s0 at (10, 7.35)), and a crack with no traced tip is not followed below the
+///   threshold. Held after steps 0 and 1 with no traced tip: the end.
 /// - `growth.trigger_ratio: 0.51`: the no-fail band covers all but 0.06 m of the 3 m
 ///   window, so the crack hardly leaves its pre-crack (4 pairs up to 1.09 s0 beside the
 ///   tip at (10.025, 8)). Its tip is traced, so the run goes on, with the note over
@@ -104,5 +104,43 @@ fn a_crack_the_tracker_loses_is_followed_where_the_band_holds_it() {
     assert!(below.clone().count() > 10);
     for p in below {
         assert!((p.x - 8.7).abs() < 0.05, "path at ({}, {})", p.x, p.y);
+    }
+}
+
+/// The refined shear plate (`growth_shear_edge_refined`: 3 m windows of 30 x 30 cells, a
+/// level-1 zone of 0.55 m, fine dx 0.05 m) meets the same tracker threshold at the end of
+/// its fine cells: after load 0.16 the nodes between the traced tip (8.475, 2.475) and
+/// the last fine row (y = 2.325, damage 0.52) had 0.37, the coarse row below held its
+/// bonds at 1.4 s0, the damage spread 0.25 m aside along the size jump, and the run ended
+/// at load 0.24 with the tip there (held after steps 2-8, a path of 3.17 m). Its finest
+/// cells are now traced down to 0.8 of the threshold where coarse cells hold the crack
+/// (`Growth::follow_held`): held after step 2 only, the crack runs down on x = 8.50 m to
+/// y = 0.95 m, 4.74 m, as the uniform 60 x 60 window at the fine spacing does (`pdbem
+/// bench growth --case growth_shear_edge_refined`: on x = 8.500 m from y = 2.6 to 1.4 m,
+/// the paths within 0.004 m there). 17 s.
+#[test]
+fn a_crack_held_at_the_end_of_the_fine_cells_is_followed() {
+    let h = run_pd_bem(&scene("growth_shear_edge_refined"), "shear-refined-held");
+    let held: Vec<&String> = (h.notes.iter())
+        .filter(|n| n.contains("cannot break") && !n.contains("from the tracked crack"))
+        .collect();
+    eprintln!("{held:#?}");
+    assert_eq!(held.len(), 1, "{held:#?}");
+    assert!(
+        held[0].starts_with("steps 2-2 (loads 0.12-0.12)"),
+        "{}",
+        held[0]
+    );
+    assert!(held[0].contains("coarse cells of the refined window"));
+    // The crack reaches the clamped edge's region: measured tip at y = 0.95 m after load
+    // 0.24; before, y = 2.475 m to the end.
+    let end = h.steps.last().unwrap().tips[0];
+    assert!(end[1] < 1.2, "tip at {end:?}");
+    // Down the fine window's line, within half a fine dx (measured 0.004 m).
+    let path = &h.paths[0].points;
+    let below = (path.iter()).filter(|p| (1.4..2.6).contains(&p.y));
+    assert!(below.clone().count() > 10);
+    for p in below {
+        assert!((p.x - 8.5).abs() < 0.025, "path at ({}, {})", p.x, p.y);
     }
 }

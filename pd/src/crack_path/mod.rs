@@ -13,6 +13,9 @@
 //!   components), with no entry point.
 //! - [`trace_crack_spaced`]: on plain arrays with one spacing per node (a
 //!   mixed grid).
+//! - [`trace_crack_finest`] ([`trace_crack_finest_in`] on plain arrays): a lower
+//!   threshold for the nodes of the finest spacing (a crack held at the end of a
+//!   refined growth window's fine cells).
 //!
 //! They return a [`CrackPath`]; [`PathParams`] sets the threshold and the
 //! lengths, all in units of the grid spacing `dx`. On a mixed grid
@@ -248,7 +251,7 @@ pub fn crack_clusters(
     dx: f64,
     params: &PathParams,
 ) -> Result<Vec<Vec<usize>>, PdError> {
-    let c = crack_nodes(positions, damage, Spacing::Uniform(dx), params)?;
+    let c = crack_nodes(positions, damage, Spacing::Uniform(dx), params, None)?;
     let (cand, pts) = (c.idx, c.pts);
     let link = params.link * dx;
     let hash = CellHash::new(&pts, link);
@@ -304,6 +307,58 @@ pub fn trace_crack_beyond(
     )
 }
 
+/// [`trace_crack`] with the nodes of the finest spacing of a mixed grid counted as crack
+/// nodes from the damage `finest_threshold` ([`trace_crack_finest_in`]).
+pub fn trace_crack_finest(
+    model: &PdModel,
+    entry: P2,
+    params: &PathParams,
+    finest_threshold: f64,
+) -> Result<CrackPath, PdError> {
+    let n = model.n_real();
+    let grid = model.grid();
+    let dx = vec![grid.dx; if grid.is_mixed() { 0 } else { n }];
+    let spacing = if grid.is_mixed() {
+        &grid.spacing[..n]
+    } else {
+        &dx[..]
+    };
+    let phi = model.damage();
+    trace_crack_finest_in(
+        &model.positions()[..n],
+        &phi[..n],
+        spacing,
+        entry,
+        params,
+        finest_threshold,
+    )
+}
+
+/// [`trace_crack_spaced`] with the nodes of the finest spacing counted as crack nodes
+/// from the damage `finest_threshold`, the others from `params.threshold`. On a refined
+/// grid whose coarse cells cannot break (a refined growth window), a crack that reached
+/// the end of the fine cells with a damage under the threshold (a fresh crack between
+/// two node columns) is followed to them, while the damage that spreads into the coarse
+/// cells along the size jump is not taken for the crack. With one spacing for every node
+/// every node is of the finest spacing: the trace at `finest_threshold`.
+pub fn trace_crack_finest_in(
+    positions: &[P2],
+    damage: &[f64],
+    spacing: &[f64],
+    entry: P2,
+    params: &PathParams,
+    finest_threshold: f64,
+) -> Result<CrackPath, PdError> {
+    let c = crack_nodes(
+        positions,
+        damage,
+        Spacing::PerNode(spacing),
+        params,
+        Some(finest_threshold),
+    )?;
+    path_of(c, entry, None, params)
+}
+
 fn trace(
     positions: &[P2],
     damage: &[f64],
@@ -312,7 +367,17 @@ fn trace(
     previous_tip: Option<P2>,
     params: &PathParams,
 ) -> Result<CrackPath, PdError> {
-    let c = crack_nodes(positions, damage, spacing, params)?;
+    let c = crack_nodes(positions, damage, spacing, params, None)?;
+    path_of(c, entry, previous_tip, params)
+}
+
+/// Steps 2-6 of the module docs on the candidates `c`.
+fn path_of(
+    c: search::Candidates,
+    entry: P2,
+    previous_tip: Option<P2>,
+    params: &PathParams,
+) -> Result<CrackPath, PdError> {
     let hash = CellHash::new(&c.pts, params.link * c.h_max);
     let Some(mut search) = shortest_paths(&c, &hash, entry, params) else {
         return Ok(CrackPath {

@@ -74,14 +74,23 @@ pub(super) struct Candidates {
 }
 
 /// The candidates (step 1 of the module docs): indices, positions and spacings of the
-/// nodes with damage above the threshold, after checking the inputs.
+/// nodes with damage above the threshold (`params.threshold`, or `finest` for the nodes
+/// of the finest spacing of a mixed grid), after checking the inputs.
 pub(super) fn crack_nodes(
     positions: &[P2],
     damage: &[f64],
     spacing: Spacing,
     params: &PathParams,
+    finest: Option<f64>,
 ) -> Result<Candidates, PdError> {
     params.validate()?;
+    if let Some(t) = finest {
+        PathParams {
+            threshold: t,
+            ..*params
+        }
+        .validate()?;
+    }
     if damage.len() != positions.len() {
         return Err(PdError::LengthMismatch {
             what: "damage",
@@ -106,8 +115,15 @@ pub(super) fn crack_nodes(
         }
         Spacing::Uniform(_) => {}
     }
+    let h_min = (0..positions.len())
+        .map(|i| spacing.at(i))
+        .fold(f64::INFINITY, f64::min);
+    let threshold = |i: usize| match finest {
+        Some(t) if spacing.at(i) <= h_min * (1.0 + 1e-9) => t,
+        _ => params.threshold,
+    };
     let idx: Vec<usize> = (0..positions.len())
-        .filter(|&i| damage[i] > params.threshold)
+        .filter(|&i| damage[i] > threshold(i))
         .collect();
     let pts = idx.iter().map(|&i| positions[i]).collect();
     let h: Vec<f64> = idx.iter().map(|&i| spacing.at(i)).collect();

@@ -107,6 +107,65 @@ fn mixed_spacing_links_coarse_into_fine_cells_and_stops_at_a_fine_gap() {
 }
 
 #[test]
+fn a_lower_threshold_in_the_finest_cells_follows_the_crack_there_only() {
+    // Coarse cells (spacing 1) for x < 10, fine cells (0.5) for 10 <= x < 20; a crack
+    // along y = 10: two coarse rows of damage 0.5 to x = 10, two fine rows of 0.5 to
+    // x = 13, then two fine rows of 0.34 to x = 16 (a fresh crack between node rows,
+    // under the threshold 0.38), and a coarse column of 0.34 beside the size jump
+    // (x = 9.5, y = 10 to 19: the damage that spreads along the jump where the crack
+    // meets coarse cells that cannot break).
+    let phi_at = |x: f64, y: f64, h: f64| {
+        let on_line = (y - 10.0).abs() < h;
+        if on_line && (x < 13.0) {
+            0.5
+        } else if (on_line && x < 16.0) || (h > 0.75 && x > 9.0 && (10.0..19.0).contains(&y)) {
+            0.34
+        } else {
+            0.1
+        }
+    };
+    let (mut pos, mut phi, mut h) = (Vec::new(), Vec::new(), Vec::new());
+    for (x0, x1, y0, y1, dh) in [(0.0, 10.0, 0.0, 20.0, 1.0), (10.0, 20.0, 5.0, 15.0, 0.5)] {
+        let (nx, ny) = (((x1 - x0) / dh) as usize, ((y1 - y0) / dh) as usize);
+        for j in 0..ny {
+            for i in 0..nx {
+                let p = [x0 + (i as f64 + 0.5) * dh, y0 + (j as f64 + 0.5) * dh];
+                phi.push(phi_at(p[0], p[1], dh));
+                pos.push(p);
+                h.push(dh);
+            }
+        }
+    }
+    let prm = PathParams::default();
+    let entry = [0.0, 10.0];
+    // At 0.38 the tip stops where the fine damage drops under it.
+    let plain = trace_crack_spaced(&pos, &phi, &h, entry, &prm).unwrap();
+    assert!((plain.tip()[0] - 12.75).abs() < 1e-12, "{:?}", plain.tip());
+    // At 0.304 in the fine cells: to the end of the 0.34 rows, on the line.
+    let fine = trace_crack_finest_in(&pos, &phi, &h, entry, &prm, 0.304).unwrap();
+    assert!((fine.tip()[0] - 15.75).abs() < 1e-12, "{:?}", fine.tip());
+    assert!((fine.tip()[1] - 10.0).abs() < 1e-9, "{:?}", fine.tip());
+    assert!(fine.nodes.iter().all(|&i| h[i] < 0.75 || phi[i] > 0.38));
+    // At 0.304 everywhere the coarse column beside the jump takes the tip (its far end is
+    // farther along the crack).
+    let low = PathParams {
+        threshold: 0.304,
+        ..prm
+    };
+    let all = trace_crack_spaced(&pos, &phi, &h, entry, &low).unwrap();
+    assert!(all.tip()[1] > 18.0, "{:?}", all.tip());
+    // One spacing for every node: the trace at the lower threshold.
+    let ones = vec![1.0; pos.len()];
+    assert_eq!(
+        trace_crack_finest_in(&pos, &phi, &ones, entry, &prm, 0.304).unwrap(),
+        trace_crack_spaced(&pos, &phi, &ones, entry, &low).unwrap()
+    );
+    // A lower threshold outside (0, 1) is refused with the field named.
+    let e = trace_crack_finest_in(&pos, &phi, &h, entry, &prm, 1.2).unwrap_err();
+    assert!(e.to_string().contains("path.threshold"), "{e}");
+}
+
+#[test]
 fn kinked_band_is_followed_to_its_far_end() {
     // Horizontal to x = 10, then up at 45 degrees (one-node-wide band
     // along y = 10 + (x - 10), two rows wide on the flat part).

@@ -3,8 +3,9 @@
 //! interface sides, seed 002 section 2.3.3; the coarse cells of a refined window,
 //! [`crate::growth::fine_zone`]). There the crack is held by that protection, not by its
 //! toughness, because the tracker did not see its tip pass the trigger margin.
-//! - Every trace of the tips follows a crack the no-fail band holds below the tracking
-//!   threshold ([`Growth::follow_held`]), so that its window moves on.
+//! - Every trace of the tips follows a crack held by the no-fail band, or by the coarse
+//!   cells at the end of a refined window's fine cells, below the tracking threshold
+//!   ([`Growth::follow_held`]), so that its window moves on.
 //! - After every converged load step the bonds still held are recorded, at a crack or
 //!   away from every crack (where a second crack would start); each run of such steps is
 //!   noted ([`held_notes`]), and a run whose held tip the tracker cannot see at all ends
@@ -12,7 +13,7 @@
 
 use pdbem_bem::V2;
 use pdbem_pd::breaking::{held_bonds, HeldBonds};
-use pdbem_pd::crack_path::CrackPath;
+use pdbem_pd::crack_path::{trace_crack_finest, CrackPath, PathParams};
 
 use super::Growth;
 use crate::error::CouplingError;
@@ -88,8 +89,8 @@ impl<S: Scenario> Growth<'_, S> {
         let account = format!(
             "{bonds}, and the window did not move on: the crack is held by {by}, not by its \
              toughness, because the tracker (growth.damage_threshold {thr}, and {:.3} where \
-             the no-fail band holds a crack) did not see its tip pass the trigger margin or \
-             reach the end of the fine cells. Raise growth.trigger_ratio (seed 002: 0.9) or \
+             bonds that cannot break hold a crack) did not see its tip pass the trigger \
+             margin or reach the end of the fine cells. Raise growth.trigger_ratio (seed 002: 0.9) or \
              lower growth.damage_threshold (a fresh crack between node rows has damage \
              about 0.365 at m = 3)",
             thr * HELD_THRESHOLD_FACTOR
@@ -104,9 +105,10 @@ impl<S: Scenario> Growth<'_, S> {
 
     /// Follows the crack of active tip `t` past where the tracker lost it, when the crack
     /// is held: the path is traced again down to [`HELD_THRESHOLD_FACTOR`] of the damage
-    /// threshold, and taken when it reaches more than a dx farther and bonds of the
-    /// window's no-fail band nearer the tip than its entry, within [`crack_reach`] of its
-    /// nodes, are past their breaking stretch ([`held_bonds`]): the crack runs on to them.
+    /// threshold ([`Growth::wide_path`]), and taken when it reaches more than a dx farther
+    /// and bonds that cannot break, nearer the tip than its entry and within
+    /// [`crack_reach`] of its nodes, are past their breaking stretch ([`held_bonds`]): the
+    /// crack runs on to them.
     ///
     /// On the regular lattice with m = 3 a node beside a fresh crack between two node rows
     /// has damage about 0.365, under seed 002's 0.38, and a crack between node columns
@@ -116,17 +118,28 @@ impl<S: Scenario> Growth<'_, S> {
     /// 2.65)). Away from a hold the tracker keeps its threshold, so a run whose crack is
     /// never held is unchanged bit for bit.
     ///
-    /// A crack held by a refined window's coarse cells is not followed: there the lower
-    /// threshold takes in coarse nodes beside the size jump and the path strays sideways
-    /// (the tension plate with a 0.3 m zone in a 2 m window: a followed tip 0.1 m off the
-    /// line, whose moved window's pre-crack then led the crack along x = 10.1 m, where the
-    /// tracker at its threshold keeps the path within 0.006 m of the line).
+    /// In a refined window ([`finest_spacing`]) the same happens at the end of the fine
+    /// cells, whose coarse neighbours cannot break (`growth_shear_edge_refined` after load
+    /// 0.16: nodes of 0.37 between the tip traced at (8.475, 2.475) and the last fine row
+    /// at y = 2.325, of 0.52, before the coarse row at 2.25 held at 1.4 s0). There:
+    /// - only the finest cells are traced at the lower threshold: the damage that spreads
+    ///   along the size jump where the crack meets the coarse cells (0.33-0.38 on that
+    ///   plate, to 0.25 m aside) would take the tip sideways;
+    /// - a tip that already triggers the move is not followed: at the end of the fine
+    ///   cells the lower threshold can only add that sideways damage (the 2 m tension
+    ///   plate with a 0.3 m zone: a followed tip at (10.105, 5.013) beside a traced one
+    ///   that triggered at (10.068, 5.121), whose moved window's pre-crack then led the
+    ///   crack along x = 10.1 m instead of within 0.006 m of the line).
     pub(super) fn follow_held(&mut self, t: usize) -> Result<(), CouplingError> {
         let tip = &self.tips[t];
         if !tip.active() || tip.path.is_empty() {
             return Ok(());
         }
         let wm = &self.problem.windows[tip.window];
+        let refined = finest_spacing(wm).is_some();
+        if refined && self.triggers(t) {
+            return Ok(());
+        }
         let wide = self.wide_path(t)?;
         if wide.length <= tip.path.length + wm.window.spec.dx {
             return Ok(());
@@ -138,7 +151,7 @@ impl<S: Scenario> Growth<'_, S> {
         let held_at_crack = |x: [f64; 2], ends: [[f64; 2]; 2]| {
             let v = V2::new(x[0], x[1]);
             (v - at).norm() < (v - entry).norm()
-                && band_bond(wm, ratio, ends)
+                && (refined || band_bond(wm, ratio, ends))
                 && near_nodes(pos, &wide.nodes, x, reach)
         };
         if held_bonds(&wm.model, held_at_crack).is_some() {
@@ -148,17 +161,22 @@ impl<S: Scenario> Growth<'_, S> {
     }
 
     /// The path of tip `t` traced down to [`HELD_THRESHOLD_FACTOR`] of the damage
-    /// threshold: the crack with the damage a fresh crack between node rows leaves.
+    /// threshold: the crack with the damage a fresh crack between node rows leaves; in a
+    /// refined window in its finest cells only ([`trace_crack_finest`]).
     fn wide_path(&self, t: usize) -> Result<CrackPath, CouplingError> {
         let tip = &self.tips[t];
-        let mut low = self.params.path;
-        low.threshold *= HELD_THRESHOLD_FACTOR;
-        track(
-            &self.problem.windows[tip.window],
-            tip.window,
-            tip.entry,
-            &low,
-        )
+        let wm = &self.problem.windows[tip.window];
+        let low = self.params.path.threshold * HELD_THRESHOLD_FACTOR;
+        if finest_spacing(wm).is_some() {
+            let entry = [tip.entry.x, tip.entry.y];
+            return trace_crack_finest(&wm.model, entry, &self.params.path, low)
+                .map_err(|e| CouplingError::pd(tip.window, e));
+        }
+        let params = PathParams {
+            threshold: low,
+            ..self.params.path
+        };
+        track(wm, tip.window, tip.entry, &params)
     }
 
     /// The bonds of window `w` past their breaking stretch that cannot break and lie

@@ -146,20 +146,22 @@ impl<'s, S: Scenario> Growth<'s, S> {
 
     /// Tips past their window margin, or at the end of a refined window's fine cells.
     fn triggered(&self) -> Vec<usize> {
-        (0..self.tips.len())
-            .filter(|&t| {
-                let tip = &self.tips[t];
-                let wm = &self.problem.windows[tip.window];
-                tip.active()
-                    && !tip.path.is_empty()
-                    && (passed_margin(
-                        &wm.window,
-                        tip.position(),
-                        tip.entry,
-                        self.params.trigger_ratio,
-                    ) || path_leaves_fine_zone(wm, &tip.path, self.params.direction_length))
-            })
-            .collect()
+        (0..self.tips.len()).filter(|&t| self.triggers(t)).collect()
+    }
+
+    /// Whether active tip `t` is past its window margin, or at the end of a refined
+    /// window's fine cells: its window moves on.
+    pub(super) fn triggers(&self, t: usize) -> bool {
+        let tip = &self.tips[t];
+        let wm = &self.problem.windows[tip.window];
+        tip.active()
+            && !tip.path.is_empty()
+            && (passed_margin(
+                &wm.window,
+                tip.position(),
+                tip.entry,
+                self.params.trigger_ratio,
+            ) || path_leaves_fine_zone(wm, &tip.path, self.params.direction_length))
     }
 
     /// Broken bond pairs over all windows.
