@@ -115,9 +115,9 @@ fn a_crack_the_tracker_loses_is_followed_where_the_band_holds_it() {
 /// at load 0.24 with the tip there (held after steps 2-8, a path of 3.17 m). Its finest
 /// cells are now traced down to 0.8 of the threshold where coarse cells hold the crack
 /// (`Growth::follow_held`): held after step 2 only, the crack runs down on x = 8.50 m to
-/// y = 0.95 m, 4.74 m, as the uniform 60 x 60 window at the fine spacing does (`pdbem
-/// bench growth --case growth_shear_edge_refined`: on x = 8.500 m from y = 2.6 to 1.4 m,
-/// the paths within 0.004 m there). 17 s.
+/// y = 0.95 m, as the uniform 60 x 60 window at the fine spacing does (on x = 8.500 m from
+/// y = 2.6 to 1.4 m; the paths 0.004 m apart there, 0.090 m over the whole reach of 4.30
+/// m). 17 s.
 #[test]
 fn a_crack_held_at_the_end_of_the_fine_cells_is_followed() {
     let h = run_pd_bem(&scene("growth_shear_edge_refined"), "shear-refined-held");
@@ -133,7 +133,7 @@ fn a_crack_held_at_the_end_of_the_fine_cells_is_followed() {
     );
     assert!(held[0].contains("coarse cells of the refined window"));
     // The crack reaches the clamped edge's region: measured tip at y = 0.95 m after load
-    // 0.24; before, y = 2.475 m to the end.
+    // 0.28; before, y = 2.475 m to the end.
     let end = h.steps.last().unwrap().tips[0];
     assert!(end[1] < 1.2, "tip at {end:?}");
     // Down the fine window's line, within half a fine dx (measured 0.004 m).

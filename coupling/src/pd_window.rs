@@ -74,6 +74,12 @@ pub struct EdgeCondition {
     pub traction: [Option<f64>; 2],
     /// Prescribed displacement (m), global x and y.
     pub displacement: [Option<f64>; 2],
+    /// Whether the scene's condition goes on past `from` and past `to` (its outline edge
+    /// runs on beyond the window's corner, or turns at a corner of the outline): the
+    /// fictitious layer of a displacement then runs a horizon past that end. Where the
+    /// scene's piece ends inside an edge (a free surface or another condition follows)
+    /// the layer ends there too ([`outer_strip`]).
+    pub continues: [bool; 2],
 }
 
 fn p2(v: V2) -> [f64; 2] {
@@ -156,6 +162,28 @@ fn side_box(w: &Window, k: usize, grow_kind: SideKind) -> Selection {
     }
 }
 
+/// The fictitious strip of the outer condition `c` of window `w`: the nodes within a
+/// horizon outward of the piece whose projection on its line falls on the piece, or
+/// within a horizon past an end the condition goes on past (`c.continues`). Where the
+/// scene's piece ends inside an edge the strip ends there: a layer of every node within
+/// a horizon of the piece held the free surface beyond its end too (the shear plate's
+/// bottom clamp, which ends at x = 10 m, reached x = 10.3 m in a window against it, and
+/// PD-BEM started its second crack at (10.225, 0.025) m).
+pub fn outer_strip(w: &Window, c: &EdgeCondition) -> Selection {
+    let t = (c.to - c.from).normalize();
+    let mut out = V2::new(t.y, -t.x);
+    if out.dot(&(c.from - w.spec.center)) < 0.0 {
+        out = -out;
+    }
+    let d = w.delta() * (1.0 + 1e-6);
+    let past = |k: usize| if c.continues[k] { d } else { 0.0 };
+    Selection::OrientedBox {
+        origin: p2(c.from - past(0) * t),
+        axes: [p2(t), p2(out)],
+        extent: [(c.to - c.from).norm() + past(0) + past(1), d],
+    }
+}
+
 /// Builds the PD problem of window `w` with pre-cracks `cracks` and outer conditions.
 pub fn build_problem(
     w: &Window,
@@ -200,10 +228,7 @@ pub fn build_problem(
         }
         if c.displacement.iter().any(Option::is_some) {
             boundary.push(BoundaryCondition::Displacement {
-                on: Selection::NearPolyline {
-                    points: edge,
-                    distance: None,
-                },
+                on: outer_strip(w, c),
                 ux: c.displacement[0],
                 uy: c.displacement[1],
                 layer: Layer::Fictitious,
@@ -322,21 +347,30 @@ pub fn zone_centre(w: &Window, tip: V2, r: WindowRefine, open: [bool; 4]) -> V2 
 /// outer side closes them all.
 pub fn open_sides(w: &Window, boundary: &[BoundaryCondition]) -> [bool; 4] {
     let mut open = w.sides.map(|k| k == SideKind::Outer);
-    let on_side = |pts: &[[f64; 2]], k: usize| {
-        let (a, b) = w.side(k);
-        let tol = 1e-6 * w.spec.dx;
-        pts.windows(2).any(|s| {
-            let mid = V2::new(0.5 * (s[0][0] + s[1][0]), 0.5 * (s[0][1] + s[1][1]));
-            pdbem_geometry::point_segment_projection(&mid, &a, &b).0 < tol
-        })
-    };
     for c in boundary {
-        let pts: &[[f64; 2]] = match c {
-            BoundaryCondition::Traction { edge, .. } => edge,
+        let pts: Vec<[f64; 2]> = match c {
+            BoundaryCondition::Traction { edge, .. } => edge.clone(),
             BoundaryCondition::Displacement {
                 on: Selection::NearPolyline { points, .. },
                 ..
-            } => points,
+            } => points.clone(),
+            // An outer strip ([`outer_strip`]) or an interface strip of a turned window:
+            // its inner edge lies on the side.
+            BoundaryCondition::Displacement {
+                on:
+                    Selection::OrientedBox {
+                        origin,
+                        axes,
+                        extent,
+                    },
+                ..
+            } => vec![
+                *origin,
+                [
+                    origin[0] + extent[0] * axes[0][0],
+                    origin[1] + extent[0] * axes[0][1],
+                ],
+            ],
             // The interface layers: their sides are not open anyway.
             BoundaryCondition::Displacement {
                 on: Selection::All | Selection::Box { .. },
@@ -345,10 +379,25 @@ pub fn open_sides(w: &Window, boundary: &[BoundaryCondition]) -> [bool; 4] {
             _ => return [false; 4],
         };
         for (k, o) in open.iter_mut().enumerate() {
-            *o &= !on_side(pts, k);
+            *o &= !on_side(w, &pts, k);
         }
     }
     open
+}
+
+/// Whether a segment of the polyline `pts` lies along side `k` of `w`: both its ends on
+/// the side's line, overlapping the side by more than a round-off.
+fn on_side(w: &Window, pts: &[[f64; 2]], k: usize) -> bool {
+    let (a, b) = w.side(k);
+    let t = (b - a).normalize();
+    let tol = 1e-6 * w.spec.dx;
+    let across = |p: V2| ((p - a) - (p - a).dot(&t) * t).norm();
+    pts.windows(2).any(|s| {
+        let (p, q) = (V2::new(s[0][0], s[0][1]), V2::new(s[1][0], s[1][1]));
+        let (sp, sq) = ((p - a).dot(&t), (q - a).dot(&t));
+        let overlap = sp.max(sq).min((b - a).norm()) - sp.min(sq).max(0.0);
+        across(p) < tol && across(q) < tol && overlap > tol
+    })
 }
 
 /// The crack tip window `w` serves: the end of its PD pre-cracks deepest inside the window
@@ -486,6 +535,61 @@ mod tests {
         p.refine_zones[0].centre = [9.6, 5.0];
         let e = check_refine_zone(&w, &p).unwrap_err();
         assert!(e.contains("half_size at most"), "{e}");
+    }
+
+    /// A clamp under the bottom side of the 1 m window [9.5, 10.5] x [0, 1] (dx 0.05 m,
+    /// delta 0.151 m) from its corner to x = 10 m, where the scene's clamp ends: the
+    /// fictitious layer lies beneath the clamp, a horizon past the corner where it goes on,
+    /// and stops at x = 10 m.
+    #[test]
+    fn an_outer_layer_ends_where_the_clamp_ends() {
+        let w = crate::growth::fixtures::window(10.0, 0.5);
+        assert_eq!(w.sides[0], SideKind::Outer);
+        let clamp = EdgeCondition {
+            from: V2::new(9.5, 0.0),
+            to: V2::new(10.0, 0.0),
+            traction: [None; 2],
+            displacement: [Some(0.0), Some(0.0)],
+            continues: [true, false],
+        };
+        let settings = PdSettings {
+            youngs_modulus: 1e9,
+            thickness: 1.0,
+            plane: Plane::Stress,
+            material: PdMaterial::Pmb,
+            failure: Failure::None,
+            surface_correction: false,
+            bulk_correction: false,
+            crack_face_correction: false,
+            refine: None,
+        };
+        let p = build_problem(&w, &settings, &[], std::slice::from_ref(&clamp));
+        let m = PdModel::new(&p).unwrap();
+        let pos = &m.grid().pos[m.n_real()..];
+        let below: Vec<[f64; 2]> = pos.iter().copied().filter(|q| q[1] < 0.0).collect();
+        // Columns x = 9.375-9.975 (0.125 m past the corner is within the horizon, 0.175
+        // m is not), three rows, less (9.375, -0.125), 0.177 m from the window's corner
+        // (the grid makes fictitious nodes within a horizon of the region only).
+        assert_eq!(below.len(), 13 * 3 - 1, "{below:?}");
+        let xs = below.iter().map(|q| q[0]);
+        let (lo, hi) = (
+            xs.clone().fold(f64::INFINITY, f64::min),
+            xs.fold(0.0, f64::max),
+        );
+        assert!(
+            (lo - 9.375).abs() < 1e-9 && (hi - 9.975).abs() < 1e-9,
+            "{lo} {hi}"
+        );
+        // Within a horizon of the piece, as before, the layer held the free surface
+        // beyond x = 10 m too: (10.075, -0.025) m.
+        let near = Selection::NearPolyline {
+            points: vec![p2(clamp.from), p2(clamp.to)],
+            distance: None,
+        };
+        assert!(near.contains([10.075, -0.025], w.delta()));
+        assert!(!outer_strip(&w, &clamp).contains([10.075, -0.025], w.delta()));
+        // The outer side is held, not open.
+        assert_eq!(open_sides(&w, &p.boundary), [false; 4]);
     }
 
     #[test]

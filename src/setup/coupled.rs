@@ -371,7 +371,17 @@ pub fn params_of(co: &Coupling, pd: &ScenePd) -> CouplingParams {
     }
 }
 
-/// Scene conditions on the outline pieces that lie along window `w`'s outer sides.
+/// Whether the closed polygon `points` turns at vertex `v` (a corner of the outline, not
+/// a vertex between two pieces of one straight edge).
+fn turns(points: &[V2], v: usize) -> bool {
+    let n = points.len();
+    let (prev, next) = (points[(v + n - 1) % n], points[(v + 1) % n]);
+    let (e1, e2) = (points[v] - prev, next - points[v]);
+    (e1.x * e2.y - e1.y * e2.x).abs() > 1e-9 * e1.norm() * e2.norm()
+}
+
+/// Scene conditions on the outline pieces that lie along window `w`'s outer sides, each
+/// with whether it goes on past its ends ([`EdgeCondition::continues`]).
 pub fn outer_conditions(
     scene: &Scene,
     outline: &LoopSpec,
@@ -404,6 +414,17 @@ pub fn outer_conditions(
             let (from, to) = (a + lo * t, a + hi * t);
             let e = (p1 - p0).normalize();
             let normal = V2::new(e.y, -e.x);
+            // The outline vertex at each end of the piece along t, and whether the edge
+            // runs on past the window's corner there.
+            let (v_lo, v_hi) = if s0 <= s1 {
+                (i, (i + 1) % n)
+            } else {
+                ((i + 1) % n, i)
+            };
+            let continues = [
+                s0.min(s1) < -tol || turns(&outline.points, v_lo),
+                s0.max(s1) > (b - a).norm() + tol || turns(&outline.points, v_hi),
+            ];
             for bc in scene
                 .boundary
                 .iter()
@@ -414,6 +435,7 @@ pub fn outer_conditions(
                     to,
                     traction: [None; 2],
                     displacement: [None; 2],
+                    continues,
                 };
                 for (j, comp) in [bc.x, bc.y].iter().enumerate() {
                     match comp {
@@ -438,4 +460,56 @@ pub fn outer_conditions(
 /// groups wholly inside a window are skipped: PD carries them).
 fn conditions(scene: &Scene, mesh: &Mesh, factor: f64) -> Result<Vec<[Bc; 2]>> {
     super::bem::conditions(scene, mesh, factor, None, super::bem::MissingGroup::Skip)
+}
+
+#[cfg(test)]
+mod tests {
+    use pdbem_coupling::growth::Scenario;
+    use pdbem_coupling::window::{Body, SideKind, Window, WindowSpec};
+
+    use super::*;
+
+    /// The shear plate's bottom clamp (x = 0-10 m) under a 3 m window at x = 8.5-11.5 m:
+    /// its piece goes on past the window's corner (the clamp runs on) but not past
+    /// x = 10 m, where the clamp ends inside the edge (a free surface follows).
+    #[test]
+    fn a_clamp_that_ends_inside_an_edge_does_not_go_on_past_its_end() {
+        let scene = Scene::load("cases/growth_shear_edge.ron").unwrap();
+        let input = crate::setup::growth::input(&scene).unwrap();
+        let body = Body {
+            outline: input.setup.layout.outline.points.clone(),
+            holes: vec![],
+        };
+        let spec = WindowSpec {
+            center: V2::new(10.0, 1.5),
+            angle: 0.0,
+            dx: 0.1,
+            nx: 30,
+            ny: 30,
+            horizon_factor: 3.015,
+        };
+        let w = Window::place(0, spec, &body).unwrap();
+        assert_eq!(w.sides[0], SideKind::Outer);
+        let out = input.scenario.outer_conditions(&w);
+        assert_eq!(out.len(), 1, "{out:?}");
+        let c = &out[0];
+        let ends = [c.from, c.to].map(|p| p.x);
+        assert!(
+            (ends[0] - 8.5).abs() < 1e-9 && (ends[1] - 10.0).abs() < 1e-9,
+            "{ends:?}"
+        );
+        assert_eq!(c.continues, [true, false]);
+        // At a corner of the outline the condition goes on round it.
+        let spec = WindowSpec {
+            center: V2::new(1.5, 1.5),
+            ..w.spec.clone()
+        };
+        let corner = Window::place(0, spec, &body).unwrap();
+        let out = input.scenario.outer_conditions(&corner);
+        let bottom = (out.iter())
+            .find(|c| c.from.y.abs() < 1e-9 && c.to.y.abs() < 1e-9)
+            .expect("the clamp's piece");
+        let at_corner = if bottom.from.x < bottom.to.x { 0 } else { 1 };
+        assert!(bottom.continues[at_corner], "{bottom:?}");
+    }
 }

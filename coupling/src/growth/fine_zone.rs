@@ -489,6 +489,7 @@ mod tests {
             to: V2::new(10.5, 0.0),
             traction: [None, None],
             displacement: [None, Some(0.0)],
+            continues: [true, true],
         };
         let mut wm = outline_window(vec![held]);
         assert_eq!(open_sides(&wm.window, &wm.problem.boundary), [false; 4]);
