@@ -117,7 +117,13 @@ fn a_crack_the_tracker_loses_is_followed_where_the_band_holds_it() {
 /// (`Growth::follow_held`): held after step 2 only, the crack runs down on x = 8.50 m to
 /// y = 0.95 m, as the uniform 60 x 60 window at the fine spacing does (on x = 8.500 m from
 /// y = 2.6 to 1.4 m; the paths 0.004 m apart there, 0.090 m over the whole reach of 4.30
-/// m). 17 s.
+/// m, docs/coupled_refined.md). 17 s.
+///
+/// At its end the crack runs on past the tracked tip under the tracking threshold without
+/// being held (measured: damage above 0.304 reaching 0.32 m = 3.2 dx beyond the tip),
+/// which a note says, naming `growth.damage_threshold`. (This was tested on the
+/// two-parallel-cracks plate with 0.38 until 2026-12-01, then on the shear plate's
+/// uniform 60 x 60 window until its clamp layer ended at the clamp's end.)
 #[test]
 fn a_crack_held_at_the_end_of_the_fine_cells_is_followed() {
     let h = run_pd_bem(&scene("growth_shear_edge_refined"), "shear-refined-held");
@@ -143,4 +149,9 @@ fn a_crack_held_at_the_end_of_the_fine_cells_is_followed() {
     for p in below {
         assert!((p.x - 8.5).abs() < 0.025, "path at ({}, {})", p.x, p.y);
     }
+    let lost: Vec<&String> = (h.notes.iter())
+        .filter(|n| n.contains("beyond the tracked tip"))
+        .collect();
+    assert_eq!(lost.len(), 1, "{:?}", h.notes);
+    assert!(lost[0].contains("growth.damage_threshold"), "{}", lost[0]);
 }

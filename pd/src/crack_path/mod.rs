@@ -183,14 +183,7 @@ impl CrackPath {
 /// current damage). See the module docs for the algorithm; on a mixed grid the lengths
 /// of `params` are taken at each node's own spacing ([`trace_crack_spaced`]).
 pub fn trace_crack(model: &PdModel, entry: P2, params: &PathParams) -> Result<CrackPath, PdError> {
-    let n = model.n_real();
-    let phi = model.damage();
-    let grid = model.grid();
-    let spacing = if grid.is_mixed() {
-        Spacing::PerNode(&grid.spacing[..n])
-    } else {
-        Spacing::Uniform(grid.dx)
-    };
+    let (n, phi, spacing) = real_nodes(model);
     trace(
         &model.positions()[..n],
         &phi[..n],
@@ -199,6 +192,18 @@ pub fn trace_crack(model: &PdModel, entry: P2, params: &PathParams) -> Result<Cr
         None,
         params,
     )
+}
+
+/// The number of real nodes of `model`, the damage of its nodes and their spacing.
+fn real_nodes(model: &PdModel) -> (usize, Vec<f64>, Spacing<'_>) {
+    let n = model.n_real();
+    let grid = model.grid();
+    let spacing = if grid.is_mixed() {
+        Spacing::PerNode(&grid.spacing[..n])
+    } else {
+        Spacing::Uniform(grid.dx)
+    };
+    (n, model.damage(), spacing)
 }
 
 /// [`trace_crack_in`] on nodes of different spacings `spacing` (m, one per node; a mixed
@@ -315,23 +320,15 @@ pub fn trace_crack_finest(
     params: &PathParams,
     finest_threshold: f64,
 ) -> Result<CrackPath, PdError> {
-    let n = model.n_real();
-    let grid = model.grid();
-    let dx = vec![grid.dx; if grid.is_mixed() { 0 } else { n }];
-    let spacing = if grid.is_mixed() {
-        &grid.spacing[..n]
-    } else {
-        &dx[..]
-    };
-    let phi = model.damage();
-    trace_crack_finest_in(
+    let (n, phi, spacing) = real_nodes(model);
+    let c = crack_nodes(
         &model.positions()[..n],
         &phi[..n],
         spacing,
-        entry,
         params,
-        finest_threshold,
-    )
+        Some(finest_threshold),
+    )?;
+    path_of(c, entry, None, params)
 }
 
 /// [`trace_crack_spaced`] with the nodes of the finest spacing counted as crack nodes

@@ -18,6 +18,24 @@ fn field(nx: usize, ny: usize, band: impl Fn(f64, f64) -> bool) -> (Vec<P2>, Vec
     (pos, phi)
 }
 
+/// Coarse cells (spacing 1) over [0, 10] x [0, 20] and fine cells (0.5) over [10, 20] x
+/// [5, 15] (a refined zone): positions, the damage `phi(x, y, spacing)` and the spacings.
+fn mixed_field(phi: impl Fn(f64, f64, f64) -> f64) -> (Vec<P2>, Vec<f64>, Vec<f64>) {
+    let (mut pos, mut damage, mut h) = (Vec::new(), Vec::new(), Vec::new());
+    for (x0, x1, y0, y1, dh) in [(0.0, 10.0, 0.0, 20.0, 1.0), (10.0, 20.0, 5.0, 15.0, 0.5)] {
+        let (nx, ny) = (((x1 - x0) / dh) as usize, ((y1 - y0) / dh) as usize);
+        for j in 0..ny {
+            for i in 0..nx {
+                let p = [x0 + (i as f64 + 0.5) * dh, y0 + (j as f64 + 0.5) * dh];
+                damage.push(phi(p[0], p[1], dh));
+                pos.push(p);
+                h.push(dh);
+            }
+        }
+    }
+    (pos, damage, h)
+}
+
 fn max_offset_from_line(points: &[P2], y: f64) -> f64 {
     points.iter().map(|p| (p[1] - y).abs()).fold(0.0, f64::max)
 }
@@ -52,18 +70,7 @@ fn mixed_spacing_links_coarse_into_fine_cells_and_stops_at_a_fine_gap() {
     // coarse link of 1.5).
     let band =
         |x: f64, y: f64, h: f64| (y - 10.0).abs() < h && (x < 14.0 || (15.0..18.0).contains(&x));
-    let (mut pos, mut phi, mut h) = (Vec::new(), Vec::new(), Vec::new());
-    for (x0, x1, y0, y1, dh) in [(0.0, 10.0, 0.0, 20.0, 1.0), (10.0, 20.0, 5.0, 15.0, 0.5)] {
-        let (nx, ny) = (((x1 - x0) / dh) as usize, ((y1 - y0) / dh) as usize);
-        for j in 0..ny {
-            for i in 0..nx {
-                let p = [x0 + (i as f64 + 0.5) * dh, y0 + (j as f64 + 0.5) * dh];
-                phi.push(if band(p[0], p[1], dh) { 0.5 } else { 0.1 });
-                pos.push(p);
-                h.push(dh);
-            }
-        }
-    }
+    let (pos, phi, h) = mixed_field(|x, y, dh| if band(x, y, dh) { 0.5 } else { 0.1 });
     let prm = PathParams::default();
     let p = trace_crack_spaced(&pos, &phi, &h, [0.0, 10.0], &prm).unwrap();
     // The coarse band links into the fine one (0.79 apart), the gap stops the
@@ -124,18 +131,7 @@ fn a_lower_threshold_in_the_finest_cells_follows_the_crack_there_only() {
             0.1
         }
     };
-    let (mut pos, mut phi, mut h) = (Vec::new(), Vec::new(), Vec::new());
-    for (x0, x1, y0, y1, dh) in [(0.0, 10.0, 0.0, 20.0, 1.0), (10.0, 20.0, 5.0, 15.0, 0.5)] {
-        let (nx, ny) = (((x1 - x0) / dh) as usize, ((y1 - y0) / dh) as usize);
-        for j in 0..ny {
-            for i in 0..nx {
-                let p = [x0 + (i as f64 + 0.5) * dh, y0 + (j as f64 + 0.5) * dh];
-                phi.push(phi_at(p[0], p[1], dh));
-                pos.push(p);
-                h.push(dh);
-            }
-        }
-    }
+    let (pos, phi, h) = mixed_field(phi_at);
     let prm = PathParams::default();
     let entry = [0.0, 10.0];
     // At 0.38 the tip stops where the fine damage drops under it.
