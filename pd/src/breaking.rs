@@ -102,11 +102,11 @@ pub struct HeldBonds {
 
 /// The [`HeldBonds`] of `model` that `keep` accepts, given each bond's midpoint and its two
 /// end nodes (reference configuration); None without any, or under a law other than the
-/// brittle one (the tanh law's protected bonds stay elastic by design). Bonds between two nodes outside the body (a displacement
-/// condition's fictitious layer, a coupling window's virtual nodes) are no part of what
-/// could crack and do not count (measured on `growth_shear_edge_refined`: 10 such pairs
-/// up to 2.56 s0 at the window corner below the end of the bottom clamp, from the clamp's
-/// layer to the window's virtual nodes).
+/// brittle one (the tanh law's protected bonds stay elastic by design). Bonds between two
+/// nodes outside the body (a displacement condition's fictitious layer, a coupling
+/// window's virtual nodes) are no part of what could crack and do not count (measured on
+/// `growth_shear_edge_refined`: 10 such pairs up to 2.56 s0 at the window corner below
+/// the end of the bottom clamp, from the clamp's layer to the window's virtual nodes).
 pub fn held_bonds(
     model: &PdModel,
     keep: impl Fn([f64; 2], [[f64; 2]; 2]) -> bool,

@@ -115,9 +115,12 @@ pub(super) fn crack_nodes(
         }
         Spacing::Uniform(_) => {}
     }
-    let h_min = (0..positions.len())
-        .map(|i| spacing.at(i))
-        .fold(f64::INFINITY, f64::min);
+    // The finest spacing, where `finest` applies (none to find without it).
+    let h_min = finest.map_or(0.0, |_| {
+        (0..positions.len())
+            .map(|i| spacing.at(i))
+            .fold(f64::INFINITY, f64::min)
+    });
     let threshold = |i: usize| match finest {
         Some(t) if spacing.at(i) <= h_min * (1.0 + 1e-9) => t,
         _ => params.threshold,
