@@ -9,8 +9,9 @@ use crate::setup::WindowModel;
 /// [`PdSolve::Staggered`] on one model with its kept solvers; returns the solver
 /// iterations.
 ///
-/// Each equilibrium is the chord iteration's, with ADR and then Newton where it fails
-/// ([`frozen::FrozenSolver`] with the windows' [`frozen::Fallbacks`]).
+/// Each equilibrium is the chord iteration's, with ADR on a trial budget, Newton and ADR on
+/// its full budget where it fails ([`frozen::FrozenSolver`] with the windows'
+/// [`frozen::Fallbacks`]).
 fn staggered(
     model: &mut pdbem_pd::PdModel,
     slot: &mut frozen::SolverSlot,

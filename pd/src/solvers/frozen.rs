@@ -3,7 +3,8 @@
 //! bonds ([`FrozenSolver`], [`crate::solvers::secant`]), Newton-Raphson (seed 000
 //! section 2, Eq. 5) for degrading bonds, and where the first solver fails adaptive
 //! dynamic relaxation (seed 002 Eqs. 9-15) and Newton in the order [`Fallbacks`] sets
-//! (windows: ADR first; full PD: Newton first).
+//! (windows: ADR on a trial budget, Newton, ADR on its full budget; full PD: Newton
+//! first).
 //!
 //! Why a kept factorisation: between two coupling iterations only the prescribed
 //! displacements of the coupled virtual nodes change, and between two break rounds only
@@ -62,7 +63,8 @@ pub struct Fallbacks {
     /// Refactorisations for poor contraction within one chord iteration before a fallback
     /// takes over ([`SecantParams::max_refactors`]); `None`: no limit.
     pub chord_refactors: Option<usize>,
-    /// After a failed chord iteration, ADR before Newton (Newton only where ADR fails).
+    /// After a failed chord iteration, ADR on a trial budget before Newton
+    /// ([`Self::adr_trial_steps_per_row`]; ADR on its full budget where Newton fails too).
     /// The windows' choice: where the chord iteration fails a window is nearly cut, and
     /// there Newton (LU on an indefinite tangent) failed too in every case measured on
     /// `growth_tension_edge` (0.8 s for 50 iterations each) while ADR converged in 250-810
@@ -76,14 +78,18 @@ pub struct Fallbacks {
     pub adr_tol: f64,
     /// ADR steps allowed to the fallback.
     pub adr_max_iters: usize,
+    /// With `adr_before_newton`: ADR steps per node row of the model (the square root of
+    /// its node count) tried before Newton; ADR gets the rest of `adr_max_iters` only
+    /// where Newton fails too ([`ADR_TRIAL_STEPS_PER_ROW`]).
+    pub adr_trial_steps_per_row: usize,
 }
 
 impl Default for Fallbacks {
     /// The windows' settings: the switch's refactorisation threshold, at most
     /// [`CHORD_REFACTORS`] refactorisations per chord iteration (fewer after a failed
-    /// one), ADR before Newton
-    /// after a failed chord iteration, no loose Newton stalls, ADR to `ADR_FALLBACK_TOL`
-    /// within `ADR_FALLBACK_MAX_ITERS` steps.
+    /// one), ADR on a trial of [`ADR_TRIAL_STEPS_PER_ROW`] before Newton after a failed
+    /// chord iteration, no loose Newton stalls, ADR to `ADR_FALLBACK_TOL` within
+    /// `ADR_FALLBACK_MAX_ITERS` steps.
     fn default() -> Self {
         Fallbacks {
             refactor_contraction: CONTRACTION_REFACTOR,
@@ -93,6 +99,7 @@ impl Default for Fallbacks {
             loose_measure: 0.0,
             adr_tol: ADR_FALLBACK_TOL,
             adr_max_iters: ADR_FALLBACK_MAX_ITERS,
+            adr_trial_steps_per_row: ADR_TRIAL_STEPS_PER_ROW,
         }
     }
 }
@@ -135,6 +142,9 @@ pub struct FrozenSolver {
     /// The last chord iteration failed: with a refactorisation limit the next one gets
     /// at most [`STALLED_CHORD_REFACTORS`].
     stalled: bool,
+    /// In the windows' order, the last fallback ran out of its ADR trial and Newton
+    /// converged: the next one starts with Newton ([`Self::adr_then_newton`]).
+    newton_won: bool,
 }
 
 impl FrozenSolver {
@@ -156,6 +166,7 @@ impl FrozenSolver {
             shape: (model.n_nodes(), model.n_bonds()),
             fallbacks: Fallbacks::default(),
             stalled: false,
+            newton_won: false,
         })
     }
 
@@ -268,11 +279,7 @@ impl FrozenSolver {
                 }
             }
             if fb.adr_before_newton {
-                match equilibrate_adr(model, from, fb.adr_tol, fb.adr_max_iters, info) {
-                    Ok(iters) => return Ok(Solved::Adr(iters)),
-                    Err(_) => model.set_displacements(&before)?,
-                }
-                return self.newton_alone(model, params, info);
+                return self.adr_then_newton(model, params, (&before, from), info);
             }
         }
         match self.newton_alone(model, params, info) {
@@ -286,6 +293,44 @@ impl FrozenSolver {
             ) => equilibrate_adr(model, from, fb.adr_tol, fb.adr_max_iters, info).map(Solved::Adr),
             other => other,
         }
+    }
+
+    /// The windows' order after a failed chord iteration, each solver from the state
+    /// `before` (ADR from `from` where that is not finite): ADR on a trial budget
+    /// ([`Fallbacks::adr_trial_steps_per_row`]), Newton, then ADR with its full budget.
+    /// Failures come in runs (a nearly cut window fails at every coupling iteration until
+    /// its state moves on), so after a trial that ran out and a Newton that converged the
+    /// next fallback skips the trial, until Newton fails. Errors with the last solver's
+    /// error.
+    fn adr_then_newton(
+        &mut self,
+        model: &mut PdModel,
+        params: &ImplicitParams,
+        (before, from): (&[[f64; 2]], &[[f64; 2]]),
+        info: &mut SolveInfo,
+    ) -> Result<Solved, PdError> {
+        let fb = self.fallbacks;
+        let rows = (model.n_nodes() as f64).sqrt().ceil() as usize;
+        let trial = if self.newton_won {
+            0
+        } else {
+            fb.adr_trial_steps_per_row
+                .saturating_mul(rows)
+                .min(fb.adr_max_iters)
+        };
+        if trial > 0 {
+            match equilibrate_adr(model, from, fb.adr_tol, trial, info) {
+                Ok(iters) => return Ok(Solved::Adr(iters)),
+                Err(_) => model.set_displacements(before)?,
+            }
+        }
+        let newton = self.newton_alone(model, params, info);
+        self.newton_won = newton.is_ok();
+        if newton.is_ok() || trial == fb.adr_max_iters {
+            return newton;
+        }
+        model.set_displacements(before)?;
+        equilibrate_adr(model, from, fb.adr_tol, fb.adr_max_iters, info).map(Solved::Adr)
     }
 
     /// Newton from the model's state; a stall below [`Fallbacks::loose_measure`] is
@@ -362,6 +407,18 @@ const ADR_FALLBACK_TOL: f64 = 1e-8;
 
 /// ADR steps allowed to the fallback (about a second for a 20 x 20 window).
 const ADR_FALLBACK_MAX_ITERS: usize = 200_000;
+
+/// ADR steps per node row tried before Newton ([`Fallbacks::adr_trial_steps_per_row`]).
+/// Over the ten shipped growth cases the windows' ADR fallbacks converged in 7-33 steps
+/// per row, one in 244 (`growth_inclined_crack`: 6344 steps on 672 nodes). A window that
+/// needs far more has a soft mode, a piece nearly cut free, where the chord iteration
+/// failed for the same reason; there Newton converged in 2-39 iterations: on
+/// `growth_shear_edge_refined` with `growth.damage_threshold: 0.3` (1724 nodes, 42 rows)
+/// ADR took 18 700-63 000 steps (7-23 s, 0.35 ms a step), or ran out of its 200 000 (70 s),
+/// where Newton took 0.3 s. That run had not ended after 10 minutes with ADR's full budget
+/// first; with this trial and [`FrozenSolver`]'s memory of Newton's success it takes 23.5 s
+/// (docs/growth_modes.md).
+pub const ADR_TRIAL_STEPS_PER_ROW: usize = 100;
 
 /// ADR equilibrium at the model's load with the bond history frozen (no bond breaks),
 /// from the current state if it is finite, else from `start`, to the relative residual

@@ -224,6 +224,44 @@ fn after_a_failed_chord_iteration_adr_comes_before_newton_in_the_windows() {
 }
 
 #[test]
+fn an_adr_trial_that_runs_out_hands_over_to_newton_which_then_comes_first() {
+    let params = tight();
+    let reference = by_newton(edge_plate(6.0), &params);
+    // No chord iteration, and an ADR trial of one step per row: too short to converge.
+    let mut m = edge_plate(6.0);
+    let start = m.displacements().to_vec();
+    let mut solver = FrozenSolver::new(&m).unwrap().with_fallbacks(Fallbacks {
+        chord_iters: 0,
+        adr_trial_steps_per_row: 1,
+        ..Fallbacks::default()
+    });
+    let mut info = SolveInfo::default();
+    let mut solve = |solver: &mut FrozenSolver, m: &mut PdModel, params: &ImplicitParams| {
+        m.set_displacements(&start).unwrap();
+        solver.equilibrate(m, params, &start, &mut info).unwrap()
+    };
+    let solved = solve(&mut solver, &mut m, &params);
+    assert!(matches!(solved, Solved::Newton(_)), "{solved:?}");
+    let d = reference.relative_displacement_gap(&m);
+    assert!(d < 1e-9, "Newton after the ADR trial vs Newton: {d:.2e}");
+    // A trial ADR would pass is skipped while Newton keeps converging.
+    solver.fallbacks.adr_trial_steps_per_row = 10_000;
+    let solved = solve(&mut solver, &mut m, &params);
+    assert!(matches!(solved, Solved::Newton(_)), "{solved:?}");
+    // Newton fails: ADR with its full budget, and the next fallback tries ADR first again.
+    let starved = ImplicitParams {
+        max_iters: 0,
+        ..params.clone()
+    };
+    let solved = solve(&mut solver, &mut m, &starved);
+    assert!(matches!(solved, Solved::Adr(it) if it > 30), "{solved:?}");
+    let d = reference.relative_displacement_gap(&m);
+    assert!(d < 1e-6, "ADR after Newton failed vs Newton: {d:.2e}");
+    let solved = solve(&mut solver, &mut m, &params);
+    assert!(matches!(solved, Solved::Adr(_)), "{solved:?}");
+}
+
+#[test]
 fn a_non_finite_newton_state_restarts_adr_from_the_given_start() {
     let mut m = loaded_bar();
     let start = m.displacements().to_vec();

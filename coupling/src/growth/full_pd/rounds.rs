@@ -116,6 +116,8 @@ impl Equilibrium {
             loose_measure: LOOSE_MEASURE,
             adr_tol: 1e-6,
             adr_max_iters: ADR_STEPS_PER_ROW * rows,
+            // Newton comes before ADR here.
+            adr_trial_steps_per_row: 0,
         };
         let ip = ImplicitParams {
             residual_tol: 1e-6,
