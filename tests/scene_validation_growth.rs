@@ -79,9 +79,9 @@ fn trigger_ratio_whose_band_covers_the_window() {
     let ok = scene(
         MAT_GC,
         CRACKS,
-        &format!("{PD_BEM}, growth: (trigger_ratio: 0.6)"),
+        "pd: (failure: FromGc), coupling: (side: 2, n: 46), growth: (trigger_ratio: 0.6)",
     );
-    load(&ok).expect("0.6 is valid");
+    load(&ok).expect("0.6 is valid in a 2 m window of 46 nodes per side");
     // BEM-only growth has no window: any ratio in (0, 1) is accepted.
     let bem = scene(
         MAT_GC,
@@ -89,6 +89,62 @@ fn trigger_ratio_whose_band_covers_the_window() {
         "growth: (mode: BemOnly, trigger_ratio: 0.3)",
     );
     load(&bem).expect("BEM-only ignores the trigger");
+}
+
+#[test]
+fn trigger_distance_that_leaves_a_window_no_room_to_move() {
+    // 2 m window, dx 0.1 m, horizon 0.3015 m: the trigger distance (1 - r) 2 + 0.4015 m
+    // must stay within half a side less half a dx (0.95 m) of the centred tip, so r of at
+    // least 0.7258. Measured on growth_tension_edge: at 0.72 (trigger 0.9615 m) the run
+    // ended at its first window move ("the window would stay where it is").
+    for t in ["0.6", "0.72"] {
+        let src = scene(
+            MAT_GC,
+            CRACKS,
+            &format!("{PD_BEM}, growth: (trigger_ratio: {t})"),
+        );
+        assert_invalid(
+            &src,
+            &format!("growth.trigger_ratio = {t}"),
+            "no window could move on. Use a trigger ratio of at least 0.7258",
+        );
+    }
+    // Or more nodes: (m + 1.5) / (r - 0.5) = 45.15 at r = 0.6, 20.52 at 0.72.
+    let src = scene(
+        MAT_GC,
+        CRACKS,
+        &format!("{PD_BEM}, growth: (trigger_ratio: 0.6)"),
+    );
+    assert_invalid(
+        &src,
+        "growth.trigger_ratio = 0.6",
+        "or at least 46 nodes per side",
+    );
+    let src = scene(
+        MAT_GC,
+        CRACKS,
+        &format!("{PD_BEM}, growth: (trigger_ratio: 0.72)"),
+    );
+    assert_invalid(
+        &src,
+        "growth.trigger_ratio = 0.72",
+        "or at least 21 nodes per side",
+    );
+    let ok = scene(
+        MAT_GC,
+        CRACKS,
+        &format!("{PD_BEM}, growth: (trigger_ratio: 0.73)"),
+    );
+    load(&ok).expect("0.73 leaves room");
+    // BEM-only and full-PD growth move no window.
+    for mode in ["BemOnly", "FullPd"] {
+        let src = scene(
+            MAT_GC,
+            CRACKS,
+            &format!("{PD_BEM}, growth: (mode: {mode}, trigger_ratio: 0.6, da: 0.5)"),
+        );
+        load(&src).unwrap_or_else(|e| panic!("{mode}: {e}"));
+    }
 }
 
 #[test]

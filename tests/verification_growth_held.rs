@@ -21,7 +21,8 @@ use growth_common::{run_pd_bem, scene};
 /// - `growth.trigger_ratio: 0.51`: the no-fail band covers all but 0.06 m of the 3 m
 ///   window, so the crack hardly leaves its pre-crack (4 pairs up to 1.09 s0 beside the
 ///   tip at (10.025, 8)). Its tip is traced, so the run goes on, with the note over
-///   every step.
+///   every step. (A scene with this ratio is refused by `pdbem check`, since no window
+///   could move on; the engine is called here directly, as a library caller may.)
 ///
 /// The shear plate (`growth_shear_edge`) gets the note too (next test).
 #[test]

@@ -2,6 +2,7 @@
 //! against the sections present.
 
 use super::Checker;
+use crate::plot::ticks::human;
 use crate::scene::{GrowthMode, Placement, Scene};
 
 /// Checks the growth section.
@@ -82,6 +83,9 @@ fn check_growth(c: &mut Checker, scene: &Scene, g: &crate::scene::Growth) {
     if g.mode == GrowthMode::PdBem {
         if let Some(co) = &scene.coupling {
             check_ligaments(c, scene, co);
+            if t > 0.5 && t < 1.0 {
+                check_room_to_move(c, scene, co, t);
+            }
         }
         if let Some(pd) = &scene.pd {
             if matches!(pd.failure, crate::scene::Failure::Degradation { .. }) {
@@ -116,6 +120,45 @@ fn check_trigger_band(c: &mut Checker, ratio: f64) {
             "growth.trigger_ratio",
             ratio,
             "PD-BEM growth needs a trigger ratio above 0.5: the no-fail band, (1 - trigger_ratio) of the window side on each interface side, would cover the whole window (seed 002: 0.9)",
+        );
+    }
+}
+
+/// A window moves on when its tip comes within the trigger distance of an interface side:
+/// the no-fail band, a horizon and a dx (`pdbem_coupling::growth::tips::margins`). The
+/// moved window is centred on the tip to the nearest dx, so the tip lies at least half a
+/// side less half a dx from each side; a trigger distance beyond that leaves the window
+/// no place to move to, and the run would end at the first move
+/// (`pdbem_coupling::growth::relocate::moved_spec`).
+fn check_room_to_move(c: &mut Checker, scene: &Scene, co: &crate::scene::Coupling, ratio: f64) {
+    let m = scene
+        .pd
+        .as_ref()
+        .map_or(crate::scene::pd::default_horizon_factor(), |p| {
+            p.horizon_factor
+        });
+    let (side, dx) = (co.side, co.dx());
+    if !(side.is_finite() && dx.is_finite() && side > 0.0 && dx > 0.0) {
+        return;
+    }
+    let trigger = (1.0 - ratio) * side + m * dx + dx;
+    let room = 0.5 * side - 0.5 * dx;
+    if trigger > room + 1e-9 * dx {
+        let lowest = 1.0 - (room - m * dx - dx) / side;
+        // (1 - r) side + (m + 1.5) side / n <= side / 2.
+        let nodes = ((m + 1.5) / (ratio - 0.5) - 1e-9).ceil();
+        let len = |v: f64| human(v, 4);
+        c.fail(
+            "growth.trigger_ratio",
+            ratio,
+            format!(
+                "a window moves on when its tip comes within {} m of an interface side (the no-fail band (1 - trigger_ratio) x {side} m, a horizon {} m and a dx {} m), but a window centred on the tip leaves it only {} m (half a side less half a dx) from its sides: no window could move on. Use a trigger ratio of at least {}, or at least {nodes} nodes per side (coupling.n)",
+                len(trigger),
+                len(m * dx),
+                len(dx),
+                len(room),
+                (lowest.max(0.5) * 1e4).ceil() / 1e4
+            ),
         );
     }
 }
