@@ -115,6 +115,7 @@ impl Observer for Progress<'_> {
                    "broken_bonds": s.broken_bonds, "cmod": s.cmod,
                    "tips": s.tips.iter().map(|p| [p.x, p.y]).collect::<Vec<_>>(),
                    "relocations": s.relocations, "wall_time_s": s.wall_s, "pd_s": s.pd_s,
+                   "window_solves": s.window_solves,
                    "overstrain": s.overstrain.map(|h| json!({
                        "position": [h.position.x, h.position.y],
                        "strain": h.strain, "onset": h.onset}))}),

@@ -185,7 +185,9 @@ pub fn of(scene: &Scene) -> Result<Footprint> {
             GrowthMode::PdBem => {
                 let input = super::growth::input(scene)?;
                 f.notes = super::coupled::thin_strip_notes(&input.setup.layout);
-                let growth = input.growth()?;
+                let growth = input.growth().with_context(|| {
+                    format!("{}: PD-BEM growth setup", scene.file_label().display())
+                })?;
                 let p = growth.problem();
                 let bcs = input
                     .scenario

@@ -32,6 +32,7 @@
 //! repeats the arithmetic of an uninterrupted one bit for bit. No random numbers are used.
 
 use pdbem_bem::V2;
+use pdbem_pd::solvers::frozen::Tally;
 use pdbem_pd::{ModelState, PdError, PdModel};
 use serde::{Deserialize, Serialize};
 
@@ -158,6 +159,9 @@ pub struct TryProgress {
     pub relocations: usize,
     /// The accelerator reported a restart or hand-over.
     pub noted: bool,
+    /// The windows' PD equilibria, by solver.
+    #[serde(default)]
+    pub window_solves: Tally,
 }
 
 /// A BEM-only checkpoint.

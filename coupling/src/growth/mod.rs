@@ -155,6 +155,7 @@ pub(crate) mod fixtures {
             overstrain: None,
             stray: None,
             held: None,
+            window_solves: Default::default(),
         }
     }
 

@@ -3,6 +3,7 @@
 
 use pdbem_bem::post::Background;
 use pdbem_bem::{Bc, Material, Mesh, SolveParams, V2};
+use pdbem_pd::solvers::frozen::Tally;
 
 use crate::growth::overstrain::Hotspot;
 use crate::growth::tips::TipSpec;
@@ -92,6 +93,10 @@ pub struct StepResult {
     /// [`crate::growth::driver`]); None when there are none.
     #[serde(default)]
     pub held: Option<HeldCrack>,
+    /// The windows' PD equilibria in the step, by solver (PD-BEM; the chord iteration and
+    /// its fallbacks, [`pdbem_pd::solvers::frozen`]).
+    #[serde(default)]
+    pub window_solves: Tally,
 }
 
 /// A crack held by bonds that cannot break after a load step, or such bonds away from
@@ -246,6 +251,72 @@ pub struct SolveOutcome {
     pub bonds_broken: usize,
     /// PD wall time (s).
     pub pd_s: f64,
+    /// The windows' PD equilibria, by solver.
+    pub window_solves: Tally,
     /// What the interface accelerator reported ([`crate::CouplingInfo::notes`]).
     pub notes: Vec<String>,
+}
+
+/// The note on the windows' PD equilibria of `steps` when a fallback found any or none
+/// was found (the chord iteration failed: a window nearly cut; ADR on a trial budget,
+/// Newton, then ADR on its full budget, [`pdbem_pd::solvers::frozen::Fallbacks`]).
+pub(crate) fn fallback_note(steps: &[StepResult]) -> Option<String> {
+    let t: Tally = steps.iter().map(|s| s.window_solves).sum();
+    if t.fallbacks() + t.failed == 0 {
+        return None;
+    }
+    let all = t.chord + t.fallbacks() + t.failed;
+    let mut note = format!(
+        "window PD equilibria: {all}, {} by the chord iteration; where it failed, {} by ADR \
+         and {} by Newton ({} ADR trials ran out before Newton)",
+        t.chord, t.adr, t.newton, t.adr_trials_run_out
+    );
+    if t.loose > 0 {
+        note += &format!(", {} Newton stalls accepted", t.loose);
+    }
+    if t.failed > 0 {
+        note += &format!(", {} found by no solver", t.failed);
+    }
+    Some(note)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::growth::fixtures::step_result;
+
+    #[test]
+    fn the_fallback_note_sums_the_steps_and_is_left_out_without_fallbacks() {
+        let step = |k: usize, t: Tally| StepResult {
+            window_solves: t,
+            ..step_result(k, 1.0)
+        };
+        let chord = |n: usize| Tally {
+            chord: n,
+            ..Tally::default()
+        };
+        assert_eq!(
+            fallback_note(&[step(0, chord(40)), step(1, chord(7))]),
+            None
+        );
+        let hard = Tally {
+            chord: 3,
+            adr: 2,
+            newton: 5,
+            adr_trials_run_out: 4,
+            ..Tally::default()
+        };
+        let note = fallback_note(&[step(0, chord(40)), step(1, hard)]).expect("a note");
+        assert_eq!(
+            note,
+            "window PD equilibria: 50, 43 by the chord iteration; where it failed, 2 by ADR \
+             and 5 by Newton (4 ADR trials ran out before Newton)"
+        );
+        let failed = Tally {
+            failed: 1,
+            ..Tally::default()
+        };
+        let note = fallback_note(&[step(0, failed)]).expect("a note");
+        assert!(note.ends_with(", 1 found by no solver"), "{note}");
+    }
 }

@@ -114,6 +114,17 @@ impl Window {
             // (A crack polyline may already have a vertex on the boundary.)
             bem.push(entry);
         }
+        if bem.len() < 2 {
+            return Err(CouplingError::Crack {
+                crack,
+                message: format!(
+                    "the window holds the whole crack, whose end ({:.4}, {:.4}) lies on the \
+                     window's side: no part of it is left to the BEM body. Use a smaller \
+                     window (coupling.side), so that the crack enters it from the BEM body",
+                    line[0].x, line[0].y
+                ),
+            });
+        }
         let mut pd = vec![entry - extend * dir, entry];
         pd.extend_from_slice(&line[k..]);
         if first_in {

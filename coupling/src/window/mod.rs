@@ -318,4 +318,19 @@ mod tests {
         assert!((s.pd[0] - V2::new(5.0, 6.2)).norm() < 1e-12);
         assert!((s.pd[2] - V2::new(5.0, 5.0)).norm() < 1e-12);
     }
+
+    #[test]
+    fn a_window_whose_side_holds_the_crack_mouth_is_refused() {
+        // 4 m window on the tip (5, 8) of a 2 m edge crack from the top edge: its top side
+        // lies on the edge, and the BEM body would keep no part of the crack.
+        let w = Window::place(0, spec(5.0, 8.0, 0.0, 40), &square_body(10.0)).unwrap();
+        let pts = [V2::new(5.0, 10.0), V2::new(5.0, 8.0)];
+        let e = w.split_crack(0, &pts, 0.2).unwrap_err().to_string();
+        assert!(e.contains("the window holds the whole crack"), "{e}");
+        assert!(e.contains("(5.0000, 10.0000)"), "{e}");
+        // A 2 m window leaves the crack's upper half to the BEM body.
+        let w = Window::place(0, spec(5.0, 8.0, 0.0, 20), &square_body(10.0)).unwrap();
+        let s = w.split_crack(0, &pts, 0.2).unwrap().unwrap();
+        assert_eq!(s.bem.map(|b| b.len()), Some(2));
+    }
 }

@@ -21,6 +21,9 @@
 //! caller commits the history.
 
 use std::fmt;
+use std::ops::AddAssign;
+
+use serde::{Deserialize, Serialize};
 
 use crate::forces::History;
 use crate::material::BondLaw;
@@ -117,6 +120,62 @@ pub enum Solved {
     Adr(usize),
 }
 
+/// Equilibria of [`FrozenSolver`]s by the solver that found them.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Tally {
+    /// By the chord iteration.
+    pub chord: usize,
+    /// By Newton (first for degrading bonds, else after a failed chord iteration).
+    pub newton: usize,
+    /// Newton stalls accepted ([`Solved::Loose`]).
+    pub loose: usize,
+    /// By ADR.
+    pub adr: usize,
+    /// ADR trials that ran out before Newton ([`Fallbacks::adr_trial_steps_per_row`]).
+    pub adr_trials_run_out: usize,
+    /// Equilibria no solver found (errors).
+    pub failed: usize,
+}
+
+impl Tally {
+    /// Equilibria found by a fallback (Newton, a loose Newton stall or ADR where a chord
+    /// iteration was tried first, or ADR where Newton was).
+    pub fn fallbacks(&self) -> usize {
+        self.newton + self.loose + self.adr
+    }
+
+    /// Counts one outcome.
+    fn record(&mut self, solved: &Result<Solved, PdError>) {
+        match solved {
+            Ok(Solved::Chord(_)) => self.chord += 1,
+            Ok(Solved::Newton(_)) => self.newton += 1,
+            Ok(Solved::Loose(_)) => self.loose += 1,
+            Ok(Solved::Adr(_)) => self.adr += 1,
+            Err(_) => self.failed += 1,
+        }
+    }
+}
+
+impl AddAssign for Tally {
+    fn add_assign(&mut self, o: Tally) {
+        self.chord += o.chord;
+        self.newton += o.newton;
+        self.loose += o.loose;
+        self.adr += o.adr;
+        self.adr_trials_run_out += o.adr_trials_run_out;
+        self.failed += o.failed;
+    }
+}
+
+impl std::iter::Sum for Tally {
+    fn sum<I: Iterator<Item = Tally>>(iter: I) -> Tally {
+        iter.fold(Tally::default(), |mut a, b| {
+            a += b;
+            a
+        })
+    }
+}
+
 impl Solved {
     /// Iterations of the solver that succeeded.
     pub fn iterations(self) -> usize {
@@ -145,6 +204,8 @@ pub struct FrozenSolver {
     /// In the windows' order, the last fallback ran out of its ADR trial and Newton
     /// converged: the next one starts with Newton ([`Self::adr_then_newton`]).
     newton_won: bool,
+    /// Its equilibria so far, by solver.
+    tally: Tally,
 }
 
 impl FrozenSolver {
@@ -167,6 +228,7 @@ impl FrozenSolver {
             fallbacks: Fallbacks::default(),
             stalled: false,
             newton_won: false,
+            tally: Tally::default(),
         })
     }
 
@@ -224,12 +286,30 @@ impl FrozenSolver {
         }
     }
 
+    /// Its equilibria so far, by solver.
+    pub fn tally(&self) -> Tally {
+        self.tally
+    }
+
     /// Equilibrium at the model's load with the bond history frozen: the chord iteration
     /// to `params`' tolerances; where it fails Newton and ADR from the same state, in the
     /// order and with the settings of [`Self::fallbacks`] (ADR from Newton's last finite
     /// state, or from `start` if the state is not finite). Returns the solver that
-    /// succeeded.
+    /// succeeded, and counts it ([`Self::tally`]).
     pub fn equilibrate(
+        &mut self,
+        model: &mut PdModel,
+        params: &ImplicitParams,
+        start: &[[f64; 2]],
+        info: &mut SolveInfo,
+    ) -> Result<Solved, PdError> {
+        let solved = self.solve(model, params, start, info);
+        self.tally.record(&solved);
+        solved
+    }
+
+    /// [`Self::equilibrate`] without the count.
+    fn solve(
         &mut self,
         model: &mut PdModel,
         params: &ImplicitParams,
@@ -321,7 +401,10 @@ impl FrozenSolver {
         if trial > 0 {
             match equilibrate_adr(model, from, fb.adr_tol, trial, info) {
                 Ok(iters) => return Ok(Solved::Adr(iters)),
-                Err(_) => model.set_displacements(before)?,
+                Err(_) => {
+                    self.tally.adr_trials_run_out += 1;
+                    model.set_displacements(before)?;
+                }
             }
         }
         let newton = self.newton_alone(model, params, info);
@@ -365,29 +448,45 @@ fn all_finite(u: &[[f64; 2]]) -> bool {
     u.iter().all(|p| p[0].is_finite() && p[1].is_finite())
 }
 
-/// A window's [`FrozenSolver`], built on first use; a clone starts empty.
+/// A window's [`FrozenSolver`], built on first use; a clone starts empty. The tally of
+/// the solvers it dropped is kept until [`Self::take_tally`].
 #[derive(Default)]
-pub struct SolverSlot(Option<Box<FrozenSolver>>);
+pub struct SolverSlot {
+    solver: Option<Box<FrozenSolver>>,
+    dropped: Tally,
+}
 
 impl SolverSlot {
     /// The solvers of `model`, built if there are none or they belong to a model of
     /// another size.
     pub fn get(&mut self, model: &PdModel) -> Result<&mut FrozenSolver, PdError> {
-        if !self.0.as_ref().is_some_and(|s| s.fits(model)) {
-            self.0 = Some(Box::new(FrozenSolver::new(model)?));
+        if !self.solver.as_ref().is_some_and(|s| s.fits(model)) {
+            self.clear();
+            self.solver = Some(Box::new(FrozenSolver::new(model)?));
         }
-        Ok(self.0.as_mut().expect("just built"))
+        Ok(self.solver.as_mut().expect("just built"))
     }
 
     /// Drops the solvers (the model was replaced).
     pub fn clear(&mut self) {
-        self.0 = None;
+        if let Some(s) = self.solver.take() {
+            self.dropped += s.tally;
+        }
+    }
+
+    /// The equilibria of its solvers since the last call, by solver.
+    pub fn take_tally(&mut self) -> Tally {
+        let mut t = std::mem::take(&mut self.dropped);
+        if let Some(s) = self.solver.as_mut() {
+            t += std::mem::take(&mut s.tally);
+        }
+        t
     }
 }
 
 impl Clone for SolverSlot {
     fn clone(&self) -> Self {
-        SolverSlot(None)
+        SolverSlot::default()
     }
 }
 
@@ -396,7 +495,11 @@ impl fmt::Debug for SolverSlot {
         write!(
             f,
             "SolverSlot({})",
-            if self.0.is_some() { "built" } else { "empty" }
+            if self.solver.is_some() {
+                "built"
+            } else {
+                "empty"
+            }
         )
     }
 }

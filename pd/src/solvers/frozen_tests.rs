@@ -262,6 +262,43 @@ fn an_adr_trial_that_runs_out_hands_over_to_newton_which_then_comes_first() {
 }
 
 #[test]
+fn a_slot_tallies_the_equilibria_of_its_solvers_across_rebuilds() {
+    let params = tight();
+    let mut m = edge_plate(6.0);
+    let start = m.displacements().to_vec();
+    let mut slot = SolverSlot::default();
+    let mut info = SolveInfo::default();
+    by_chord(&mut slot, &mut m, &params, &start, &mut info);
+    by_chord(&mut slot, &mut m, &params, &start, &mut info);
+    // The solvers are dropped; their count stays with the slot.
+    slot.clear();
+    // A starved chord iteration: ADR's trial (one step per row) runs out, Newton finds it.
+    slot.get(&m).unwrap().fallbacks = Fallbacks {
+        chord_iters: 0,
+        adr_trial_steps_per_row: 1,
+        ..Fallbacks::default()
+    };
+    m.set_displacements(&start).unwrap();
+    let solved = slot
+        .get(&m)
+        .unwrap()
+        .equilibrate(&mut m, &params, &start, &mut info)
+        .unwrap();
+    assert!(matches!(solved, Solved::Newton(_)), "{solved:?}");
+    let t = slot.take_tally();
+    let expected = Tally {
+        chord: 2,
+        newton: 1,
+        adr_trials_run_out: 1,
+        ..Tally::default()
+    };
+    assert_eq!(t, expected);
+    assert_eq!(t.fallbacks(), 1);
+    // Taken: the next count starts from zero.
+    assert_eq!(slot.take_tally(), Tally::default());
+}
+
+#[test]
 fn a_non_finite_newton_state_restarts_adr_from_the_given_start() {
     let mut m = loaded_bar();
     let start = m.displacements().to_vec();

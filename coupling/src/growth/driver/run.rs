@@ -19,7 +19,7 @@ use crate::growth::observer::Observer;
 use crate::growth::overstrain::{self, Hotspot};
 use crate::growth::params::GrowthParams;
 use crate::growth::records::{
-    Failure, GrowthResult, IterationEvent, Scenario, SolveOutcome, StepResult,
+    fallback_note, Failure, GrowthResult, IterationEvent, Scenario, SolveOutcome, StepResult,
 };
 use crate::growth::summary::{overstrain_end, stray_end};
 use crate::growth::tips::{passed_margin, reached_boundary, track, TipEnd, TipState};
@@ -129,6 +129,9 @@ impl<'s, S: Scenario> Growth<'s, S> {
             return Err(e);
         }
         self.start = Some((sol.x_pd.clone(), load));
+        let window_solves = (self.problem.windows.iter_mut())
+            .map(|w| w.solver.take_tally())
+            .sum();
         let mut sol = sol;
         self.secants = std::mem::take(&mut sol.secants);
         self.last = Some(sol);
@@ -140,6 +143,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
             residual: info.residuals.last().copied().unwrap_or(f64::NAN),
             bonds_broken: info.bonds_broken.iter().sum(),
             pd_s: info.timings.pd_s,
+            window_solves,
             notes: info.notes,
         })
     }
@@ -215,6 +219,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
             };
             run.iterations += o.iterations;
             run.pd_s += o.pd_s;
+            run.window_solves += o.window_solves;
             run.noted = run.noted || !o.notes.is_empty();
             run.residual = o.residual;
             if o.bonds_broken > 0 && out.initiation_load.is_none() {
@@ -382,6 +387,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
                 } else {
                     None
                 },
+                window_solves: run.window_solves,
             };
             observer.step(&rec);
             observer.state(&rec, &self.problem, self.last.as_ref());
@@ -437,6 +443,7 @@ impl<'s, S: Scenario> Growth<'s, S> {
         out.notes.extend(turns);
         out.notes.extend(self.damage_beyond_tips());
         out.notes.extend(held_notes(&out.steps));
+        out.notes.extend(fallback_note(&out.steps));
         if noted_steps > 0 {
             out.notes.push(format!(
                 "the interface accelerator restarted or handed over to IQN-ILS in \
@@ -452,6 +459,7 @@ impl StepRun {
     pub fn after(mut self, first: &StepRun) -> StepRun {
         self.iterations += first.iterations;
         self.pd_s += first.pd_s;
+        self.window_solves += first.window_solves;
         self.relocations += first.relocations;
         self.noted |= first.noted;
         self

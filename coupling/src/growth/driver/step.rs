@@ -2,6 +2,8 @@
 //! ([`super::run`]), the back-off ([`super::backoff`]) and the crack-to-hole joins
 //! ([`super::join`]), and what a try needs to offer a checkpoint inside the step.
 
+use pdbem_pd::solvers::frozen::Tally;
+
 use crate::growth::checkpoint::{GrowthState, PdBemWithin, TryProgress};
 
 /// What one completed try at a load step did.
@@ -25,6 +27,8 @@ pub(super) struct StepRun {
     pub relocations: usize,
     /// The accelerator reported a restart or hand-over.
     pub noted: bool,
+    /// The windows' PD equilibria, by solver.
+    pub window_solves: Tally,
 }
 
 impl StepRun {
@@ -36,6 +40,7 @@ impl StepRun {
             pd_s: self.pd_s,
             relocations: self.relocations,
             noted: self.noted,
+            window_solves: self.window_solves,
         }
     }
 
@@ -47,6 +52,7 @@ impl StepRun {
             pd_s: p.pd_s,
             relocations: p.relocations,
             noted: p.noted,
+            window_solves: p.window_solves,
             ..StepRun::default()
         }
     }
