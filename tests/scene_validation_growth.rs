@@ -15,6 +15,11 @@ fn scene(mat: &str, cracks: &str, extra: &str) -> String {
 
 const PD_BEM: &str = "pd: (failure: FromGc), coupling: (side: 2, n: 20)";
 
+/// A growth scene with PD windows (2 m, 20 nodes per side) and the `growth` settings.
+fn growth_with_windows(growth: &str) -> String {
+    scene(MAT_GC, CRACKS, &format!("{PD_BEM}, growth: ({growth})"))
+}
+
 #[test]
 fn valid_growth_scenes_of_each_mode_load() {
     for mode in ["PdBem", "BemOnly", "FullPd"] {
@@ -48,11 +53,7 @@ fn move_distance_larger_than_the_window() {
 #[test]
 fn trigger_ratio_outside_zero_one() {
     for t in ["0", "1", "-0.5", "1.5"] {
-        let src = scene(
-            MAT_GC,
-            CRACKS,
-            &format!("{PD_BEM}, growth: (trigger_ratio: {t})"),
-        );
+        let src = growth_with_windows(&format!("trigger_ratio: {t}"));
         assert_invalid(
             &src,
             &format!("growth.trigger_ratio = {t}"),
@@ -65,11 +66,7 @@ fn trigger_ratio_outside_zero_one() {
 fn trigger_ratio_whose_band_covers_the_window() {
     // The growth driver's bound (pdbem_coupling::growth::GrowthParams): above 0.5.
     for t in ["0.3", "0.5"] {
-        let src = scene(
-            MAT_GC,
-            CRACKS,
-            &format!("{PD_BEM}, growth: (trigger_ratio: {t})"),
-        );
+        let src = growth_with_windows(&format!("trigger_ratio: {t}"));
         assert_invalid(
             &src,
             &format!("growth.trigger_ratio = {t}"),
@@ -97,52 +94,22 @@ fn trigger_distance_that_leaves_a_window_no_room_to_move() {
     // must stay within half a side less half a dx (0.95 m) of the centred tip, so r of at
     // least 0.7258. Measured on growth_tension_edge: at 0.72 (trigger 0.9615 m) the run
     // ended at its first window move ("the window would stay where it is").
-    for t in ["0.6", "0.72"] {
-        let src = scene(
-            MAT_GC,
-            CRACKS,
-            &format!("{PD_BEM}, growth: (trigger_ratio: {t})"),
-        );
+    // Or more nodes: (m + 1.5) / (r - 0.5) = 45.15 at r = 0.6, 20.52 at 0.72.
+    for (t, nodes) in [("0.6", 46), ("0.72", 21)] {
+        let src = growth_with_windows(&format!("trigger_ratio: {t}"));
+        let field = format!("growth.trigger_ratio = {t}");
         assert_invalid(
             &src,
-            &format!("growth.trigger_ratio = {t}"),
+            &field,
             "no window could move on. Use a trigger ratio of at least 0.7258",
         );
+        assert_invalid(&src, &field, &format!("or at least {nodes} nodes per side"));
     }
-    // Or more nodes: (m + 1.5) / (r - 0.5) = 45.15 at r = 0.6, 20.52 at 0.72.
-    let src = scene(
-        MAT_GC,
-        CRACKS,
-        &format!("{PD_BEM}, growth: (trigger_ratio: 0.6)"),
-    );
-    assert_invalid(
-        &src,
-        "growth.trigger_ratio = 0.6",
-        "or at least 46 nodes per side",
-    );
-    let src = scene(
-        MAT_GC,
-        CRACKS,
-        &format!("{PD_BEM}, growth: (trigger_ratio: 0.72)"),
-    );
-    assert_invalid(
-        &src,
-        "growth.trigger_ratio = 0.72",
-        "or at least 21 nodes per side",
-    );
-    let ok = scene(
-        MAT_GC,
-        CRACKS,
-        &format!("{PD_BEM}, growth: (trigger_ratio: 0.73)"),
-    );
+    let ok = growth_with_windows("trigger_ratio: 0.73");
     load(&ok).expect("0.73 leaves room");
     // BEM-only and full-PD growth move no window.
     for mode in ["BemOnly", "FullPd"] {
-        let src = scene(
-            MAT_GC,
-            CRACKS,
-            &format!("{PD_BEM}, growth: (mode: {mode}, trigger_ratio: 0.6, da: 0.5)"),
-        );
+        let src = growth_with_windows(&format!("mode: {mode}, trigger_ratio: 0.6, da: 0.5"));
         load(&src).unwrap_or_else(|e| panic!("{mode}: {e}"));
     }
 }
@@ -200,7 +167,7 @@ fn pd_modes_need_a_coupling_section() {
 /// exit 0 (`growth_tension_edge` with it: CMOD -1.6e58 m); it is refused, in the scene and
 /// when `--growth-mode pd-bem` switches a full-PD scene to it. Full PD keeps the law.
 #[test]
-fn pd_bem_growth_refuses_the_tanh_law() {
+fn growth_with_windows_refuses_the_tanh_law() {
     let tanh =
         "pd: (failure: Degradation(s_m: 0.01, s_c: 0.03, beta: 3)), coupling: (side: 2, n: 20)";
     assert_invalid(
@@ -312,7 +279,7 @@ fn snapshot_step_beyond_the_load_steps() {
 }
 
 #[test]
-fn traction_ordering_is_refused_with_pd_bem_growth_only() {
+fn traction_ordering_is_refused_with_growth_with_windows_only() {
     let ordered = "pd: (failure: FromGc), coupling: (side: 2, n: 20, ordering: TractionToPd)";
     assert_invalid(
         &scene(

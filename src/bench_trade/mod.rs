@@ -122,6 +122,16 @@ pub struct TradeRun {
     pub common_reach_m: Option<f64>,
     /// (F - F_ref) / F_ref of the failure load (both failed).
     pub failure_load_err: Option<f64>,
+    /// Load of the first BEM overstrain (`growth.overstrain`, where a run ends by
+    /// default: the bench goes on past it).
+    #[serde(default)]
+    pub overstrain_load: Option<f64>,
+    /// Path deviation from the finest run over the parts both tips reached below the
+    /// first overstrain load of the two (`[deviation, common reach, load]`, m, m, load
+    /// factor): the comparison of the part a run ending at its strain watch computes,
+    /// given also for runs that ended early past that load.
+    #[serde(default)]
+    pub before_overstrain: Option<[f64; 3]>,
     /// The run failed to run (first line), `None` when it ran.
     pub error: Option<String>,
     /// Tip paths, not written to `bench.json` (read back from the run folder by
@@ -277,6 +287,7 @@ pub fn run_variant(base: &Scene, v: &Variant, dir: &Path) -> TradeRun {
             run.failure = h.failure;
             run.failure_load = h.failure_load;
             run.end_load = h.steps.last().map(|s| s.load);
+            run.overstrain_load = h.overstrain.map(|o| o.load);
             run.tips = h.steps.last().map(|s| s.tips.clone()).unwrap_or_default();
             run.reach_m = h.paths.iter().map(path_reach).fold(0.0, f64::max);
             run.paths = h.paths;
@@ -313,12 +324,21 @@ pub fn run_deviation(a: &[TipPath], b: &[TipPath]) -> Option<(f64, f64)> {
 
 /// Fills every run's deviation and failure-load error against run `reference`; runs that
 /// did not run or ended early (`complete: false`) get none (their paths stop where their
-/// coupling gave up), nor does anything when the reference did not complete.
+/// coupling gave up), nor does anything when the reference did not complete. Where the run
+/// or the reference overstrained the BEM body, the deviation below the first such load
+/// ([`TradeRun::before_overstrain`]) is given for every run that ran to that load, ended
+/// early after it or not.
 pub fn compare_to(runs: &mut [TradeRun], reference: usize) {
     for run in runs.iter_mut() {
         run.deviation_m = None;
         run.common_reach_m = None;
         run.failure_load_err = None;
+        run.before_overstrain = None;
+    }
+    if let Some(r) = runs.get(reference).filter(|r| r.error.is_none()).cloned() {
+        for run in runs.iter_mut().filter(|x| x.error.is_none()) {
+            run.before_overstrain = deviation_below_overstrain(run, &r);
+        }
     }
     let done = |x: &TradeRun| x.error.is_none() && x.failure_reason.is_none();
     let Some(r) = runs.get(reference).filter(|r| done(r)).cloned() else {
@@ -334,6 +354,26 @@ pub fn compare_to(runs: &mut [TradeRun], reference: usize) {
             _ => None,
         };
     }
+}
+
+/// [`TradeRun::before_overstrain`] of `run` against `reference`: `None` when neither
+/// overstrained, or either did not run to that load.
+fn deviation_below_overstrain(run: &TradeRun, reference: &TradeRun) -> Option<[f64; 3]> {
+    let load = match (run.overstrain_load, reference.overstrain_load) {
+        (Some(a), Some(b)) => a.min(b),
+        (a, b) => a.or(b)?,
+    };
+    let reached = |x: &TradeRun| x.end_load.is_some_and(|e| e >= load);
+    if !(reached(run) && reached(reference)) {
+        return None;
+    }
+    let below = |p: &[TipPath]| -> Vec<TipPath> {
+        p.iter()
+            .map(|t| pdbem_coupling::growth::compare::reached_below(t, load))
+            .collect()
+    };
+    let (d, common) = run_deviation(&below(&run.paths), &below(&reference.paths))?;
+    Some([d, common, load])
 }
 
 /// Runs every variant of `case` (a file stem in `cases/` or a scene path) into
@@ -429,7 +469,9 @@ pub fn collect(out: &Path) -> Result<TradeReport> {
                 .join(crate::growth::output::HISTORY_FILE);
             let text = std::fs::read_to_string(&h)
                 .with_context(|| format!("bench trade --collect: cannot read {}", h.display()))?;
-            run.paths = serde_json::from_str::<GrowthHistory>(&text)?.paths;
+            let h = serde_json::from_str::<GrowthHistory>(&text)?;
+            run.overstrain_load = h.overstrain.map(|o| o.load);
+            run.paths = h.paths;
         }
         let reference = c.runs.iter().position(|r| r.label == c.reference);
         compare_to(&mut c.runs, reference.unwrap_or(usize::MAX));
@@ -439,95 +481,4 @@ pub fn collect(out: &Path) -> Result<TradeReport> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_full_bench_has_the_issue_grid_and_its_finest_run_is_n60() {
-        let v = variants(2.0, 20, 1e-4, false);
-        let labels: Vec<_> = v.iter().map(|x| x.label.as_str()).collect();
-        assert_eq!(
-            labels,
-            ["n20", "n30", "n40", "n60", "side3", "side4", "aitken", "psi1e-3", "psi1e-5"]
-        );
-        assert_eq!(v[finest(&v)].label, "n60");
-        // Side at fixed dx keeps dx = 0.1 m.
-        for x in v.iter().filter(|x| x.series == "side") {
-            assert!((x.dx() - 0.1).abs() < 1e-12, "{x:?}");
-        }
-        let q = variants(2.0, 20, 1e-4, true);
-        assert_eq!(q[finest(&q)].label, "n24");
-    }
-
-    fn path(pts: &[(f64, f64)]) -> TipPath {
-        TipPath {
-            name: "crack.end".into(),
-            points: pts
-                .iter()
-                .map(|&(x, y)| crate::growth::PathPoint {
-                    x,
-                    y,
-                    step: 0,
-                    load: 3.3,
-                })
-                .collect(),
-            ended: None,
-        }
-    }
-
-    fn run_with(label: &str, pts: &[(f64, f64)], failure_load: Option<f64>) -> TradeRun {
-        TradeRun {
-            label: label.into(),
-            failure: failure_load.is_some(),
-            failure_load,
-            paths: vec![path(pts)],
-            ..Default::default()
-        }
-    }
-
-    #[test]
-    fn runs_are_compared_with_the_reference_by_distance_and_failure_load() {
-        // Three straight 4 m paths down from (10, 8): the reference, one shifted 0.1 m and
-        // one tilted to end 0.3 m aside. Hausdorff: 0.1, 0.3 and between them 0.2.
-        let mut runs = vec![
-            run_with("fine", &[(10.0, 8.0), (10.0, 4.0)], Some(3.3)),
-            run_with(
-                "shift",
-                &[(10.0, 8.0), (10.1, 7.9), (10.1, 4.0)],
-                Some(3.35),
-            ),
-            run_with("tilt", &[(10.0, 8.0), (10.3, 4.0)], None),
-        ];
-        compare_to(&mut runs, 0);
-        assert!(runs[0].deviation_m.expect("ran") < 1e-12);
-        assert_eq!(runs[0].failure_load_err, Some(0.0));
-        let d1 = runs[1].deviation_m.expect("ran");
-        assert!((d1 - 0.1).abs() < 1e-3, "{d1}");
-        let e = runs[1].failure_load_err.expect("both failed");
-        assert!((e - 0.05 / 3.3).abs() < 1e-12, "{e}");
-        // No failure: no load error, but a path deviation.
-        assert_eq!(runs[2].failure_load_err, None);
-        let d2 = runs[2].deviation_m.expect("ran");
-        assert!(d2 > 0.29 && d2 < 0.301, "{d2}");
-        // Symmetric, and the triangle inequality through the reference.
-        let (a, b) = (&runs[1].paths, &runs[2].paths);
-        let (ab, ba) = (run_deviation(a, b), run_deviation(b, a));
-        assert_eq!(ab.map(|x| x.0), ba.map(|x| x.0));
-        assert!(ab.expect("same tip").0 <= d1 + d2 + 1e-12);
-        // A run that ended early is not compared (its path stops where its coupling gave
-        // up).
-        let mut early = runs.clone();
-        early[1].failure_reason = Some("load step 0 could not be solved".into());
-        compare_to(&mut early, 0);
-        assert_eq!(
-            (early[1].deviation_m, early[1].failure_load_err),
-            (None, None)
-        );
-        assert!(early[2].deviation_m.is_some());
-        // A reference that did not run leaves every comparison empty.
-        let mut failed = runs.clone();
-        failed[0].error = Some("x".into());
-        compare_to(&mut failed, 0);
-        assert!(failed.iter().all(|r| r.deviation_m.is_none()));
-    }
-}
+mod tests;

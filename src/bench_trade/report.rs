@@ -9,13 +9,13 @@ use std::path::Path;
 
 use anyhow::Result;
 
-use super::{TradeReport, TradeRun, MEASURE};
+use super::{CaseTrade, TradeReport, TradeRun, MEASURE};
 use crate::plot::ticks::human;
 use crate::plot::{Series, SeriesStyle, XyPlot};
 use crate::scene::PlotFormat;
 
 /// Column heads of the per-case table, in order.
-pub const COLUMNS: [&str; 14] = [
+pub const COLUMNS: [&str; 15] = [
     "run",
     "side (m)",
     "n",
@@ -30,6 +30,7 @@ pub const COLUMNS: [&str; 14] = [
     "load error",
     "reach (m)",
     "path deviation (m)",
+    "below the first overstrain (m)",
 ];
 
 fn opt(v: Option<f64>, sig: usize) -> String {
@@ -73,6 +74,15 @@ fn row(r: &TradeRun) -> String {
             (Some(d), Some(c)) => format!("{} over {} m", human(d, 3), human(c, 3)),
             _ => "-".into(),
         },
+        match r.before_overstrain {
+            Some([d, c, load]) => format!(
+                "{} over {} m (loads below {})",
+                human(d, 3),
+                human(c, 3),
+                human(load, 4)
+            ),
+            None => "-".into(),
+        },
     ];
     format!("| {} |", cells.join(" | "))
 }
@@ -89,7 +99,9 @@ pub fn markdown(r: &TradeReport) -> String {
         t,
         "{} threads. Path deviation: {MEASURE}. Load error: (F - F_ref) / F_ref of the \
          failure load. Both against the case's finest run. Reach: how far the tip got from \
-         its initial position.\n",
+         its initial position. The runs go on past the first BEM overstrain (where a run \
+         ends by default); the last column compares the paths below the first \
+         overstrain load of the run and the reference, for every run that got there.\n",
         r.threads
     );
     for c in &r.cases {
@@ -113,8 +125,9 @@ fn short(case: &str) -> &str {
 }
 
 /// One marker series per case: `value` of every run that has one except the reference.
-/// Runs of one case with the same value (the same path: the tolerance and relaxation runs
-/// at n = 20 often are) share one label, in order of wall time, at the fastest of them.
+/// Runs of one case with the same value within 1 % (the same path, or one a marker apart
+/// on the log axis: the tolerance and relaxation runs at n = 20 often are) share one
+/// label, in order of wall time, at the fastest of them.
 fn series_of(r: &TradeReport, value: impl Fn(&TradeRun) -> Option<f64>) -> XyPlot {
     let mut plot = XyPlot::error_vs_time("", "", Vec::new());
     for c in &r.cases {
@@ -128,7 +141,7 @@ fn series_of(r: &TradeReport, value: impl Fn(&TradeRun) -> Option<f64>) -> XyPlo
         let mut groups: Vec<((f64, f64), Vec<&str>)> = Vec::new();
         for &(t, v, label) in &pts {
             let same =
-                |g: &((f64, f64), Vec<&str>)| (g.0 .1 - v).abs() <= 1e-9 * v.abs().max(1e-12);
+                |g: &((f64, f64), Vec<&str>)| (g.0 .1 - v).abs() <= 1e-2 * v.abs().max(1e-12);
             match groups.iter_mut().find(|g| same(g)) {
                 Some(g) => g.1.push(label),
                 None => groups.push(((t, v), vec![label])),
@@ -145,9 +158,21 @@ fn series_of(r: &TradeReport, value: impl Fn(&TradeRun) -> Option<f64>) -> XyPlo
     plot
 }
 
-/// Path deviation (m) against wall time (s).
+/// Path deviation (m) against wall time (s): over the whole paths, or for a case none of
+/// whose runs has that (its reference ended early), below the first overstrain load
+/// ([`TradeRun::before_overstrain`], said in the legend).
 pub fn deviation_plot(r: &TradeReport) -> XyPlot {
-    let mut p = series_of(r, |x| x.deviation_m);
+    let whole = |c: &CaseTrade| c.runs.iter().any(|x| x.deviation_m.is_some());
+    let mut p = series_of(r, |x| x.deviation_m.or(x.before_overstrain.map(|b| b[0])));
+    for (c, s) in r.cases.iter().zip(p.series.iter_mut()) {
+        let load = c
+            .runs
+            .iter()
+            .find_map(|x| x.before_overstrain.map(|b| b[2]));
+        if let (false, Some(load)) = (whole(c), load) {
+            s.label = format!("{}, below load {}", s.label, human(load, 4));
+        }
+    }
     p.title = format!(
         "PD-BEM path deviation from the finest run ({})",
         reference_names(r)
