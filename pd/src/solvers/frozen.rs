@@ -138,8 +138,10 @@ pub struct Tally {
 }
 
 impl Tally {
-    /// Equilibria found by a fallback (Newton, a loose Newton stall or ADR where a chord
-    /// iteration was tried first, or ADR where Newton was).
+    /// Equilibria the chord iteration did not find: by Newton, a loose Newton stall or
+    /// ADR. These are fallbacks for a solver with a chord iteration (brittle bonds, as in
+    /// every growth window); without one (degrading bonds) Newton comes first and its
+    /// equilibria count here too.
     pub fn fallbacks(&self) -> usize {
         self.newton + self.loose + self.adr
     }
