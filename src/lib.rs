@@ -23,6 +23,7 @@ pub mod bench_trade;
 pub mod cases;
 pub mod cli;
 pub mod console;
+pub mod dynamic_notes;
 pub use pdbem_geometry as geometry;
 pub mod growth;
 pub mod load_displacement;

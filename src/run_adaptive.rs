@@ -21,6 +21,7 @@ use pdbem_pd::dynamics::DynamicRecord;
 use pdbem_pd::refine::{self, AdaptiveObserver, Body, Refinement, SplitEvent};
 use serde_json::json;
 
+use crate::dynamic_notes as notes;
 use crate::output::csv::{num, CsvTable};
 use crate::plot::{Series, SeriesStyle, XyPlot};
 use crate::run_dynamic::{energy_plot, log_result, params, problem, snapshot_plot, table};
@@ -142,8 +143,20 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     );
     summary
         .notes
-        .extend(crate::run_dynamic::energy_balance_note(&rec.records));
-    let angles = crate::run_dynamic::deflections(&problem, body.positions(), &phi);
+        .extend(notes::energy_balance_note(&rec.records));
+    let x = body.positions();
+    let held = notes::held_by_velocity(&p, x, problem.horizon());
+    let loose = notes::loose_pieces(&body.pieces(p.load), x, &problem, |i| held[i]);
+    let s0 = (0..body.len())
+        .find(|&k| body.level[k] == 0)
+        .and_then(|k| body.critical_stretch(k));
+    summary.notes.extend(notes::loose_pieces_notes(
+        &loose, &problem, s0, p.load, &last,
+    ));
+    let mut angles = crate::run_dynamic::deflections(&problem, x, &phi);
+    if loose.torn_most() {
+        angles.iter_mut().for_each(|a| *a = None);
+    }
     crate::run_dynamic::log_deflections(ctx, &angles);
     e.insert("deflection_deg".into(), json!(angles));
     e.insert("refinement".into(), json!(true));

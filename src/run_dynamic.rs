@@ -17,13 +17,13 @@
 //! exceed the work bound, before anything is built at full size.
 
 use anyhow::{bail, Context, Result};
-use pdbem_pd::dynamics::crack::{damaged_near_edges, EDGE_DAMAGE};
 use pdbem_pd::dynamics::{
     self, critical_time_step, DynamicRecord, DynamicsObserver, ExplicitParams, RegionVelocity,
 };
 use pdbem_pd::{PdModel, PdProblem, Region, Selection};
 use serde_json::json;
 
+use crate::dynamic_notes as notes;
 use crate::output::csv::{num, CsvTable};
 use crate::plot::{ScatterField, Series, SeriesStyle, XyPlot};
 use crate::runner::context::RunContext;
@@ -261,9 +261,20 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
         .insert("dynamics".into(), summary_entry(&info, &last));
     summary
         .notes
-        .extend(loaded_edge_damage_note(&problem, &x[..n], &phi[..n]));
-    summary.notes.extend(energy_balance_note(&rec.records));
-    let angles = deflections(&problem, &x[..n], &phi[..n]);
+        .extend(notes::loaded_edge_damage_note(&problem, &x[..n], &phi[..n]));
+    summary
+        .notes
+        .extend(notes::energy_balance_note(&rec.records));
+    let held = notes::held_by_velocity(&p, x, problem.horizon());
+    let loose = notes::loose_pieces(&model.pieces(), x, &problem, |i| held[i]);
+    let s0 = Some(model.law().damage_onset()).filter(|s| s.is_finite());
+    summary.notes.extend(notes::loose_pieces_notes(
+        &loose, &problem, s0, p.load, &last,
+    ));
+    let mut angles = deflections(&problem, &x[..n], &phi[..n]);
+    if loose.torn_most() {
+        angles.iter_mut().for_each(|a| *a = None);
+    }
     log_deflections(ctx, &angles);
     summary.extra.insert("deflection_deg".into(), json!(angles));
     summary.extra.insert("nodes".into(), json!(model.n_real()));
@@ -275,61 +286,6 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
         .insert("broken_bonds".into(), json!(model.broken_bonds()));
     summary.wall_time_s = t0.elapsed().as_secs_f64();
     Ok(summary)
-}
-
-/// The note of a run without `pd.surface_correction` whose traction-loaded edges took
-/// damage: the nodes past [`EDGE_DAMAGE`] within a horizon of a `Traction` condition's
-/// edge at the end. Without the correction the rows by a free edge are softer than the
-/// bulk, and under a load held on that edge they can break in bands that are no part of
-/// the crack (seed 004's coarse branching plate at 2 MPa: 46 such nodes, 4 with the
-/// correction, the corners of the loaded layers; `docs/seed004.md`).
-fn loaded_edge_damage_note(problem: &PdProblem, x: &[[f64; 2]], phi: &[f64]) -> Option<String> {
-    if problem.surface_correction {
-        return None;
-    }
-    let delta = problem.horizon();
-    let edges: Vec<&[[f64; 2]]> = problem
-        .boundary
-        .iter()
-        .filter_map(|bc| match bc {
-            pdbem_pd::BoundaryCondition::Traction { edge, .. } => Some(edge.as_slice()),
-            _ => None,
-        })
-        .collect();
-    let near = damaged_near_edges(x, phi, &edges, delta);
-    (near > 0).then(|| {
-        format!(
-            "{near} nodes past damage {EDGE_DAMAGE} lie within a horizon of the traction-loaded edges at the end; without pd.surface_correction the rows by a free edge are softer than the bulk and can break there in bands that are no part of the crack (seed 004's coarse branching plate at 2 MPa: 46 such nodes, 4 with the correction): look at the damage plot, or run with `surface_correction: true`"
-        )
-    })
-}
-
-/// Largest negative dissipation, as a fraction of the run's largest energy, that passes
-/// without a note: the integrator's energy error (1.3e-2 of the energy over 4000 steps at
-/// 0.5 dt_c in the free-vibration test, second order in dt) with a margin.
-pub const NEGATIVE_FRACTURE_LIMIT: f64 = 0.05;
-
-/// The note of a run whose energy balance's dissipation (the fracture energy of the
-/// records) fell below zero by more than [`NEGATIVE_FRACTURE_LIMIT`] of the largest energy
-/// of the run (work of the loads, kinetic or strain energy): fracture cannot create
-/// energy, so the balance did not close (a step too large for the run's stiffness, or
-/// strains beyond the small-strain model).
-pub(crate) fn energy_balance_note(records: &[DynamicRecord]) -> Option<String> {
-    let scale = records
-        .iter()
-        .map(|r| r.external_work.abs().max(r.kinetic).max(r.strain))
-        .fold(0.0f64, f64::max);
-    let worst = records
-        .iter()
-        .min_by(|a, b| a.fracture.total_cmp(&b.fracture))?;
-    (scale > 0.0 && worst.fracture < -NEGATIVE_FRACTURE_LIMIT * scale).then(|| {
-        format!(
-            "the energy balance does not close: its dissipation (the fracture energy) is {:.3e} J at {:.3e} s, negative by {:.1} % of the run's largest energy {scale:.3e} J; fracture cannot create energy, so the time step is too large for the run or its strains leave the small-strain model: take a smaller dt and check the loads",
-            worst.fracture,
-            worst.time,
-            -100.0 * worst.fracture / scale
-        )
-    })
 }
 
 /// The console lines of a finished run: when the crack branched and reached the boundary.
@@ -511,56 +467,4 @@ pub(crate) fn snapshot_plot(
             .trim_end_matches('.')
     );
     save_plot(&ctx.writer, &stem, &fig, &scene.outputs.formats, summary)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use pdbem_pd::cases::branching_plate;
-
-    #[test]
-    fn damage_by_a_loaded_edge_is_noted_without_the_surface_correction() {
-        // The 100 x 40 mm plate, horizon 3.015 mm, tractions on y = 0 and y = 40 mm.
-        let mut p = branching_plate(1e-3, 2e6).problem;
-        let x = [
-            [0.05, 0.001],
-            [0.05, 0.0385],
-            [0.05, 0.02],
-            [0.08, 0.0031],
-            [0.02, 0.039],
-        ];
-        // Past 0.4 within a horizon of an edge: the first two; the third is mid-plate, the
-        // fourth 3.1 mm from the bottom edge, the fifth at 0.4 exactly.
-        let phi = [0.5, 0.9, 1.0, 0.8, 0.4];
-        let note = loaded_edge_damage_note(&p, &x, &phi).expect("a note");
-        assert!(note.starts_with("2 nodes past damage 0.4"), "{note}");
-        assert!(loaded_edge_damage_note(&p, &x, &[0.0; 5]).is_none());
-        p.surface_correction = true;
-        assert!(loaded_edge_damage_note(&p, &x, &phi).is_none());
-    }
-
-    /// A dissipation below zero by more than 5 % of the largest energy is noted; the
-    /// integrator's small error and a positive fracture energy are not.
-    #[test]
-    fn a_negative_dissipation_is_noted() {
-        let rec = |time: f64, work: f64, kinetic: f64, strain: f64| DynamicRecord {
-            time,
-            external_work: work,
-            kinetic,
-            strain,
-            fracture: work - kinetic - strain,
-            ..Default::default()
-        };
-        let good = [rec(0.0, 0.0, 0.0, 0.0), rec(1e-6, 10.0, 6.0, 3.5)];
-        assert!(energy_balance_note(&good).is_none());
-        let round_off = [rec(0.0, 0.0, 0.0, 0.0), rec(1e-6, 10.0, 6.0, 4.3)];
-        assert!(energy_balance_note(&round_off).is_none());
-        let bad = [rec(0.0, 0.0, 0.0, 0.0), rec(2e-6, 10.0, 8.0, 3.0)];
-        let note = energy_balance_note(&bad).expect("a note");
-        assert!(
-            note.contains("-1.000e0 J at 2.000e-6 s, negative by 10.0 %"),
-            "{note}"
-        );
-        assert!(energy_balance_note(&[]).is_none());
-    }
 }

@@ -183,3 +183,33 @@ fn short_adaptive_run_refines_where_the_damage_is() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Case 1 with adaptive refinement at dx = 2 mm, surface-corrected, for 20 us with a
+/// fracture energy 100 times the seed's too small for its 1 MPa step load: the loaded
+/// layers split and tear off (400 particles, the whole load), and the summary notes it
+/// and leaves the deflection angles out, as the uniform grid's run does
+/// (`tests/pd_dynamics_scene.rs`).
+#[test]
+fn torn_loaded_layers_of_refined_particles_are_noted() {
+    let text = case_text("seed004_branching_case1_adaptive.ron")
+        .replace("dx: 0.001", "dx: 0.002")
+        .replace("g_c: 3)", "g_c: 0.03)")
+        .replace("failure: FromGc,", "failure: FromGc,\n        surface_correction: true,")
+        .replace(
+            "Explicit(end_time: 8e-5, dt: Some(1e-8), output_every: Some(5e-7), snapshots: [2e-5, 3.5e-5, 5e-5, 8e-5])",
+            "Explicit(end_time: 2e-5, dt: Some(1e-8), output_every: Some(1e-6))",
+        );
+    let scene = parse(&text).expect("valid");
+    let dir = std::env::temp_dir().join(format!("pdbem_adyn_torn_{}", std::process::id()));
+    let s = run_scene(&scene, &dir, false).unwrap_or_else(|e| panic!("{e:#}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    let torn: Vec<&String> = s
+        .notes
+        .iter()
+        .filter(|n| n.starts_with("the loads tore off the layers"))
+        .collect();
+    assert_eq!(torn.len(), 1, "{:?}", s.notes);
+    assert!(torn[0].contains("carry 100.0 %"), "{}", torn[0]);
+    let angles = s.extra["deflection_deg"].as_array().unwrap();
+    assert!(angles.iter().all(|a| a.is_null()), "{angles:?}");
+}

@@ -126,3 +126,102 @@ fn coarse_branching_plate_runs_from_a_scene() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The coarse branching plate (dx = 2 mm, surface-corrected, 20 us, dt 1e-8 s) with the
+/// fracture energy `g_c` (the seed's: 3 J/m^2): its summary's notes and deflection angles.
+fn run_with_g_c(g_c: &str, tag: &str) -> (Vec<String>, serde_json::Value) {
+    let scene = plate_with_g_c(g_c);
+    let dir = std::env::temp_dir().join(format!("pdbem_dyn_{tag}_{}", std::process::id()));
+    let s = run_scene(&scene, &dir, false).unwrap_or_else(|e| panic!("{e:#}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    (s.notes.clone(), s.extra["deflection_deg"].clone())
+}
+
+/// The scene of [`run_with_g_c`].
+fn plate_with_g_c(g_c: &str) -> Scene {
+    let text = case_text("seed004_branching_case1.ron")
+        .replace("dx: 0.001", "dx: 0.002")
+        .replace("g_c: 3)", &format!("g_c: {g_c})"))
+        .replace("failure: FromGc,", "failure: FromGc,\n        surface_correction: true,")
+        .replace(
+            "Explicit(end_time: 8e-5, dt: Some(1e-8), output_every: Some(5e-7), snapshots: [2e-5, 3.5e-5, 5e-5, 8e-5])",
+            "Explicit(end_time: 2e-5, dt: Some(1e-8), output_every: Some(1e-6))",
+        );
+    parse(&text).expect("valid")
+}
+
+/// `pdbem check` notes a step load past the bonds' critical stretch (|t| / E = 3.1e-5
+/// against s0 = 1.4e-5 at 1/100 of the seed's G_c), not one below it (0.69 s0 at 1/10,
+/// whose run cuts the plate in two, and the seed's G_c).
+#[test]
+fn check_notes_a_step_load_past_the_critical_stretch() {
+    let notes = |g_c: &str| {
+        pdbem::setup::footprint::of(&plate_with_g_c(g_c))
+            .expect("footprint")
+            .notes
+    };
+    let over = notes("0.03");
+    assert!(
+        over.iter().any(|n| n.starts_with(
+            "pd.solver: the step load's nominal strain |t| / E = 3.125e-5 is 2.182 times"
+        )),
+        "{over:?}"
+    );
+    for g_c in ["0.3", "3"] {
+        let n = notes(g_c);
+        assert!(
+            !n.iter().any(|n| n.contains("nominal strain")),
+            "{g_c}: {n:?}"
+        );
+    }
+}
+
+/// A fracture energy 100 times too small for the 1 MPa step load (s0 = 1.4e-5 against
+/// |t| / E = 3.1e-5): the loaded rows tear off in the first waves and fly away with the
+/// whole load, the crack never grows, and the run said nothing and gave a deflection of
+/// -81 degrees (the torn rows' damage in its annulus). Now the note names the torn layers
+/// and the strain against s0, and the deflection is left out. At 10 times too small the
+/// crack cuts the plate in two by 7 us: the pieces' note, the deflection kept. At the
+/// seed's G_c, over the same 20 us: no such note.
+#[test]
+fn loads_the_body_cannot_hold_are_noted() {
+    let (notes, angles) = run_with_g_c("0.03", "torn");
+    let torn: Vec<&String> = notes
+        .iter()
+        .filter(|n| n.starts_with("the loads tore off the layers"))
+        .collect();
+    assert_eq!(torn.len(), 1, "{notes:?}");
+    assert!(
+        torn[0].contains("2 piece(s) of 100 node(s)") && torn[0].contains("carry 100.0 %"),
+        "{}",
+        torn[0]
+    );
+    assert!(
+        torn[0].contains("is 2.182 times the bonds' critical stretch"),
+        "{}",
+        torn[0]
+    );
+    assert!(
+        angles.as_array().unwrap().iter().all(|a| a.is_null()),
+        "{angles}"
+    );
+
+    let (notes, angles) = run_with_g_c("0.3", "cut");
+    assert!(
+        notes.iter().any(|n| n.starts_with("the body is cut apart")),
+        "{notes:?}"
+    );
+    assert!(
+        !notes.iter().any(|n| n.starts_with("the loads tore off")),
+        "{notes:?}"
+    );
+    assert!(angles[0].is_f64(), "{angles}");
+
+    let (notes, _) = run_with_g_c("3", "seed");
+    assert!(
+        !notes
+            .iter()
+            .any(|n| n.contains("tore off") || n.contains("cut apart")),
+        "{notes:?}"
+    );
+}

@@ -57,6 +57,7 @@ pub mod material;
 pub mod measure;
 pub mod mixed;
 pub mod model;
+pub mod pieces;
 pub mod problem;
 pub mod reaction;
 pub mod refine;

@@ -150,6 +150,12 @@ pub fn of(scene: &Scene) -> Result<Footprint> {
                 None => PdModel::new(&problem).with_context(|| pd_ctx(scene))?,
             };
             add_pd(&mut f, &model);
+            if crate::run_dynamic::is_dynamic(scene) {
+                let load = scene.load.factors().last().copied().unwrap_or(1.0);
+                let s0 = model.law().damage_onset();
+                f.notes
+                    .extend(crate::dynamic_notes::overload_note(&problem, s0, load));
+            }
             f.pd_factor = tangent_factor(scene, &model)?;
             if let Some(r) = scene.pd.as_ref().and_then(|pd| pd.refinement.as_ref()) {
                 if cells.is_none() {
