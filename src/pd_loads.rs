@@ -157,9 +157,59 @@ pub fn initiation_notes(
     }
 }
 
+/// Damage past which a node counts in [`damaged_throughout_note`].
+pub const THROUGHOUT_DAMAGE: f64 = 0.4;
+/// Share of the body's volume past [`THROUGHOUT_DAMAGE`] from which an initiation ramp's
+/// damage is no crack from its tips but the body broken throughout. A crack across the
+/// body damages about two node rows of it (0.1 % of the nodes of `pd_edge_crack`'s 200 x
+/// 200 plate at its initiation); a load far past the bonds' strength, 99.7 % (its 50 x 50
+/// plate at G_c = 1e-6 J/m^2).
+pub const THROUGHOUT_SHARE: f64 = 0.25;
+
+/// The note of an initiation ramp that broke the body throughout: more than
+/// [`THROUGHOUT_SHARE`] of its volume (per node, `volume`) past [`THROUGHOUT_DAMAGE`] at the
+/// end (`phi`). The kink angles then measure scattered damage and are left out (the caller
+/// drops them when this returns a note).
+pub fn damaged_throughout_note(phi: &[f64], volume: impl Fn(usize) -> f64) -> Option<String> {
+    let (mut all, mut damaged) = (0.0, 0.0);
+    for (k, &d) in phi.iter().enumerate() {
+        let v = volume(k);
+        all += v;
+        if d > THROUGHOUT_DAMAGE {
+            damaged += v;
+        }
+    }
+    let share = damaged / all;
+    (share > THROUGHOUT_SHARE).then(|| {
+        format!(
+            "{:.1} % of the body's volume is past damage {THROUGHOUT_DAMAGE} at the end: the bonds broke throughout the body, not along a crack from its tips, so the initiation load is that of the body's breaking everywhere and the kink angles are left out; the loads far exceed the bonds' strength: start the ramp lower (load.initial), and check material.fracture.g_c or the failure law and the loads' units (Pa)",
+            100.0 * share
+        )
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Two rows of four damaged (a crack's band) in a body of eight rows: no note; six of
+    /// eight: 75 % noted; weighted by volume, two damaged quarter-size children of a
+    /// refined cell count as half a node.
+    #[test]
+    fn damage_throughout_the_body_is_noted() {
+        let band: Vec<f64> = (0..32).map(|k| if k < 8 { 0.5 } else { 0.1 }).collect();
+        assert!(damaged_throughout_note(&band, |_| 1.0).is_none());
+        let most: Vec<f64> = (0..32).map(|k| if k < 24 { 0.9 } else { 0.0 }).collect();
+        let note = damaged_throughout_note(&most, |_| 1.0).expect("a note");
+        assert!(note.starts_with("75.0 % of the body's volume"), "{note}");
+        // 3 coarse nodes (one damaged) and 8 children of a quarter (all damaged): 3 of 5.
+        let phi = [0.9, 0.0, 0.0, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5];
+        let note =
+            damaged_throughout_note(&phi, |k| if k < 3 { 1.0 } else { 0.25 }).expect("a note");
+        assert!(note.starts_with("60.0 %"), "{note}");
+        assert!(damaged_throughout_note(&phi, |_| 1.0).is_some());
+        assert!(damaged_throughout_note(&[0.41, 0.0, 0.0, 0.0], |_| 1.0).is_none());
+    }
 
     /// A ramp to the final load (no initiation): a first break in the first load step
     /// makes the first-break load a bound, noted; a later first break is a result.

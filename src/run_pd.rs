@@ -28,8 +28,8 @@
 
 use crate::load_displacement::LoadDisplacement;
 use crate::pd_loads::{
-    first_load_note, initiation_notes, initiation_ramp, load_unit, report_initiation, round12,
-    scene_tips, traction_scale,
+    damaged_throughout_note, first_load_note, initiation_notes, initiation_ramp, load_unit,
+    report_initiation, round12, scene_tips, traction_scale,
 };
 use crate::runner::context::RunContext;
 use crate::runner::summary::RunSummary;
@@ -225,10 +225,17 @@ pub fn solve_observed(
             None => ramp_to_initiation(&mut model, &tips, &ramp)
                 .with_context(|| format!("{}: load ramp", file.display()))?,
         };
-        let kinks: Vec<Option<f64>> = tips
+        let mut kinks: Vec<Option<f64>> = tips
             .iter()
             .map(|t| kink_angle(&model, *t, delta, 4.0 * delta))
             .collect();
+        let n = model.n_real();
+        let throughout =
+            damaged_throughout_note(&model.damage()[..n], |k| model.grid().node_volume(k));
+        if throughout.is_some() {
+            kinks.iter_mut().for_each(|k| *k = None);
+        }
+        summary.notes.extend(throughout);
         report_initiation(
             scene,
             init.first_break_load,

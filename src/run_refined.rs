@@ -21,7 +21,8 @@ use pdbem_pd::Selection;
 use serde_json::json;
 
 use crate::pd_loads::{
-    initiation_notes, initiation_ramp, load_unit, report_initiation, scene_tips,
+    damaged_throughout_note, initiation_notes, initiation_ramp, load_unit, report_initiation,
+    scene_tips,
 };
 use crate::runner::context::RunContext;
 use crate::runner::summary::RunSummary;
@@ -139,10 +140,17 @@ fn report_ramp(
 ) {
     let rec = &out.record;
     let b = &out.body;
-    let kinks: Vec<Option<f64>> = tips
+    let mut kinks: Vec<Option<f64>> = tips
         .iter()
         .map(|t| b.kink_angle(*t, delta, 4.0 * delta))
         .collect();
+    let real: Vec<usize> = (0..b.len()).filter(|&k| !b.layer[k]).collect();
+    let phi: Vec<f64> = real.iter().map(|&k| b.damage_of(k)).collect();
+    let throughout = damaged_throughout_note(&phi, |i| b.dh.volume[real[i]]);
+    if throughout.is_some() {
+        kinks.iter_mut().for_each(|k| *k = None);
+    }
+    summary.notes.extend(throughout);
     if let Some(why) = &rec.plain_cg {
         summary.notes.push(format!(
             "the refined ramp solved by plain conjugate gradients, same results but slower: {why}; raise --max-memory to precondition"
