@@ -82,6 +82,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
         "{}: explicit dynamics with adaptive refinement (check every {} steps)",
         scene.name, r.check_every
     ));
+    let overload = crate::run_pd::early_notes(scene, ctx)?;
     let mut rec = Recorder::default();
     let (body, info) = refine::run_dynamic(
         &problem,
@@ -104,6 +105,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     let mut summary = RunSummary {
         scene: scene.name.clone(),
         mode: "pd".into(),
+        notes: overload,
         ..Default::default()
     };
     ctx.writer

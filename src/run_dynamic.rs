@@ -226,6 +226,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
         model.n_real(),
         model.n_bonds() / 2
     ));
+    let overload = crate::run_pd::early_notes(scene, ctx)?;
     let mut rec = Recorder::default();
     let info = dynamics::run(&mut model, &p, &problem.cracks, &mut rec)
         .map_err(|e| anyhow::anyhow!("{}: pd.solver: {e}", file.display()))?;
@@ -233,6 +234,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     let mut summary = RunSummary {
         scene: scene.name.clone(),
         mode: "pd".into(),
+        notes: overload,
         ..Default::default()
     };
     ctx.writer

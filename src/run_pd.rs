@@ -76,6 +76,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     }
     let t0 = Instant::now();
     ctx.log(&format!("{}: PD solve", scene.name));
+    let overload = early_notes(scene, ctx)?;
     let bar = ramp_bar(ctx);
     let last = scene.load.factors().last().copied().unwrap_or(1.0);
     let mut observe = |e: AdaptEvent| match e {
@@ -90,6 +91,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     let solved = solve_observed(scene, &mut observe);
     bar.finish_and_clear();
     let (mut summary, model, ld) = solved?;
+    summary.notes.splice(0..0, overload);
     ctx.log(&format!(
         "{}: {} real nodes, {} bonds, {} broken",
         scene.name,
@@ -103,6 +105,17 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     crate::load_displacement::write(scene, ctx, &ld, &mut summary)?;
     summary.wall_time_s = t0.elapsed().as_secs_f64();
     Ok(summary)
+}
+
+/// The notes a stand-alone PD run logs before it starts
+/// ([`crate::setup::footprint::overload_notes`]), for its summary.
+pub(crate) fn early_notes(scene: &Scene, ctx: &RunContext) -> Result<Vec<String>> {
+    let problem = crate::setup::pd::problem_from_scene(scene)?;
+    let notes = crate::setup::footprint::overload_notes(scene, &problem);
+    for n in &notes {
+        ctx.log(&format!("  note: {n}"));
+    }
+    Ok(notes)
 }
 
 /// Solves `scene` with peridynamics over the whole body without writing anything: the

@@ -73,13 +73,14 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     let (problem, _) = labelled_problem_from_scene(scene)?;
     let pd = scene.pd.as_ref().context("no pd section")?;
     let r = pd.refinement.as_ref().context("no pd.refinement")?;
+    ctx.log(&format!("{}: PD solve with refinement", scene.name));
     let mut summary = RunSummary {
         scene: scene.name.clone(),
         mode: "pd".into(),
+        notes: crate::run_pd::early_notes(scene, ctx)?,
         ..Default::default()
     };
     let breaking = matches!(pd.failure, Failure::CriticalStretch(_) | Failure::FromGc);
-    ctx.log(&format!("{}: PD solve with refinement", scene.name));
     let settings = settings(r, &problem.cracks);
     let body = if breaking {
         let tips = scene_tips(scene);

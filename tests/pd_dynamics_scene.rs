@@ -186,6 +186,11 @@ fn check_notes_a_step_load_past_the_critical_stretch() {
 #[test]
 fn loads_the_body_cannot_hold_are_noted() {
     let (notes, angles) = run_with_g_c("0.03", "torn");
+    // The check's note comes first, as the run logged it before it started.
+    assert!(
+        notes[0].starts_with("pd.solver: the step load's nominal strain |t| / E = 3.125e-5"),
+        "{notes:?}"
+    );
     let torn: Vec<&String> = notes
         .iter()
         .filter(|n| n.starts_with("the loads tore off the layers"))

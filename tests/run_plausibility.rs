@@ -415,6 +415,12 @@ fn an_initiation_ramp_that_breaks_the_body_throughout_is_noted() {
         s
     };
     let shattered = run("1e-6", "tiny");
+    // The check's note on the final load, logged before the run started, comes first.
+    assert!(
+        shattered.notes[0].starts_with("boundary.0.y: the final load's nominal strain"),
+        "{:?}",
+        shattered.notes
+    );
     assert!(
         has_note(
             &shattered,
@@ -458,4 +464,56 @@ fn an_initiation_ramp_that_breaks_the_body_throughout_is_noted() {
         s.notes
     );
     assert!(s.extra["kink_deg"].is_null());
+}
+
+/// `pdbem check` notes a quasi-static PD ramp whose final load's nominal strain is at
+/// least 10 times the bonds' damage onset: `pd_three_point_bend` with s_m = 1e-5 (1617
+/// times; its run had not ended after 5 minutes, the shipped one takes 81 s) and
+/// `pd_edge_crack` with G_c = 1e-6 J/m^2 (5312 times at nx = 50); the shipped cases stay
+/// below 1.8 and get no such note.
+#[test]
+fn check_notes_a_final_load_far_past_the_damage_onset() {
+    let notes = |file: &str, from: &str, to: &str| {
+        let text = std::fs::read_to_string(
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("cases")
+                .join(file),
+        )
+        .unwrap();
+        assert!(text.contains(from), "{file}: {from}");
+        let scene =
+            Scene::from_ron_str(&text.replace(from, to), std::path::Path::new(file)).unwrap();
+        pdbem::setup::footprint::of(&scene)
+            .expect("footprint")
+            .notes
+    };
+    let bend = notes(
+        "pd_three_point_bend.ron",
+        "s_m: 0.016, s_c: 0.02",
+        "s_m: 0.00001, s_c: 0.00002",
+    );
+    assert!(
+        bend.iter().any(|n| n
+            .starts_with("boundary.2.y: the final load's nominal strain 1.617e-2")
+            && n.contains("is 1617 times the bonds' damage onset 1.000e-5")),
+        "{bend:?}"
+    );
+    let edge = notes("pd_edge_crack.ron", "nx: 200", "nx: 50");
+    assert!(
+        !edge.iter().any(|n| n.contains("nominal strain")),
+        "{edge:?}"
+    );
+    let edge = notes("pd_edge_crack.ron", "g_c: 110", "g_c: 1e-6");
+    assert!(
+        edge.iter()
+            .any(|n| n.contains("times the bonds' damage onset")),
+        "{edge:?}"
+    );
+    for file in ["pd_three_point_bend.ron", "pd_notched_bar_adaptive.ron"] {
+        let n = notes(file, "(", "(");
+        assert!(
+            !n.iter().any(|n| n.contains("nominal strain")),
+            "{file}: {n:?}"
+        );
+    }
 }

@@ -197,3 +197,47 @@ fn force_is_minus_energy_gradient() {
         "force vs -dPi/du: {err:e} (max force {fmax:e})"
     );
 }
+
+/// `PdProblem::bond_law` (the law before any model is built, for `pdbem check` and the
+/// run's first lines) equals the built model's, bit for bit: PMB and state-based with a
+/// fracture energy, a critical stretch, the tanh law and elastic bonds, plane stress and
+/// strain.
+#[test]
+fn the_problems_bond_law_is_the_models() {
+    use pdbem_pd::problem::{Failure, PdMaterial, Plane};
+    let failures = [
+        Failure::None,
+        Failure::CriticalStretch { s0: 1e-3 },
+        Failure::FractureEnergy { g_c: 3.0 },
+        Failure::Degradation {
+            s_m: 1e-3,
+            s_c: 2e-3,
+            beta: 3.0,
+        },
+    ];
+    for material in [
+        PdMaterial::Pmb,
+        PdMaterial::StateBased { poisson_ratio: 0.2 },
+    ] {
+        for plane in [Plane::Stress, Plane::Strain] {
+            for failure in failures {
+                let p = pdbem_pd::PdProblem {
+                    region: pdbem_pd::Region::rectangle([0.0, 0.0], [0.05, 0.02]),
+                    dx: 0.002,
+                    thickness: 1e-3,
+                    youngs_modulus: 32e9,
+                    plane,
+                    material,
+                    failure,
+                    ..Default::default()
+                };
+                let model = pdbem_pd::PdModel::new(&p).expect("model");
+                assert_eq!(
+                    p.bond_law(),
+                    model.law(),
+                    "{material:?} {plane:?} {failure:?}"
+                );
+            }
+        }
+    }
+}

@@ -76,6 +76,16 @@ pub fn check(c: &mut Checker, scene: &Scene) {
     }
 }
 
+/// The largest nominal strain of the scene's loads at load factor 1 and the field that
+/// sets it (module docs); `None` when nothing is loaded.
+pub fn nominal_strain(scene: &Scene) -> Option<(f64, String)> {
+    let e = scene.material.e;
+    if !(e.is_finite() && e > 0.0) {
+        return None;
+    }
+    largest(scene, e).map(|n| (n.strain, n.path))
+}
+
 /// The load with the largest nominal strain at factor 1 (the first of equals); `None`
 /// when nothing is loaded (an impact alone, or every value zero).
 fn largest(scene: &Scene, e: f64) -> Option<Nominal> {
