@@ -73,7 +73,7 @@ pub(crate) fn energy_balance_note(records: &[DynamicRecord]) -> Option<String> {
 }
 
 /// Share of the loads' total magnitude that a piece must carry unbalanced to count as
-/// loose in [`loose_pieces_note`] (round-off of a balanced body is about 1e-15 of it).
+/// loose in [`loose_pieces`] (round-off of a balanced body is about 1e-15 of it).
 pub const LOOSE_LOAD_SHARE: f64 = 1e-6;
 
 /// What [`loose_pieces`] found.
@@ -88,7 +88,7 @@ pub(crate) struct Loose {
     pub pieces: usize,
 }
 
-/// Share of the loads that torn layers must carry away for [`loose_pieces_note`] to
+/// Share of the loads that torn layers must carry away for [`loose_pieces_notes`] to
 /// take the run's crack measures as those of a body the loads let go.
 pub const TORN_MOST: f64 = 0.5;
 
@@ -182,7 +182,7 @@ pub(crate) fn loose_pieces_notes(
             )
         } else {
             format!(
-                "parts of the loaded layers tore off: at the end {torn}; the loads on them no longer reach the body. Loaded edges break so where the waves of the step load meet at corners or where a crack reaches them, and on a grid too coarse for the load (seed 004's 2 MPa plate at dx = 2 mm); {cause}: look at the damage plot"
+                "parts of the loaded layers tore off: at the end {torn}; the loads on them no longer reach the body. Loaded edges break so where the waves of the step load meet at corners or where a crack reaches them, and on a grid too coarse for the load (seed 004's 2 MPa plate on its coarse grid, dx = 1 mm); {cause}: look at the damage plot"
             )
         });
     }

@@ -233,7 +233,7 @@ pub const RAMP_OVERLOAD: f64 = 10.0;
 /// [`RAMP_OVERLOAD`] times the bonds' damage onset `onset` (s0, or s_m of the tanh law):
 /// the body then breaks or softens throughout long before that load, and ADR, which a
 /// softened body's solves fall back on, crawls there (`pd_three_point_bend` with s_m =
-/// 1e-5: 1670 times, not ended after 5 minutes against 81 s).
+/// 1e-5: 1617 times, not ended after 5 minutes against 81 s).
 fn ramp_overload_note(scene: &Scene, onset: f64) -> Option<String> {
     let (strain, path) = crate::scene::validate::strain::nominal_strain(scene)?;
     let last = scene
