@@ -74,7 +74,7 @@ pub(crate) fn energy_balance_note(records: &[DynamicRecord]) -> Option<String> {
 
 /// Share of the loads' total magnitude that a piece must carry unbalanced to count as
 /// loose in [`loose_pieces`] (round-off of a balanced body is about 1e-15 of it).
-pub const LOOSE_LOAD_SHARE: f64 = 1e-6;
+pub(crate) const LOOSE_LOAD_SHARE: f64 = 1e-6;
 
 /// What [`loose_pieces`] found.
 #[derive(Debug, Default, PartialEq)]
@@ -90,7 +90,7 @@ pub(crate) struct Loose {
 
 /// Share of the loads that torn layers must carry away for [`loose_pieces_notes`] to
 /// take the run's crack measures as those of a body the loads let go.
-pub const TORN_MOST: f64 = 0.5;
+pub(crate) const TORN_MOST: f64 = 0.5;
 
 impl Loose {
     /// Whether torn layers carry more than [`TORN_MOST`] of the loads away.

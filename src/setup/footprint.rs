@@ -210,7 +210,7 @@ pub fn of(scene: &Scene) -> Result<Footprint> {
 /// ([`crate::dynamic_notes::overload_note`]), a quasi-static ramp's final load far past
 /// the damage onset ([`ramp_overload_note`]). `pdbem check` prints it; the runs log it
 /// before they start and keep it in `summary.json`.
-pub fn overload_notes(scene: &Scene, problem: &PdProblem) -> Vec<String> {
+pub(crate) fn overload_notes(scene: &Scene, problem: &PdProblem) -> Vec<String> {
     let onset = problem.bond_law().damage_onset();
     let note = if crate::run_dynamic::is_dynamic(scene) {
         let load = scene.load.factors().last().copied().unwrap_or(1.0);
@@ -226,7 +226,7 @@ pub fn overload_notes(scene: &Scene, problem: &PdProblem) -> Vec<String> {
 /// softens every bond along the load many times over. The shipped quasi-static PD cases
 /// stay at 1.78 or below (`pd_notched_bar_adaptive`; `pd_three_point_bend` 1.01, the
 /// crack-initiation plates 0.3-0.5).
-pub const RAMP_OVERLOAD: f64 = 10.0;
+pub(crate) const RAMP_OVERLOAD: f64 = 10.0;
 
 /// `pdbem check`'s note on a stand-alone quasi-static PD scene with breaking or softening
 /// bonds whose final load's nominal strain (`crate::scene::validate::strain`) is at least
