@@ -6,6 +6,9 @@
 use pdbem_pd::measure::{crack_tips, RampParams, Tip};
 use serde_json::{json, Map, Value};
 
+use pdbem_pd::PdProblem;
+
+use crate::runner::context::RunContext;
 use crate::scene::shapes::SceneGeometry;
 use crate::scene::{Component, Scene};
 
@@ -186,6 +189,67 @@ pub fn damaged_throughout_note(phi: &[f64], volume: impl Fn(usize) -> f64) -> Op
             100.0 * share
         )
     })
+}
+
+/// The note of a stand-alone PD scene whose loads pass the bonds' strength: a step load
+/// of explicit dynamics past the critical stretch
+/// ([`crate::dynamic_notes::overload_note`]), a quasi-static ramp's final load far past
+/// the damage onset ([`ramp_overload_note`]). `pdbem check` prints it; the runs log it
+/// before they start and keep it in `summary.json`.
+pub(crate) fn overload_notes(scene: &Scene, problem: &PdProblem, dynamic: bool) -> Vec<String> {
+    let onset = problem.bond_law().damage_onset();
+    let note = if dynamic {
+        let load = scene.load.factors().last().copied().unwrap_or(1.0);
+        crate::dynamic_notes::overload_note(problem, onset, load)
+    } else {
+        ramp_overload_note(scene, onset)
+    };
+    note.into_iter().collect()
+}
+
+/// Ratio of the final load's nominal strain to the bonds' damage onset from which
+/// [`ramp_overload_note`] speaks: a uniform field that far past the onset breaks or
+/// softens every bond along the load many times over. The shipped quasi-static PD cases
+/// stay at 1.78 or below (`pd_notched_bar_adaptive`; `pd_three_point_bend` 1.01, the
+/// crack-initiation plates 0.3-0.5).
+pub(crate) const RAMP_OVERLOAD: f64 = 10.0;
+
+/// `pdbem check`'s note on a stand-alone quasi-static PD scene with breaking or softening
+/// bonds whose final load's nominal strain (`crate::scene::validate::strain`) is at least
+/// [`RAMP_OVERLOAD`] times the bonds' damage onset `onset` (s0, or s_m of the tanh law):
+/// the body then breaks or softens throughout long before that load, and ADR, which a
+/// softened body's solves fall back on, crawls there (`pd_three_point_bend` with s_m =
+/// 1e-5: 1617 times, not ended after 5 minutes against 81 s).
+fn ramp_overload_note(scene: &Scene, onset: f64) -> Option<String> {
+    let (strain, path) = crate::scene::validate::strain::nominal_strain(scene)?;
+    let last = scene
+        .load
+        .factors()
+        .into_iter()
+        .map(f64::abs)
+        .fold(0.0, f64::max);
+    let final_strain = strain * last;
+    let ratio = final_strain / onset;
+    (onset.is_finite() && onset > 0.0 && ratio >= RAMP_OVERLOAD).then(|| {
+        format!(
+            "{path}: the final load's nominal strain {final_strain:.3e} (|load| / E, or a displacement's spread over the body's size, at load factor {last}) is {ratio:.0} times the bonds' damage onset {onset:.3e}: the body breaks or softens throughout long before that load, and the solves of a softened body crawl (ADR); lower the final load (load.step, load.count) or check the failure law (material.fracture.g_c, s_m, s_c) and the units (Pa, m)"
+        )
+    })
+}
+
+/// The notes a stand-alone PD run logs before it starts ([`overload_notes`] of its
+/// `problem`), for its summary.
+pub(crate) fn early_notes(
+    scene: &Scene,
+    problem: &PdProblem,
+    dynamic: bool,
+    ctx: &RunContext,
+) -> Vec<String> {
+    let notes = overload_notes(scene, problem, dynamic);
+    for n in &notes {
+        ctx.log(&format!("  note: {n}"));
+    }
+    notes
 }
 
 #[cfg(test)]

@@ -82,7 +82,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
         "{}: explicit dynamics with adaptive refinement (check every {} steps)",
         scene.name, r.check_every
     ));
-    let overload = crate::run_pd::early_notes(scene, ctx)?;
+    let overload = crate::pd_loads::early_notes(scene, &problem, true, ctx);
     let mut rec = Recorder::default();
     let (body, info) = refine::run_dynamic(
         &problem,

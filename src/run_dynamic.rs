@@ -226,7 +226,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
         model.n_real(),
         model.n_bonds() / 2
     ));
-    let overload = crate::run_pd::early_notes(scene, ctx)?;
+    let overload = crate::pd_loads::early_notes(scene, &problem, true, ctx);
     let mut rec = Recorder::default();
     let info = dynamics::run(&mut model, &p, &problem.cracks, &mut rec)
         .map_err(|e| anyhow::anyhow!("{}: pd.solver: {e}", file.display()))?;

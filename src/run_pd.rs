@@ -76,7 +76,8 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     }
     let t0 = Instant::now();
     ctx.log(&format!("{}: PD solve", scene.name));
-    let overload = early_notes(scene, ctx)?;
+    let problem = crate::setup::pd::problem_from_scene(scene)?;
+    let overload = crate::pd_loads::early_notes(scene, &problem, false, ctx);
     let bar = ramp_bar(ctx);
     let last = scene.load.factors().last().copied().unwrap_or(1.0);
     let mut observe = |e: AdaptEvent| match e {
@@ -105,17 +106,6 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     crate::load_displacement::write(scene, ctx, &ld, &mut summary)?;
     summary.wall_time_s = t0.elapsed().as_secs_f64();
     Ok(summary)
-}
-
-/// The notes a stand-alone PD run logs before it starts
-/// ([`crate::setup::footprint::overload_notes`]), for its summary.
-pub(crate) fn early_notes(scene: &Scene, ctx: &RunContext) -> Result<Vec<String>> {
-    let problem = crate::setup::pd::problem_from_scene(scene)?;
-    let notes = crate::setup::footprint::overload_notes(scene, &problem);
-    for n in &notes {
-        ctx.log(&format!("  note: {n}"));
-    }
-    Ok(notes)
 }
 
 /// Solves `scene` with peridynamics over the whole body without writing anything: the

@@ -77,7 +77,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     let mut summary = RunSummary {
         scene: scene.name.clone(),
         mode: "pd".into(),
-        notes: crate::run_pd::early_notes(scene, ctx)?,
+        notes: crate::pd_loads::early_notes(scene, &problem, false, ctx),
         ..Default::default()
     };
     let breaking = matches!(pd.failure, Failure::CriticalStretch(_) | Failure::FromGc);

@@ -58,6 +58,30 @@ pub struct PdModel {
     pub(crate) osb: Option<StateBased>,
 }
 
+/// The bond law before any model is built (for `pdbem check` and a run's first lines).
+impl PdProblem {
+    /// The bond law the problem's model resolves ([`PdModel::law`]) without building it:
+    /// the state-based fracture energy through seed 004 Eq. 11, every other law through
+    /// [`BondLaw::from_failure`], at the (coarse) horizon.
+    pub fn bond_law(&self) -> BondLaw {
+        match (self.material, self.failure) {
+            (PdMaterial::StateBased { poisson_ratio }, Failure::FractureEnergy { g_c }) => {
+                let (kappa, mu) =
+                    state_based::moduli(self.plane, self.youngs_modulus, poisson_ratio);
+                BondLaw::Brittle {
+                    s0: state_based::critical_stretch(kappa, mu, g_c, self.horizon()),
+                }
+            }
+            _ => BondLaw::from_failure(
+                self.failure,
+                self.plane,
+                self.youngs_modulus,
+                self.horizon(),
+            ),
+        }
+    }
+}
+
 impl PdModel {
     /// Validate the problem and build the model (load factor 0, zero displacement).
     pub fn new(p: &PdProblem) -> Result<Self, PdError> {

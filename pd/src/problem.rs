@@ -384,28 +384,6 @@ impl PdProblem {
         self.horizon_factor * self.dx
     }
 
-    /// The bond law the problem's model resolves ([`crate::PdModel::law`]) without
-    /// building it: the state-based fracture energy through seed 004 Eq. 11, every other
-    /// law through [`crate::material::BondLaw::from_failure`], at the (coarse) horizon.
-    pub fn bond_law(&self) -> crate::material::BondLaw {
-        use crate::material::BondLaw;
-        match (self.material, self.failure) {
-            (PdMaterial::StateBased { poisson_ratio }, Failure::FractureEnergy { g_c }) => {
-                let (kappa, mu) =
-                    crate::state_based::moduli(self.plane, self.youngs_modulus, poisson_ratio);
-                BondLaw::Brittle {
-                    s0: crate::state_based::critical_stretch(kappa, mu, g_c, self.horizon()),
-                }
-            }
-            _ => BondLaw::from_failure(
-                self.failure,
-                self.plane,
-                self.youngs_modulus,
-                self.horizon(),
-            ),
-        }
-    }
-
     /// Check every rule; the error names the field and the violated constraint.
     pub fn validate(&self) -> Result<(), PdError> {
         positive("dx", self.dx)?;
