@@ -4,9 +4,8 @@
 //! traction; load factors to 12 significant digits).
 
 use pdbem_pd::measure::{crack_tips, RampParams, Tip};
-use serde_json::{json, Map, Value};
-
 use pdbem_pd::PdProblem;
+use serde_json::{json, Map, Value};
 
 use crate::runner::context::RunContext;
 use crate::scene::shapes::SceneGeometry;
@@ -211,7 +210,7 @@ pub(crate) fn overload_notes(scene: &Scene, problem: &PdProblem, dynamic: bool) 
 /// [`ramp_overload_note`] speaks: a uniform field that far past the onset breaks or
 /// softens every bond along the load many times over. The shipped quasi-static PD cases
 /// stay at 1.78 or below (`pd_notched_bar_adaptive`; `pd_three_point_bend` 1.01, the
-/// crack-initiation plates 0.3-0.5).
+/// other ramps 0.30-0.52).
 pub(crate) const RAMP_OVERLOAD: f64 = 10.0;
 
 /// `pdbem check`'s note on a stand-alone quasi-static PD scene with breaking or softening
