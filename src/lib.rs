@@ -32,6 +32,7 @@ pub mod pd_fields;
 pub mod pd_loads;
 pub mod plot;
 pub mod provenance;
+pub mod ramp_progress;
 pub mod refine;
 pub mod run_adaptive;
 pub mod run_bem;

@@ -31,6 +31,7 @@ use crate::pd_loads::{
     damaged_throughout_note, first_load_note, initiation_notes, initiation_ramp, load_unit,
     report_initiation, round12, scene_tips, traction_scale,
 };
+use crate::ramp_progress::RampProgress;
 use crate::runner::context::RunContext;
 use crate::runner::summary::RunSummary;
 use crate::scene::{Failure, PdRefinement, PdSolver, Scene};
@@ -41,7 +42,7 @@ use pdbem_pd::adapt::ramp::{ramp_to_limit, AdaptEvent, Round};
 use pdbem_pd::adapt::{AdaptiveCells, CellCriteria};
 use pdbem_pd::error::factor_text;
 use pdbem_pd::measure::{kink_angle, ramp_to_initiation};
-use pdbem_pd::solvers::limit::{RampEvent, Stop};
+use pdbem_pd::solvers::limit::Stop;
 use pdbem_pd::solvers::limit_solvers::{solve_to_limit, QuasiStatic};
 use pdbem_pd::solvers::{adr, implicit, switching, Convergence};
 use pdbem_pd::PdModel;
@@ -78,11 +79,11 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     ctx.log(&format!("{}: PD solve", scene.name));
     let problem = crate::setup::pd::problem_from_scene(scene)?;
     let overload = crate::pd_loads::early_notes(scene, &problem, false, ctx);
-    let bar = ramp_bar(ctx);
     let last = scene.load.factors().last().copied().unwrap_or(1.0);
+    let mut bar = RampProgress::new(ctx, last);
     let mut observe = |e: AdaptEvent| match e {
-        AdaptEvent::Ramp(e) => show_progress(&bar, last, e),
-        AdaptEvent::Refined(r) => bar.set_message(format!(
+        AdaptEvent::Ramp(e) => bar.show(e),
+        AdaptEvent::Refined(r) => bar.message(format!(
             "load factor {}: {} cells split, {} nodes",
             factor_text(r.load),
             r.cells,
@@ -90,7 +91,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
         )),
     };
     let solved = solve_observed(scene, &mut observe);
-    bar.finish_and_clear();
+    bar.finish();
     let (mut summary, model, ld) = solved?;
     summary.notes.splice(0..0, overload);
     ctx.log(&format!(
@@ -137,47 +138,6 @@ pub fn cell_criteria(r: &PdRefinement) -> CellCriteria {
                 ([c.centre.0, c.centre.1], c.radius, level)
             })
             .collect(),
-    }
-}
-
-/// Steps of the progress bar of a damage ramp: its load in thousandths of the last.
-const PROGRESS_LEN: u64 = 1000;
-
-/// A damage ramp's progress bar (hidden with `--quiet`): on a terminal a bar over the load
-/// with the message; in lines (a log file) the message alone, one line per change.
-fn ramp_bar(ctx: &RunContext) -> indicatif::ProgressBar {
-    let bar = ctx.progress(PROGRESS_LEN);
-    let template = if crate::runner::context::stderr_is_terminal() {
-        "{elapsed_precise} [{bar:30}] {msg}"
-    } else {
-        "{msg}"
-    };
-    if let Ok(style) = indicatif::ProgressStyle::with_template(template) {
-        bar.set_style(style.progress_chars("=> "));
-    }
-    bar
-}
-
-/// The progress of a damage ramp driven to the load factor `last`.
-fn show_progress(bar: &indicatif::ProgressBar, last: f64, e: &RampEvent) {
-    match e {
-        RampEvent::Converged { load } => {
-            let at = (load / last * PROGRESS_LEN as f64).clamp(0.0, PROGRESS_LEN as f64);
-            bar.set_position(at as u64);
-            bar.set_message(format!(
-                "load factor {} of {} converged",
-                factor_text(*load),
-                factor_text(last)
-            ));
-        }
-        RampEvent::Halving {
-            failed_load,
-            level,
-            max,
-        } => bar.set_message(format!(
-            "no equilibrium at load factor {}: step halved ({level} of at most {max})",
-            factor_text(*failed_load)
-        )),
     }
 }
 

@@ -35,7 +35,9 @@ use std::time::Instant;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::{residual_norms, Convergence, PhaseKind, SolveInfo, StepRecord};
+use super::{
+    residual_norms, Convergence, Iterating, PhaseKind, SolveInfo, StepRecord, PROGRESS_EVERY,
+};
 use crate::bonds::group_sum;
 use crate::error::PdError;
 use crate::forces::{ForceStats, History};
@@ -315,7 +317,9 @@ impl Adr {
     /// it at the converged state (every bond past its limit breaks at once,
     /// Jacobi-style), and converge again while bonds broke, up to
     /// `max_rounds` rounds. Returns (steps, measure, statistics of the last
-    /// pass, whether any bond was damaged).
+    /// pass, whether any bond was damaged). `progress` hears how far it has got
+    /// ([`Iterating`], over all rounds).
+    #[allow(clippy::too_many_arguments)]
     pub fn equilibrate(
         &mut self,
         model: &mut PdModel,
@@ -324,27 +328,41 @@ impl Adr {
         max_iters: usize,
         max_rounds: usize,
         history: &mut Vec<f64>,
+        progress: &mut dyn FnMut(&Iterating),
     ) -> Result<(usize, f64, ForceStats, bool), PdError> {
         let it0 = self.total_iters;
         if self.history == History::Update {
-            let (it, m, st) = self.converge(model, conv, min_iters, max_iters, history)?;
+            let (it, m, st) =
+                self.converge(model, conv, min_iters, max_iters, history, progress)?;
             let grew = self.since_growth < self.total_iters - it0;
             return Ok((it, m, st, grew));
         }
         let mut grew = false;
         let mut iters = 0;
         let mut last = (0, 0.0);
-        for round in 0..max_rounds.max(1) {
+        let rounds = max_rounds.max(1);
+        let (broken0, mut broken) = (model.broken_bonds(), 0);
+        for round in 0..rounds {
             // Every increment starts at rest, so the result depends on the
             // start state only (not on the velocity a previous increment
             // left behind).
             if round == 0 || self.history != History::Secant {
                 self.reset();
             }
-            let (it, m, _) = self.converge(model, conv, min_iters, max_iters, history)?;
+            let mut in_round = |e: &Iterating| {
+                progress(&Iterating {
+                    iterations: iters + e.iterations,
+                    round: (round + 1, rounds),
+                    broken: Some(broken),
+                    ..*e
+                })
+            };
+            let (it, m, _) =
+                self.converge(model, conv, min_iters, max_iters, history, &mut in_round)?;
             iters += it;
             let st = model.commit_history();
             self.broken_directed += st.newly_broken;
+            broken = model.broken_bonds() - broken0;
             last = (st.newly_broken, st.max_growth);
             grew |= st.growing > 0;
             let settled = match self.history {
@@ -366,7 +384,8 @@ impl Adr {
     }
 
     /// Iterate at the current load until `conv` is met (after `min_iters`),
-    /// or fail after `max_iters`. Returns (steps, final measure).
+    /// or fail after `max_iters`. Returns (steps, final measure). `progress` hears
+    /// every [`PROGRESS_EVERY`] iterations how far it has got.
     pub fn converge(
         &mut self,
         model: &mut PdModel,
@@ -374,6 +393,7 @@ impl Adr {
         min_iters: usize,
         max_iters: usize,
         history: &mut Vec<f64>,
+        progress: &mut dyn FnMut(&Iterating),
     ) -> Result<(usize, f64, ForceStats), PdError> {
         let mut best = f64::INFINITY;
         let mut last = None;
@@ -418,6 +438,18 @@ impl Adr {
                 history.push(m);
                 return Ok((it, m, out.stats));
             }
+            if it % PROGRESS_EVERY == 0 {
+                progress(&Iterating {
+                    solver: "adr",
+                    load: model.load,
+                    iterations: it,
+                    round: (1, 1),
+                    max_iterations: max_iters,
+                    measure: m,
+                    tolerance: conv.tolerance(),
+                    broken: None,
+                });
+            }
         }
         let (m, _) = last.unwrap_or((f64::NAN, ForceStats::default()));
         Err(PdError::NoConvergence {
@@ -425,10 +457,7 @@ impl Adr {
             iterations: max_iters,
             load: model.load,
             measure: m,
-            tolerance: match conv {
-                Convergence::Displacement { e0 } => e0,
-                Convergence::Residual { tol } => tol,
-            },
+            tolerance: conv.tolerance(),
         })
     }
 }
@@ -447,13 +476,15 @@ impl Adr {
     }
 
     /// One load step of [`solve`] at load factor `lam`: equilibrium with the breaking
-    /// rounds, recorded in `info.steps`. Returns the iterations.
+    /// rounds, recorded in `info.steps`; `progress` as [`Adr::equilibrate`]. Returns the
+    /// iterations.
     pub fn load_step(
         &mut self,
         model: &mut PdModel,
         lam: f64,
         params: &AdrParams,
         info: &mut SolveInfo,
+        progress: &mut dyn FnMut(&Iterating),
     ) -> Result<usize, PdError> {
         model.set_load_factor(lam);
         let (iters, m, st, _) = self.equilibrate(
@@ -463,6 +494,7 @@ impl Adr {
             params.max_iters,
             params.max_break_rounds,
             &mut info.residual_history,
+            progress,
         )?;
         let record = StepRecord::of(model, lam, iters, st.max_stretch, m, PhaseKind::Explicit);
         info.steps.push(record);
@@ -500,11 +532,12 @@ pub fn solve(model: &mut PdModel, params: &AdrParams) -> Result<SolveInfo, PdErr
                     params.min_iters,
                     params.max_iters,
                     &mut info.residual_history,
+                    &mut |_| {},
                 )?;
                 (it + n.max(1), m, st)
             }
             None => {
-                info.iterations += adr.load_step(model, lam, params, &mut info)?;
+                info.iterations += adr.load_step(model, lam, params, &mut info, &mut |_| {})?;
                 continue;
             }
         };

@@ -546,6 +546,7 @@ pub fn equilibrate_adr(
         1,
         max_iters,
         &mut info.residual_history,
+        &mut |_| {},
     )?;
     Ok(iters)
 }

@@ -345,10 +345,7 @@ impl Newton {
                 Convergence::Displacement { .. } => measure,
                 Convergence::Residual { .. } => last_rel,
             },
-            tolerance: match p.convergence {
-                Convergence::Displacement { e0 } => e0,
-                Convergence::Residual { tol } => tol,
-            },
+            tolerance: p.convergence.tolerance(),
         })
     }
 

@@ -23,7 +23,7 @@
 use crate::error::PdError;
 use crate::model::{ModelState, PdModel};
 
-use super::SolveInfo;
+use super::{Iterating, SolveInfo};
 
 /// Most halvings of a step [`to_limit`] takes (a larger `max_cutbacks` is this): an
 /// increment of 2^-30 of the step.
@@ -107,6 +107,9 @@ pub enum RampEvent {
         /// The most allowed.
         max: u32,
     },
+    /// An equilibrium search (ADR's) is still iterating at a load: sent every
+    /// [`super::PROGRESS_EVERY`] iterations.
+    Iterating(Iterating),
 }
 
 /// Whether `e` is a failed equilibrium (no convergence, divergence, a non-finite value,

@@ -10,7 +10,7 @@ use super::adr::{Adr, AdrParams};
 use super::implicit::{ImplicitParams, Newton};
 use super::limit::{to_limit, LimitedSolve, RampEvent, Segment, SegmentFailure};
 use super::switching::{self, SwitchingParams};
-use super::{PhaseKind, SolveInfo};
+use super::{Iterating, PhaseKind, SolveInfo};
 use crate::error::PdError;
 use crate::model::PdModel;
 
@@ -77,14 +77,27 @@ pub fn solve_to_limit(
             }
             let mut adr = Adr::for_params(model, p);
             let loads = equal_steps(lam0, p.target_load, p.steps);
+            // The ramp hears of steps, the step of its iterations: one observer, never
+            // called by both at once.
+            let observe = RefCell::new(observe);
+            let mut ramp_events = |e: &RampEvent| (observe.borrow_mut())(e);
             // A restored state starts ADR from rest.
-            to_limit(model, &loads, max_cutbacks, name, observe, |m, s, info| {
-                if s.restored {
-                    adr.reset();
-                }
-                info.iterations += adr.load_step(m, s.target, p, info)?;
-                Ok(())
-            })?
+            to_limit(
+                model,
+                &loads,
+                max_cutbacks,
+                name,
+                &mut ramp_events,
+                |m, s, info| {
+                    if s.restored {
+                        adr.reset();
+                    }
+                    let mut progress =
+                        |e: &Iterating| (observe.borrow_mut())(&RampEvent::Iterating(*e));
+                    info.iterations += adr.load_step(m, s.target, p, info, &mut progress)?;
+                    Ok(())
+                },
+            )?
         }
         QuasiStatic::Switching(p) => {
             let whole = p.target_load - lam0;
@@ -100,8 +113,7 @@ pub fn solve_to_limit(
                 solver.name(),
                 &mut ramp_events,
                 |m, s, info| {
-                    let mut increments =
-                        |load: f64| (observe.borrow_mut())(&RampEvent::Converged { load });
+                    let mut increments = |e: &RampEvent| (observe.borrow_mut())(e);
                     switching_segment(m, s, p, (whole, increment), info, &mut increments)
                 },
             )?
@@ -130,15 +142,15 @@ pub fn solve_to_limit(
 /// One segment of the switching solver: from the model's load to `s.target` with
 /// increments of `increment / 2^level` and as many elastic Newton steps as the share of
 /// the `whole` ramp the segment covers (so the first segment is the solver's own solve);
-/// its record joins `info`, the load of every accepted step or increment goes to
-/// `observe`.
+/// its record joins `info`, the load of every accepted step or increment and the progress
+/// of long increments go to `observe`.
 fn switching_segment(
     model: &mut PdModel,
     s: Segment,
     p: &SwitchingParams,
     (whole, increment): (f64, f64),
     info: &mut SolveInfo,
-    observe: &mut dyn FnMut(f64),
+    observe: &mut dyn FnMut(&RampEvent),
 ) -> Result<(), SegmentFailure> {
     let start = model.load;
     let span = s.target - start;

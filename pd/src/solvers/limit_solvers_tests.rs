@@ -1,7 +1,8 @@
 use super::*;
 use crate::cases::{plate_hole, BAR_FORCE};
+use crate::solvers::limit::LimitedSolve;
 use crate::solvers::limit::RampEvent;
-use crate::solvers::{adr, implicit, Convergence};
+use crate::solvers::{adr, implicit, Convergence, PROGRESS_EVERY};
 
 /// Seed 000's plate with a hole on a 12 x 12 grid, pulled to 0.8 of the seed's end
 /// displacement in steps of 0.1 (bonds degrading past s_m; Newton in steps of 1/6 stops
@@ -87,15 +88,18 @@ fn the_switching_solver_stops_where_newton_brackets_the_capacity() {
         max_break_rounds: 10,
         ..Default::default()
     });
-    let mut heard = Vec::new();
-    let mut observe = |e: &RampEvent| {
-        if let RampEvent::Converged { load } = e {
-            heard.push(*load);
-        }
-    };
-    let out = solve_to_limit(&mut m, &solver, 4, &mut observe).unwrap();
+    let mut events = Vec::new();
+    let out = solve_to_limit(&mut m, &solver, 4, &mut |e| events.push(e.clone())).unwrap();
+    let heard: Vec<f64> = events
+        .iter()
+        .filter_map(|e| match e {
+            RampEvent::Converged { load } => Some(*load),
+            _ => None,
+        })
+        .collect();
     let stop = out
         .stop
+        .clone()
         .expect("5 times the bar's 2000 N is past its capacity");
     let (last, failed) = (stop.last_load * BAR_FORCE, stop.failed_load * BAR_FORCE);
     let (n_last, n_failed) = (n.last_load * BAR_FORCE, n.failed_load * BAR_FORCE);
@@ -112,11 +116,15 @@ fn the_switching_solver_stops_where_newton_brackets_the_capacity() {
     assert_eq!(out.info.steps.last().unwrap().load, stop.last_load);
     // The record of the segments reads as one solve's: the steps in order.
     assert!(out.info.steps.windows(2).all(|w| w[0].load < w[1].load));
-    // Every accepted step or increment was reported as it converged.
+    // Every accepted step or increment was reported as it converged, and the damage
+    // increments' rounds as they went.
     assert!(
         out.info.steps.iter().all(|st| heard.contains(&st.load)),
         "{heard:?}"
     );
+    let (reports, by_adr) = check_reports("switching", &events, &out);
+    eprintln!("switching: {reports} progress reports, {by_adr} of ADR");
+    assert!(reports > 0);
 }
 
 /// ADR through the ramp: equilibria at every step (rest restarts after a restore), and
@@ -143,7 +151,11 @@ fn adr_stops_where_newton_brackets_the_capacity() {
         ..Default::default()
     });
     let mut m = PdModel::new(&notched_bar()).unwrap();
-    let out = solve_to_limit(&mut m, &adr, 4, &mut |_| {}).unwrap();
+    let mut events = Vec::new();
+    let out = solve_to_limit(&mut m, &adr, 4, &mut |e| events.push(e.clone())).unwrap();
+    let (reports, by_adr) = check_reports("adr", &events, &out);
+    eprintln!("adr: {reports} progress reports");
+    assert!(by_adr > 0 && by_adr == reports);
     let stop = out.stop.expect("past the capacity");
     eprintln!("{n:?}\n{stop:?} {}", out.retries);
     // Measured: Newton 4.1875-4.203125, ADR 4.1875-4.25 (a converged state at 4.1875
@@ -177,4 +189,68 @@ fn a_failed_switching_increment_is_placed_in_the_ramp_direction() {
         failed_increment(-1.0, -1.9, -0.25, -2.0),
         (Some(-1.9), -2.0)
     );
+}
+
+/// Checks the progress reports among a ramp's `events` against its record `out` and
+/// returns how many there were and how many came from ADR: reported while a step iterated
+/// (between the events that end the steps before and it, at its load), iterations and
+/// rounds growing within the step's count and budget; a secant increment once per round,
+/// the last report being the step's (its iterations and the bonds it broke); ADR every
+/// [`PROGRESS_EVERY`] iterations of a round, with the bonds the rounds before broke.
+fn check_reports(name: &str, events: &[RampEvent], out: &LimitedSolve) -> (usize, usize) {
+    let (mut pending, mut total, mut by_adr) = (Vec::new(), 0, 0);
+    for e in events {
+        let load = match e {
+            RampEvent::Iterating(r) => {
+                pending.push(*r);
+                continue;
+            }
+            RampEvent::Converged { load } => *load,
+            RampEvent::Halving { failed_load, .. } => *failed_load,
+        };
+        let at = std::mem::take(&mut pending);
+        total += at.len();
+        by_adr += at.iter().filter(|r| r.solver == "adr").count();
+        assert!(
+            at.iter().all(|r| r.load == load),
+            "{name}: {at:?} at {load}"
+        );
+        assert!(at.windows(2).all(|w| w[0].iterations < w[1].iterations
+            && (w[0].round.0 <= w[1].round.0 || w[0].solver != w[1].solver)));
+        assert!(at
+            .iter()
+            .all(|r| r.round.0 <= r.round.1 && r.measure.is_finite()));
+        let RampEvent::Converged { .. } = e else {
+            continue;
+        };
+        let k = out.info.steps.iter().rposition(|s| s.load == load).unwrap();
+        let step = &out.info.steps[k];
+        let before = k
+            .checked_sub(1)
+            .map_or(0, |j| out.info.steps[j].broken_bonds);
+        let broken_here = step.broken_bonds - before;
+        let of_kind: Vec<_> = at
+            .iter()
+            .filter(|r| (r.solver == "adr") == (step.kind == PhaseKind::Explicit))
+            .collect();
+        assert!(of_kind.iter().all(|r| r.iterations <= step.iterations));
+        match step.kind {
+            PhaseKind::Explicit => {
+                assert!(of_kind.len() * PROGRESS_EVERY <= step.iterations, "{name}");
+                assert!(of_kind
+                    .iter()
+                    .all(|r| r.broken.is_some_and(|b| b <= broken_here)));
+            }
+            PhaseKind::Secant => {
+                let last = of_kind
+                    .last()
+                    .expect("a secant increment reports its rounds");
+                assert_eq!(of_kind.len(), last.round.0, "{name}");
+                assert_eq!(last.iterations, step.iterations, "{name}");
+                assert_eq!(last.broken, Some(broken_here), "{name}");
+            }
+            PhaseKind::Implicit => assert!(at.is_empty(), "{name}: Newton reports none"),
+        }
+    }
+    (total, by_adr)
 }

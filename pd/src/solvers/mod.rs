@@ -35,6 +35,34 @@ use crate::error::PdError;
 use crate::geometry::P2;
 use crate::model::PdModel;
 
+/// Iterations between two [`Iterating`] reports of a long equilibrium search.
+pub const PROGRESS_EVERY: usize = 1000;
+
+/// How far an iterative equilibrium search has got at one load: sent every
+/// [`PROGRESS_EVERY`] iterations of ADR and after every secant re-commit round, so an
+/// observer can show a solve that crawls, a softened body's for one, while it crawls
+/// rather than only when it ends.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Iterating {
+    /// The solver iterating.
+    pub solver: &'static str,
+    /// The load factor of the equilibrium searched for.
+    pub load: f64,
+    /// Iterations of this equilibrium so far, over all its bond-breaking rounds.
+    pub iterations: usize,
+    /// The bond-breaking round (1 first) and the most the equilibrium may take.
+    pub round: (usize, usize),
+    /// The iterations a round may take.
+    pub max_iterations: usize,
+    /// The convergence measure now (the last round's, between rounds).
+    pub measure: f64,
+    /// The tolerance of [`Self::measure`].
+    pub tolerance: f64,
+    /// Bonds broken at this load so far, where the rounds commit them (none while ADR
+    /// breaks bonds inside its iterations).
+    pub broken: Option<usize>,
+}
+
 /// Convergence measure shared by all solvers.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Deserialize, Serialize)]
 pub enum Convergence {
@@ -48,6 +76,16 @@ pub enum Convergence {
         /// Tolerance.
         tol: f64,
     },
+}
+
+impl Convergence {
+    /// The tolerance its measure must fall below.
+    pub fn tolerance(self) -> f64 {
+        match self {
+            Convergence::Displacement { e0 } => e0,
+            Convergence::Residual { tol } => tol,
+        }
+    }
 }
 
 impl Default for Convergence {

@@ -263,10 +263,7 @@ impl SecantSolver {
             iterations,
             load: model.load,
             measure,
-            tolerance: match p.convergence {
-                Convergence::Displacement { e0 } => e0,
-                Convergence::Residual { tol } => tol,
-            },
+            tolerance: p.convergence.tolerance(),
         }
     }
 

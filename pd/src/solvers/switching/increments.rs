@@ -6,15 +6,17 @@ use std::time::Instant;
 use super::{Increment, Switcher};
 use crate::error::PdError;
 use crate::model::PdModel;
-use crate::solvers::{PhaseKind, StepRecord};
+use crate::solvers::{Iterating, PhaseKind, StepRecord};
 
 impl<'p> Switcher<'p> {
     /// Increment `k -> k + 1` with bond failure: the secant rounds, or ADR
-    /// if they fail (or by choice). Returns whether any bond's damage grew.
+    /// if they fail (or by choice), whose progress goes to `progress`. Returns whether
+    /// any bond's damage grew.
     pub(super) fn damage_increment(
         &mut self,
         model: &mut PdModel,
         k: usize,
+        progress: &mut dyn FnMut(&Iterating),
     ) -> Result<bool, PdError> {
         let ts = Instant::now();
         let (lam, next) = (self.load_at(k), self.load_at(k + 1));
@@ -23,7 +25,7 @@ impl<'p> Switcher<'p> {
         // a failed increment leaves the model ([`super::solve_partial`]).
         model.save_into(&mut self.saved);
         if self.secant_enabled() {
-            match self.secant_rounds(model, next) {
+            match self.secant_rounds(model, next, progress) {
                 Ok(out) => inc = Some(out),
                 Err(e) => {
                     model.restore(&self.saved);
@@ -38,7 +40,7 @@ impl<'p> Switcher<'p> {
         }
         let inc = match inc {
             Some(out) => out,
-            None => self.adr_increment(model, next)?,
+            None => self.adr_increment(model, next, progress)?,
         };
         self.adr_warm = inc.kind == PhaseKind::Explicit;
         self.info.iterations += inc.iterations;
@@ -63,14 +65,21 @@ impl<'p> Switcher<'p> {
 
     /// The secant re-commit rounds at load `lam`, each equilibrium by the
     /// chord iteration of [`SecantSolver`] (the first one also carries the
-    /// load increment, as a linear predictor would).
-    fn secant_rounds(&mut self, model: &mut PdModel, lam: f64) -> Result<Increment, PdError> {
+    /// load increment, as a linear predictor would). `progress` hears of every round.
+    fn secant_rounds(
+        &mut self,
+        model: &mut PdModel,
+        lam: f64,
+        progress: &mut dyn FnMut(&Iterating),
+    ) -> Result<Increment, PdError> {
         model.set_load_factor(lam);
         let (mut iterations, mut grew) = (0, false);
         let tangent = &mut self.newton.tangent;
         // Bonds may have changed since the last round (an ADR increment).
         self.secant.track_changes(model, tangent, &mut self.info)?;
-        for _ in 0..self.p.max_break_rounds.max(1) {
+        let rounds = self.p.max_break_rounds.max(1);
+        let broken0 = model.broken_bonds();
+        for round in 1..=rounds {
             let (it, measure) =
                 self.secant
                     .equilibrate(model, tangent, &self.sp, &mut self.info)?;
@@ -79,6 +88,16 @@ impl<'p> Switcher<'p> {
             let stats = model.commit_history();
             self.secant.track_changes(model, tangent, &mut self.info)?;
             grew |= stats.growing > 0;
+            progress(&Iterating {
+                solver: "secant re-commit rounds",
+                load: lam,
+                iterations,
+                round: (round, rounds),
+                max_iterations: self.sp.max_iters,
+                measure,
+                tolerance: self.sp.convergence.tolerance(),
+                broken: Some(model.broken_bonds() - broken0),
+            });
             if stats.newly_broken == 0 && stats.max_growth <= self.growth_tol {
                 return Ok(Increment {
                     iterations,
@@ -99,7 +118,12 @@ impl<'p> Switcher<'p> {
     }
 
     /// One increment to load `lam` by ADR with the re-commit rounds.
-    fn adr_increment(&mut self, model: &mut PdModel, lam: f64) -> Result<Increment, PdError> {
+    fn adr_increment(
+        &mut self,
+        model: &mut PdModel,
+        lam: f64,
+        progress: &mut dyn FnMut(&Iterating),
+    ) -> Result<Increment, PdError> {
         model.set_load_factor(lam);
         if !self.adr_warm {
             self.adr.reset();
@@ -111,6 +135,7 @@ impl<'p> Switcher<'p> {
             self.p.max_adr_iters,
             self.p.max_break_rounds,
             &mut self.info.residual_history,
+            progress,
         )?;
         Ok(Increment {
             iterations,

@@ -65,6 +65,7 @@ use serde::{Deserialize, Serialize};
 
 use super::adr::Adr;
 use super::implicit::{ImplicitParams, Newton};
+use super::limit::RampEvent;
 use super::secant::{SecantParams, SecantSolver};
 use super::{Convergence, PhaseKind, SolveInfo};
 use crate::error::PdError;
@@ -180,12 +181,13 @@ pub fn solve_partial(model: &mut PdModel, p: &SwitchingParams) -> (SolveInfo, Re
     solve_observed(model, p, &mut |_| {})
 }
 
-/// [`solve_partial`], with the load factor of every accepted step or increment to
-/// `observe`.
+/// [`solve_partial`], telling `observe` the load factor of every accepted step or
+/// increment ([`RampEvent::Converged`]) and how far a long ADR increment has got
+/// ([`RampEvent::Iterating`]).
 pub fn solve_observed(
     model: &mut PdModel,
     p: &SwitchingParams,
-    observe: &mut dyn FnMut(f64),
+    observe: &mut dyn FnMut(&RampEvent),
 ) -> (SolveInfo, Result<(), PdError>) {
     let t0 = Instant::now();
     let broken0 = model.broken_bonds();

@@ -9,6 +9,7 @@ use crate::forces::{ForceStats, History};
 use crate::model::{ModelState, PdModel};
 use crate::solvers::adr::Adr;
 use crate::solvers::implicit::{ImplicitParams, Newton};
+use crate::solvers::limit::RampEvent;
 use crate::solvers::secant::{SecantParams, SecantSolver};
 use crate::solvers::{PhaseKind, SolveInfo, StepRecord, SwitchPoint};
 
@@ -72,11 +73,12 @@ impl<'p> Switcher<'p> {
     }
 
     /// The switching loop from increment 0 to the last; `observe` hears the load factor
-    /// of every accepted elastic step and damage increment.
+    /// of every accepted elastic step and damage increment, and the progress of long ADR
+    /// increments.
     pub(super) fn run(
         &mut self,
         model: &mut PdModel,
-        observe: &mut dyn FnMut(f64),
+        observe: &mut dyn FnMut(&RampEvent),
     ) -> Result<(), PdError> {
         let mut mode = Mode::Elastic;
         let mut k = 0usize;
@@ -88,7 +90,9 @@ impl<'p> Switcher<'p> {
                     match self.elastic_step(model, k, m_eff) {
                         Ok(()) => {
                             k += m_eff;
-                            observe(self.load_at(k));
+                            observe(&RampEvent::Converged {
+                                load: self.load_at(k),
+                            });
                         }
                         Err(rejection) => {
                             // Retry with the increments that stay elastic
@@ -105,9 +109,12 @@ impl<'p> Switcher<'p> {
                     }
                 }
                 Mode::Damage => {
-                    let grew = self.damage_increment(model, k)?;
+                    let grew = self
+                        .damage_increment(model, k, &mut |e| observe(&RampEvent::Iterating(*e)))?;
                     k += 1;
-                    observe(self.load_at(k));
+                    observe(&RampEvent::Converged {
+                        load: self.load_at(k),
+                    });
                     if !grew && k < self.n_inc {
                         mode = Mode::Elastic;
                         m = self.m_max;
