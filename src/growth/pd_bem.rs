@@ -258,7 +258,7 @@ fn displacement_snapshot(
 pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
     let file = scene.file_label();
     let inp = input(scene)?;
-    let strip_notes = crate::setup::coupled::thin_strip_notes(&inp.setup.layout);
+    let coupling_notes = crate::setup::coupled::coupling_notes(scene, &inp.setup.layout);
     let count = inp.params.loads.count;
     ctx.log(&format!(
         "{}: PD-BEM growth, {} load steps from {} by {}, {} tip(s)",
@@ -334,7 +334,7 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
         return Err(e);
     }
     let mut h = history_of(&g, &result, windows);
-    h.notes.splice(0..0, strip_notes);
+    h.notes.splice(0..0, coupling_notes);
     let last = result.steps.len().saturating_sub(1);
     h.snapshots = std::mem::take(&mut progress.snapshots);
     h.snapshots

@@ -52,7 +52,8 @@ pub struct CoupledOutcome {
 pub fn solve_setup(mut setup: CoupledSetup) -> Result<CoupledOutcome> {
     let (solution, info) = match pdbem_coupling::solve(&mut setup.problem, &setup.params) {
         Ok(r) => r,
-        // A thin strip of BEM body under a window is the likely cause of a stall: say so.
+        // A thin strip of BEM body under a window, or a nearly incompressible body, is the
+        // likely cause of a stall: say so (setup::coupled::coupling_notes).
         Err(e) if !setup.notes.is_empty() => {
             return Err(anyhow::Error::new(e).context(format!(
                 "coupled solve (likely cause: {})",

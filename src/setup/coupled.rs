@@ -22,8 +22,8 @@ use super::sizing::Sizing;
 use super::{final_factor, pd_failure, pd_material, pd_plane};
 use crate::scene::shapes::SceneGeometry;
 use crate::scene::{
-    Component, Coupling, CouplingOrdering, DisplacementMap, PdSettings as ScenePd, PdSolver,
-    Placement, Relaxation, Scene,
+    Component, Coupling, CouplingOrdering, DisplacementMap, PdModelKind, PdSettings as ScenePd,
+    PdSolver, Placement, Plane, Relaxation, Scene,
 };
 
 /// A crack tip inside a window.
@@ -49,7 +49,7 @@ pub struct CoupledSetup {
     pub tips: Vec<WindowTip>,
     /// Load factor the conditions were scaled by.
     pub factor: f64,
-    /// Notes on the set-up ([`thin_strip_notes`]).
+    /// Notes on the set-up ([`coupling_notes`]).
     pub notes: Vec<String>,
 }
 
@@ -73,7 +73,7 @@ pub fn prepare(scene: &Scene) -> Result<CoupledSetup> {
         windows: specs,
         pd: pd_settings(scene, pd)?,
     };
-    let notes = thin_strip_notes(&layout);
+    let notes = coupling_notes(scene, &layout);
     let outer_loop = layout.outline.clone();
     let built = pdbem_coupling::build(&layout, |_, w| {
         outer_conditions(scene, &outer_loop, w, factor)
@@ -98,6 +98,45 @@ pub fn prepare(scene: &Scene) -> Result<CoupledSetup> {
         tips,
         factor,
         notes,
+    })
+}
+
+/// The notes on where the coupling iteration can stall: windows over thin strips of BEM
+/// body ([`thin_strip_notes`]) and a nearly incompressible body ([`incompressible_note`]).
+/// `pdbem check` prints them, the run's summary keeps them, and a coupled solve that fails
+/// names them as its likely cause.
+pub fn coupling_notes(scene: &Scene, layout: &Layout) -> Vec<String> {
+    let mut notes = thin_strip_notes(layout);
+    notes.extend(incompressible_note(scene));
+    notes
+}
+
+/// The ratio of the 2-D bulk modulus to the shear modulus, 1 / (1 - 2 nu) in plane
+/// strain, from which a body with state-based windows counts as nearly incompressible
+/// (nu = 0.48 in plane strain).
+pub const NEAR_INCOMPRESSIBLE: f64 = 25.0;
+
+/// A note on a plane-strain body with state-based PD windows whose 2-D bulk modulus is
+/// at least [`NEAR_INCOMPRESSIBLE`] times its shear modulus: the windows stiffen as nu
+/// nears 0.5, and the Dirichlet-Neumann iteration between them and the BEM body slows and
+/// then stalls. Measured on `coupled_sent_a5_state_based` in plane strain (IQN-ILS,
+/// psi = 1e-4), CMOD against the BEM alone (same elements) and iterations: +0.59 % (11)
+/// at nu = 0.3, +0.39 % (9) at 0.4, -0.14 % (11) at 0.45, -1.03 % (12) at 0.48, -1.70 %
+/// (15) at 0.49, -2.05 % (23) at 0.495, -3.09 % (28) at 0.497, each within the run's
+/// error estimate; no convergence in 50 at 0.499 (nor by Aitken in 500, nor with n =
+/// 40). Bond-based windows fix nu = 1/4 in plane strain; plane stress keeps the ratio
+/// (1 + nu) / (1 - nu) below 3.
+pub fn incompressible_note(scene: &Scene) -> Option<String> {
+    let pd = scene.pd.as_ref()?;
+    let nu = scene.material.nu;
+    let ratio = 1.0 / (1.0 - 2.0 * nu);
+    let applies = pd.model == PdModelKind::StateBased
+        && scene.material.plane == Plane::Strain
+        && ratio >= NEAR_INCOMPRESSIBLE;
+    applies.then(|| {
+        format!(
+            "material.nu = {nu} in plane strain: the body is nearly incompressible (its 2-D bulk modulus is {ratio:.0} times the shear modulus, 1 / (1 - 2 nu)); the state-based PD windows stiffen as nu nears 0.5 and the coupling iteration slows, then stalls (the SENT plate of coupled_sent_a5_state_based: CMOD -1.0 % from the BEM alone at nu = 0.48, -1.7 % at 0.49, -3.1 % at 0.497, within the runs' error estimates, against +0.6 % at 0.3; 15 iterations at 0.49, 28 at 0.497, none converged at 0.499); the BEM alone takes any nu below 0.5"
+        )
     })
 }
 

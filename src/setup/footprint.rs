@@ -187,7 +187,7 @@ pub fn of(scene: &Scene) -> Result<Footprint> {
             }
             GrowthMode::PdBem => {
                 let input = super::growth::input(scene)?;
-                f.notes = super::coupled::thin_strip_notes(&input.setup.layout);
+                f.notes = super::coupled::coupling_notes(scene, &input.setup.layout);
                 let growth = input.growth().with_context(|| {
                     format!("{}: PD-BEM growth setup", scene.file_label().display())
                 })?;
