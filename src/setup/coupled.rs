@@ -153,17 +153,33 @@ pub fn thin_strip_notes(layout: &Layout) -> Vec<String> {
         .flat_map(|(i, w)| {
             pdbem_coupling::growth::relocate::thin_strips(w, outline)
                 .into_iter()
-                .map(move |(strip, side)| {
+                .map(move |(strip, side, normal)| {
                     format!(
-                        "window {i} (centre ({:.4}, {:.4})) leaves a strip of BEM body {strip:.4} m wide ({:.2} of its {side:.4} m side) between a side and the outline: the coupling iteration can stall on strips under a quarter side; place the window against that edge or at least {:.4} m from it",
+                        "window {i} (centre ({:.4}, {:.4})) leaves a strip of BEM body {strip:.4} m wide ({:.2} of its {side:.4} m side) between its {} and the outline: the coupling iteration can stall on strips under a quarter side; place the window against that edge or at least {:.4} m from it",
                         w.center.x,
                         w.center.y,
                         strip / side,
+                        side_name(normal),
                         0.25 * side
                     )
                 })
         })
         .collect()
+}
+
+/// A window side by its outward `normal`: "top side" and the like when it is along an
+/// axis, else "side facing (nx, ny)".
+fn side_name(normal: V2) -> String {
+    let named = [
+        (V2::new(1.0, 0.0), "right"),
+        (V2::new(-1.0, 0.0), "left"),
+        (V2::new(0.0, 1.0), "top"),
+        (V2::new(0.0, -1.0), "bottom"),
+    ];
+    match named.iter().find(|(n, _)| (n - normal).norm() < 1e-9) {
+        Some((_, name)) => format!("{name} side"),
+        None => format!("side facing ({:.3}, {:.3})", normal.x, normal.y),
+    }
 }
 
 /// The closed polygons (outline and holes) a windowed tip's interaction-integral contour
@@ -550,5 +566,28 @@ mod tests {
             .expect("the clamp's piece");
         let at_corner = if bottom.from.x < bottom.to.x { 0 } else { 1 };
         assert!(bottom.continues[at_corner], "{bottom:?}");
+    }
+
+    /// The SENT plate's tip window grown to a 9 m side over the 10 m high strip: it
+    /// leaves 0.5 m of BEM body above and below it, and the notes say which side is which
+    /// (the window is turned with the crack, -90 degrees, so its own frame would not).
+    #[test]
+    fn thin_strip_notes_name_the_side() {
+        let mut scene = Scene::load("cases/coupled_sent_a5_state_based.ron").unwrap();
+        if let Some(c) = scene.coupling.as_mut() {
+            c.side = 9.0;
+        }
+        let setup = prepare(&scene).unwrap();
+        let strips: Vec<_> = setup.notes.iter().filter(|n| n.contains("strip")).collect();
+        assert_eq!(strips.len(), 2, "{strips:?}");
+        for (note, side) in strips.iter().zip(["top side", "bottom side"]) {
+            assert!(
+                note.contains(&format!(
+                    "0.5000 m wide (0.06 of its 9.0000 m side) between its {side}"
+                )),
+                "{note}"
+            );
+        }
+        assert_eq!(side_name(V2::new(0.6, 0.8)), "side facing (0.600, 0.800)");
     }
 }

@@ -53,8 +53,8 @@ pub const MIN_STRIP: f64 = 0.25;
 
 /// The strips of BEM body thinner than [`MIN_STRIP`] sides that the window `spec` leaves
 /// between one of its sides and the outline's bounding box in the window frame: `(width
-/// (m), side (m))` per thin strip; empty when none is.
-pub fn thin_strips(spec: &WindowSpec, outline: &[V2]) -> Vec<(f64, f64)> {
+/// (m), side (m), the side's outward normal)` per thin strip; empty when none is.
+pub fn thin_strips(spec: &WindowSpec, outline: &[V2]) -> Vec<(f64, f64, V2)> {
     let (s, c) = spec.angle.sin_cos();
     let mut out = Vec::new();
     for (e, n) in [(V2::new(c, s), spec.nx), (V2::new(-s, c), spec.ny)] {
@@ -67,9 +67,9 @@ pub fn thin_strips(spec: &WindowSpec, outline: &[V2]) -> Vec<(f64, f64)> {
             });
         let x = spec.center.dot(&e);
         let tol = 1e-9 * side;
-        for strip in [x - 0.5 * side - lo, hi - x - 0.5 * side] {
+        for (strip, normal) in [(x - 0.5 * side - lo, -e), (hi - x - 0.5 * side, e)] {
             if strip > tol && strip < MIN_STRIP * side {
-                out.push((strip, side));
+                out.push((strip, side, normal));
             }
         }
     }
