@@ -134,3 +134,50 @@ fn coupled_and_growth_modes_refuse_an_unbalanced_body() {
     );
     assert!(msg.contains("are out of balance"), "{msg}");
 }
+
+#[test]
+fn stand_alone_pd_refuses_an_unbalanced_free_body() {
+    // The PD edge-crack plate (50 x 50 mm, pulled by 1 MPa on top and bottom) with its
+    // bottom load turned: both edges pull up, Fy = 2 x 1 MPa x 50 mm. The quasi-static
+    // solvers pin a pure-traction body at two nodes, which would carry the resultant
+    // (before the check: exit 0, the pins' reaction 1e5 N/m); refused by check and run.
+    let up = case("pd_edge_crack", &[("boundary.1.y.Traction", "1e6")]);
+    let msg = format!(
+        "{:#}",
+        pdbem::setup::footprint::of(&up).expect_err("check refuses")
+    );
+    assert!(
+        msg.contains("are out of balance") && msg.contains("Fy = 1.000000e5 N/m"),
+        "{msg}"
+    );
+    let msg = format!("{:#}", pdbem::run_pd::solve(&up).expect_err("run refuses"));
+    assert!(msg.contains("are out of balance"), "{msg}");
+    // A couple: shear right on top, left at the bottom: M = -1 MPa x 50 mm x 50 mm
+    // (clockwise).
+    let text = std::fs::read_to_string("cases/pd_edge_crack.ron").unwrap();
+    let sheared = text
+        .replace(
+            r#"(on: "top", y: Traction(1e6))"#,
+            r#"(on: "top", x: Traction(1e6))"#,
+        )
+        .replace(
+            r#"(on: "bottom", y: Traction(-1e6))"#,
+            r#"(on: "bottom", x: Traction(-1e6))"#,
+        );
+    assert_ne!(sheared, text);
+    let couple = Scene::from_ron_str(&sheared, "couple.ron").unwrap();
+    let msg = format!(
+        "{:#}",
+        pdbem::setup::footprint::of(&couple).expect_err("refused")
+    );
+    assert!(msg.contains("M = -2.500000e3 N m/m"), "{msg}");
+    // Explicit dynamics drops the pins: the same unbalanced load accelerates the free
+    // branching plate, which check accepts.
+    let flying = case(
+        "seed004_branching_case1",
+        &[("boundary.1.y.Traction", "1e6")],
+    );
+    pdbem::setup::footprint::of(&flying).expect("dynamics takes an unbalanced load");
+    // The shipped, balanced plate runs.
+    pdbem::setup::footprint::of(&case("pd_edge_crack", &[])).unwrap();
+}
