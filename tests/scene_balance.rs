@@ -136,7 +136,7 @@ fn coupled_and_growth_modes_refuse_an_unbalanced_body() {
 }
 
 #[test]
-fn stand_alone_pd_refuses_an_unbalanced_free_body() {
+fn stand_alone_pd_refuses_loads_out_of_balance_along_a_free_motion() {
     // The PD edge-crack plate (50 x 50 mm, pulled by 1 MPa on top and bottom) with its
     // bottom load turned: both edges pull up, Fy = 2 x 1 MPa x 50 mm. The quasi-static
     // solvers pin a pure-traction body at two nodes, which would carry the resultant
@@ -171,6 +171,23 @@ fn stand_alone_pd_refuses_an_unbalanced_free_body() {
         pdbem::setup::footprint::of(&couple).expect_err("refused")
     );
     assert!(msg.contains("M = -2.500000e3 N m/m"), "{msg}");
+    // On a roller (the bottom held in y) and pulled right as well: x is free and Fx =
+    // 1 MPa x 50 mm. Before the check: Newton "did not converge in 77 iterations",
+    // ADR in its 100 000, with no reason given.
+    let rolled = text.replace(
+        r#"(on: "bottom", y: Traction(-1e6))"#,
+        r#"(on: "bottom", y: Displacement(0)), (on: "right", x: Traction(1e6))"#,
+    );
+    let roller = Scene::from_ron_str(&rolled, "roller.ron").unwrap();
+    let msg = format!(
+        "{:#}",
+        pdbem::setup::footprint::of(&roller).expect_err("refused")
+    );
+    assert!(
+        msg.contains("leave 1 rigid motion(s) of the body free")
+            && msg.contains("Fx = 5.000000e4 N/m"),
+        "{msg}"
+    );
     // Explicit dynamics drops the pins: the same unbalanced load accelerates the free
     // branching plate, which check accepts.
     let flying = case(

@@ -385,15 +385,15 @@ fn labelled_problem_at(scene: &Scene, dx: f64) -> Result<(PdProblem, Vec<String>
             }
         }
     }
+    // Tractions out of balance along a rigid motion no displacement condition holds have
+    // no equilibrium: the two pins below would carry the resultant (the run solving a
+    // body pinned at two nodes), or the solvers fail to converge with no reason given.
+    // Refused as the BEM, coupled and growth modes refuse them (setup::balance, issue
+    // 17). Explicit dynamics has no pins: its free body accelerates, as it should.
+    if !matches!(pd.solver, PdSolver::Explicit(_)) {
+        super::bem::check_balance(scene)?;
+    }
     if !has_displacement {
-        // The pins hold the body against its rigid motions only when the loads are in
-        // balance; out of balance they would carry the resultant, and the run would solve
-        // a body pinned at two nodes. Refused as the BEM, coupled and growth modes refuse
-        // it (setup::balance, issue 17). Explicit dynamics drops the pins: its free body
-        // accelerates under the resultant, as it should.
-        if !matches!(pd.solver, PdSolver::Explicit(_)) {
-            super::bem::check_balance(scene)?;
-        }
         // One real node each (nodes sit at lo + (i + 1/2) dx): bottom middle (x, y) and top
         // middle (x), away from mid-height cracks; the loads are self-equilibrated.
         let snap = |v: f64, l: f64| l + (((v - l) / dx - 0.5).round() + 0.5) * dx;
