@@ -391,7 +391,7 @@ fn labelled_problem_at(scene: &Scene, dx: f64) -> Result<(PdProblem, Vec<String>
     // Refused as the BEM, coupled and growth modes refuse them (setup::balance, issue
     // 17). Explicit dynamics has no pins: its free body accelerates, as it should.
     if !matches!(pd.solver, PdSolver::Explicit(_)) {
-        super::bem::check_balance(scene)?;
+        super::bem::check_balance_where_meshable(scene)?;
     }
     if !has_displacement {
         // One real node each (nodes sit at lo + (i + 1/2) dx): bottom middle (x, y) and top
