@@ -78,8 +78,8 @@ pub fn check_balance(scene: &Scene) -> Result<()> {
 }
 
 /// [`check_balance`] for a body another solver discretises (stand-alone PD): a body the
-/// BEM cannot mesh or load (PD's pre-cracks may meet, say) is left unchecked rather than
-/// refused for a BEM reason; its loads' balance is then the PD solvers' to find.
+/// BEM mesher or its conditions would refuse although the scene's validation passed it
+/// (none of the shipped cases) is left unchecked rather than refused for a BEM reason.
 pub fn check_balance_where_meshable(scene: &Scene) -> Result<()> {
     let geo = SceneGeometry::of(scene);
     if geo.outline.is_none() {

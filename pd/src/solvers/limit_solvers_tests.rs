@@ -215,8 +215,9 @@ fn check_reports(name: &str, events: &[RampEvent], out: &LimitedSolve) -> (usize
             at.iter().all(|r| r.load == load),
             "{name}: {at:?} at {load}"
         );
-        assert!(at.windows(2).all(|w| w[0].iterations < w[1].iterations
-            && (w[0].round.0 <= w[1].round.0 || w[0].solver != w[1].solver)));
+        // Within one solver (a secant increment that fails goes on by ADR from its start).
+        assert!(at.windows(2).all(|w| w[0].solver != w[1].solver
+            || (w[0].iterations < w[1].iterations && w[0].round.0 <= w[1].round.0)));
         assert!(at
             .iter()
             .all(|r| r.round.0 <= r.round.1 && r.measure.is_finite()));
