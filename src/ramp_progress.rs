@@ -1,9 +1,10 @@
-//! The progress bar of a quasi-static PD ramp (stand-alone PD and seed 004's cells): the
-//! load factor of every converged step, the halvings of a failed one, and, once a step has
-//! iterated for [`CRAWL_AFTER`] at one load, how far its equilibrium search has got (ADR's
-//! iterations against their budget and its convergence measure against the tolerance,
-//! [`RampEvent::Iterating`]), so that a softened body whose ADR crawls says so while it
-//! crawls instead of standing still for minutes.
+//! The progress bar of a quasi-static PD ramp (stand-alone PD: the damage and limit
+//! ramps, the crack-initiation ramps of the grid, seed 004's cells and its refined
+//! particles): the load factor of every converged step, the halvings of a failed one, and,
+//! once a step has iterated for [`CRAWL_AFTER`] at one load, how far its equilibrium
+//! search has got (ADR's iterations against their budget and its convergence measure
+//! against the tolerance, [`RampEvent::Iterating`]), so that a softened body whose ADR
+//! crawls says so while it crawls instead of standing still for minutes.
 
 use std::time::{Duration, Instant};
 
@@ -63,16 +64,7 @@ impl RampProgress {
     pub fn show(&mut self, e: &RampEvent) {
         let now = Instant::now();
         match e {
-            RampEvent::Converged { load } => {
-                let at = (load / self.last * PROGRESS_LEN as f64).clamp(0.0, PROGRESS_LEN as f64);
-                self.bar.set_position(at as u64);
-                self.bar.set_message(format!(
-                    "load factor {} of {} converged",
-                    factor_text(*load),
-                    factor_text(self.last)
-                ));
-                self.restart(now);
-            }
+            RampEvent::Converged { load } => self.converged(*load, ""),
             RampEvent::Halving {
                 failed_load,
                 level,
@@ -93,6 +85,19 @@ impl RampProgress {
                 }
             }
         }
+    }
+
+    /// Shows the load factor `load` converged, with `detail` (what the step did) after it.
+    pub fn converged(&mut self, load: f64, detail: &str) {
+        let at = (load / self.last * PROGRESS_LEN as f64).clamp(0.0, PROGRESS_LEN as f64);
+        self.bar.set_position(at as u64);
+        let sep = if detail.is_empty() { "" } else { ": " };
+        self.bar.set_message(format!(
+            "load factor {} of {} converged{sep}{detail}",
+            factor_text(load),
+            factor_text(self.last)
+        ));
+        self.restart(Instant::now());
     }
 
     /// Clears the bar at the ramp's end.

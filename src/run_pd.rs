@@ -41,7 +41,7 @@ use pdbem_pd::adapt::initiation::ramp_to_initiation as initiation_on_cells;
 use pdbem_pd::adapt::ramp::{ramp_to_limit, AdaptEvent, Round};
 use pdbem_pd::adapt::{AdaptiveCells, CellCriteria};
 use pdbem_pd::error::factor_text;
-use pdbem_pd::measure::{kink_angle, ramp_to_initiation};
+use pdbem_pd::measure::{kink_angle, ramp_to_initiation_observed};
 use pdbem_pd::solvers::limit::Stop;
 use pdbem_pd::solvers::limit_solvers::{solve_to_limit, QuasiStatic};
 use pdbem_pd::solvers::{adr, implicit, switching, Convergence};
@@ -185,8 +185,10 @@ pub fn solve_observed(
                 model = out.model;
                 out.init
             }
-            None => ramp_to_initiation(&mut model, &tips, &ramp)
-                .with_context(|| format!("{}: load ramp", file.display()))?,
+            None => ramp_to_initiation_observed(&mut model, &tips, &ramp, &mut |e| {
+                observe(AdaptEvent::Ramp(e))
+            })
+            .with_context(|| format!("{}: load ramp", file.display()))?,
         };
         let mut kinks: Vec<Option<f64>> = tips
             .iter()

@@ -16,7 +16,8 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use pdbem_pd::measure::Tip;
-use pdbem_pd::refine::{ramp, run as refine_run, RefinedRamp, Refinement};
+use pdbem_pd::refine::direct::Solver;
+use pdbem_pd::refine::{ramp_observed, run as refine_run, RefinedRamp, Refinement};
 use pdbem_pd::Selection;
 use serde_json::json;
 
@@ -24,6 +25,7 @@ use crate::pd_loads::{
     damaged_throughout_note, initiation_notes, initiation_ramp, load_unit, report_initiation,
     scene_tips,
 };
+use crate::ramp_progress::RampProgress;
 use crate::runner::context::RunContext;
 use crate::runner::summary::RunSummary;
 use crate::scene::{Failure, PdRefinement, Scene};
@@ -85,8 +87,23 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     let body = if breaking {
         let tips = scene_tips(scene);
         let params = initiation_ramp(scene, problem.horizon(), 400);
-        let out = ramp(&problem, &settings, &tips, &params)
-            .with_context(|| format!("{}: refined PD load ramp", file.display()))?;
+        let mut bar = RampProgress::new(ctx, params.max_load);
+        let out = ramp_observed(
+            &problem,
+            &settings,
+            &tips,
+            &params,
+            Solver::default(),
+            &mut |s| {
+                let detail = format!(
+                    "{} particles ({} split), crack extension {:.3e} m",
+                    s.particles, s.split, s.extension
+                );
+                bar.converged(s.load, &detail)
+            },
+        );
+        bar.finish();
+        let out = out.with_context(|| format!("{}: refined PD load ramp", file.display()))?;
         report_ramp(scene, &out, &tips, problem.horizon(), &mut summary);
         out.body
     } else {

@@ -17,6 +17,7 @@ use crate::error::PdError;
 use crate::geometry::P2;
 use crate::model::PdModel;
 use crate::solvers::implicit::{ImplicitParams, Newton};
+use crate::solvers::limit::RampEvent;
 use crate::solvers::SolveInfo;
 
 /// A pre-crack tip and its outward unit direction.
@@ -194,7 +195,18 @@ pub fn ramp_to_initiation(
     tips: &[Tip],
     p: &RampParams,
 ) -> Result<Initiation, PdError> {
-    ramp_to_initiation_with(model, tips, p, &mut |_, _, _| Ok(false))
+    ramp_to_initiation_observed(model, tips, p, &mut |_| {})
+}
+
+/// [`ramp_to_initiation`], telling `observe` the load factor of every load step it has
+/// settled ([`RampEvent::Converged`]).
+pub fn ramp_to_initiation_observed(
+    model: &mut PdModel,
+    tips: &[Tip],
+    p: &RampParams,
+    observe: &mut dyn FnMut(&RampEvent),
+) -> Result<Initiation, PdError> {
+    ramp_to_initiation_with(model, tips, p, &mut |_, _, _| Ok(false), observe)
 }
 
 /// When the hook of [`ramp_to_initiation_with`] is asked for a split.
@@ -212,12 +224,13 @@ pub enum SplitStage {
 /// 004's per-step steps 3-5, [`crate::adapt`]; a split before the breaking leaves the
 /// bonds unbroken). The rounds of a load end when no bond breaks and nothing splits, or
 /// after `max_rounds` (the load is then listed in
-/// [`Initiation::unsettled_loads`]).
+/// [`Initiation::unsettled_loads`]); `observe` hears the load of every step so ended.
 pub fn ramp_to_initiation_with(
     model: &mut PdModel,
     tips: &[Tip],
     p: &RampParams,
     split: &mut dyn FnMut(&mut PdModel, f64, SplitStage) -> Result<bool, PdError>,
+    observe: &mut dyn FnMut(&RampEvent),
 ) -> Result<Initiation, PdError> {
     let mut out = Initiation::default();
     let mut newton = Newton::new(model)?;
@@ -299,6 +312,7 @@ pub fn ramp_to_initiation_with(
             kind: crate::solvers::PhaseKind::Implicit,
             resultants: model.bc_resultants(),
         });
+        observe(&RampEvent::Converged { load: lam });
         if out.initiation_load.is_some() {
             break;
         }

@@ -10,12 +10,15 @@
 //! the breaking stretch of their own horizon ($s_0\sqrt{\delta/\delta_k}$, G_c held,
 //! [`crate::mixed`]).
 
+use std::cell::RefCell;
+
 use super::ramp::{set_up_ramp, split_cells, AdaptEvent, Round, Trigger};
 use super::{AdaptiveCells, CellCriteria};
 use crate::error::PdError;
 use crate::measure::{ramp_to_initiation_with, Initiation, RampParams, SplitStage, Tip};
 use crate::model::PdModel;
 use crate::problem::PdProblem;
+use crate::solvers::limit::RampEvent;
 
 /// The result of [`ramp_to_initiation`].
 #[derive(Debug)]
@@ -33,7 +36,7 @@ pub struct AdaptiveInitiation {
 }
 
 /// Ramps `base`'s load to crack initiation at `tips` (module docs) with its cells split
-/// by `crit`; `observe` sees every refinement.
+/// by `crit`; `observe` sees every refinement and the load of every settled step.
 pub fn ramp_to_initiation(
     base: &PdProblem,
     crit: &CellCriteria,
@@ -44,7 +47,11 @@ pub fn ramp_to_initiation(
     let start = set_up_ramp(base, crit, observe)?;
     let (mut model, mut problem, mut cells, mut rounds) =
         (start.model, start.problem, start.cells, start.rounds);
-    let init = ramp_to_initiation_with(&mut model, tips, params, &mut |m, load, stage| {
+    // The ramp hears of steps, its hook of refinements: one observer, never called by
+    // both at once.
+    let observe = RefCell::new(observe);
+    let mut steps = |e: &RampEvent| (observe.borrow_mut())(AdaptEvent::Ramp(e));
+    let mut hook = |m: &mut PdModel, load: f64, stage: SplitStage| {
         let trigger = match stage {
             SplitStage::BeforeBreaking => Trigger::Breaking,
             SplitStage::AfterBreaking => Trigger::Criteria,
@@ -55,10 +62,11 @@ pub fn ramp_to_initiation(
         };
         *m = refined;
         problem = p;
-        observe(AdaptEvent::Refined(&round));
+        (observe.borrow_mut())(AdaptEvent::Refined(&round));
         rounds.push(round);
         Ok(true)
-    })?;
+    };
+    let init = ramp_to_initiation_with(&mut model, tips, params, &mut hook, &mut steps)?;
     Ok(AdaptiveInitiation {
         model,
         problem,

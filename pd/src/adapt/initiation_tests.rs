@@ -4,10 +4,12 @@
 //! of the children's spacing, where the coarse grid is two load steps short.
 
 use super::initiation::ramp_to_initiation;
+use super::ramp::AdaptEvent;
 use super::CellCriteria;
 use crate::edge_crack::{crack, problem, HEIGHT, SIDE};
 use crate::measure::{crack_tips, kink_angle, ramp_to_initiation as uniform_ramp, RampParams};
 use crate::problem::{Failure, PdMaterial, PdProblem};
+use crate::solvers::limit::RampEvent;
 use crate::traction::TractionLoad;
 use crate::PdModel;
 
@@ -250,7 +252,20 @@ fn a_mirror_symmetric_plate_grows_a_mirror_symmetric_crack_on_the_cells() {
         max_rounds: 1000,
         ..params(dx)
     };
-    let out = ramp_to_initiation(&pulled_plate(dx), &crit, &tips, &params, &mut |_| {}).unwrap();
+    let (mut loads, mut refinements) = (Vec::new(), 0);
+    let out = ramp_to_initiation(&pulled_plate(dx), &crit, &tips, &params, &mut |e| match e {
+        AdaptEvent::Ramp(RampEvent::Converged { load }) => loads.push(*load),
+        AdaptEvent::Refined(_) => refinements += 1,
+        AdaptEvent::Ramp(_) => {}
+    })
+    .unwrap();
+    // The observer heard every recorded step's load, in order, and every refinement.
+    let recorded: Vec<f64> = out.init.info.steps.iter().map(|s| s.load).collect();
+    assert!(
+        loads.len() > 1 && loads == recorded,
+        "{loads:?} {recorded:?}"
+    );
+    assert_eq!(refinements, out.rounds.len());
     let delta = 3.015 * dx;
     // Initiation: the crack grew by two horizons (and on to five for the kink).
     assert!(out.init.initiation_load.is_some() && !out.init.unstable);

@@ -81,7 +81,7 @@ mod tests;
 
 pub use body::Body;
 pub use dynamics::{run_dynamic, AdaptiveInfo, AdaptiveObserver, SplitEvent};
-pub use ramp::{ramp, ramp_with, RampRecord, RampStep, RefinedRamp};
+pub use ramp::{ramp, ramp_observed, ramp_with, RampRecord, RampStep, RefinedRamp};
 pub use run::{run, set_up, set_up_static, RefinedRun, Round};
 pub use split::{BOND_BYTES, PARTICLE_BYTES};
 

@@ -118,7 +118,19 @@ pub fn ramp_with(
     r: &Refinement,
     tips: &[Tip],
     rp: &RampParams,
+    solver: Solver,
+) -> Result<RefinedRamp, PdError> {
+    ramp_observed(p, r, tips, rp, solver, &mut |_| {})
+}
+
+/// [`ramp_with`], telling `observe` every load step as it ends.
+pub fn ramp_observed(
+    p: &PdProblem,
+    r: &Refinement,
+    tips: &[Tip],
+    rp: &RampParams,
     mut solver: Solver,
+    observe: &mut dyn FnMut(&RampStep),
 ) -> Result<RefinedRamp, PdError> {
     check_params(rp)?;
     r.validate()?;
@@ -134,6 +146,7 @@ pub fn ramp_with(
     out.extension = ext0;
     while lam <= rp.max_load * (1.0 + 1e-12) {
         let step = load_step(&mut body, r, tips, rp, lam, ext0, &mut solver, &mut out)?;
+        observe(&step);
         out.steps.push(step);
         if out.initiation_load.is_some() {
             break;

@@ -4,8 +4,9 @@
 
 use super::{ramp, Refinement};
 use crate::edge_crack::{crack, problem, HEIGHT, SIDE};
-use crate::measure::{crack_tips, ramp_to_initiation, RampParams, Tip};
+use crate::measure::{crack_tips, ramp_to_initiation_observed, RampParams, Tip};
 use crate::problem::{Failure, PdProblem};
+use crate::refine::direct::Solver;
 use crate::traction::TractionLoad;
 use crate::PdModel;
 
@@ -34,9 +35,29 @@ fn no_refinement() -> Refinement {
 /// and initiation within one load step of 0.1. Returns the particles' ramp.
 fn ramps_agree(p: &PdProblem, tips: &[Tip], label: &str) -> super::RefinedRamp {
     let rp = params(0.1);
-    let refined = ramp(p, &no_refinement(), tips, &rp).unwrap();
+    let mut steps = Vec::new();
+    let refined = super::ramp_observed(
+        p,
+        &no_refinement(),
+        tips,
+        &rp,
+        Solver::default(),
+        &mut |s| steps.push(s.clone()),
+    )
+    .unwrap();
     let mut m = PdModel::new(p).unwrap();
-    let uniform = ramp_to_initiation(&mut m, tips, &rp).unwrap();
+    let mut loads = Vec::new();
+    let uniform = ramp_to_initiation_observed(&mut m, tips, &rp, &mut |e| {
+        if let crate::solvers::limit::RampEvent::Converged { load } = e {
+            loads.push(*load)
+        }
+    })
+    .unwrap();
+    // Both ramps tell their observers every step they record, in order.
+    assert_eq!(steps, refined.record.steps, "{label}");
+    let recorded: Vec<f64> = uniform.info.steps.iter().map(|s| s.load).collect();
+    assert_eq!(loads, recorded, "{label}");
+    assert!(loads.len() > 1, "{label}");
     let r = &refined.record;
     eprintln!(
         "{label}: refined body first break {:?}, initiation {:?} (unstable {}); PdModel: {:?}, {:?}",
