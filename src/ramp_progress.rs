@@ -38,15 +38,7 @@ pub struct RampProgress {
 impl RampProgress {
     /// The bar of a ramp driven to the load factor `last`.
     pub fn new(ctx: &RunContext, last: f64) -> Self {
-        let bar = ctx.progress(PROGRESS_LEN);
-        let template = if crate::runner::context::stderr_is_terminal() {
-            "{elapsed_precise} [{bar:30}] {msg}"
-        } else {
-            "{msg}"
-        };
-        if let Ok(style) = indicatif::ProgressStyle::with_template(template) {
-            bar.set_style(style.progress_chars("=> "));
-        }
+        let bar = ctx.styled_progress(PROGRESS_LEN, "{elapsed_precise} [{bar:30}] {msg}", "{msg}");
         RampProgress {
             bar,
             last,

@@ -105,18 +105,13 @@ impl GrowthLog {
 
 /// A progress bar over `steps` load steps with a message (hidden with `--quiet`).
 pub fn step_bar(ctx: &RunContext, steps: usize) -> indicatif::ProgressBar {
-    let bar = ctx.progress(steps as u64);
     // On a terminal a bar; in lines (a log file) the step and message alone, so a line
     // is written when they change, not every second.
-    let template = if crate::runner::context::stderr_is_terminal() {
-        "{elapsed_precise} [{bar:30}] {pos}/{len} load steps done; {msg}"
-    } else {
-        "{pos}/{len} load steps done; {msg}"
-    };
-    if let Ok(style) = indicatif::ProgressStyle::with_template(template) {
-        bar.set_style(style.progress_chars("=> "));
-    }
-    bar
+    ctx.styled_progress(
+        steps as u64,
+        "{elapsed_precise} [{bar:30}] {pos}/{len} load steps done; {msg}",
+        "{pos}/{len} load steps done; {msg}",
+    )
 }
 
 /// The binary's observer of the BEM-only and full-PD engines: every event goes to

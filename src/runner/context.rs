@@ -72,6 +72,22 @@ impl RunContext {
     pub fn progress(&self, len: u64) -> ProgressBar {
         progress_bar(len, self.quiet)
     }
+
+    /// [`Self::progress`] drawn by `on_terminal` (an indicatif template) on a terminal and
+    /// by `in_lines` when stderr is a file or pipe, where a line is written whenever that
+    /// text changes (so `in_lines` leaves out what changes every second).
+    pub fn styled_progress(&self, len: u64, on_terminal: &str, in_lines: &str) -> ProgressBar {
+        let bar = self.progress(len);
+        let template = if stderr_is_terminal() {
+            on_terminal
+        } else {
+            in_lines
+        };
+        if let Ok(style) = indicatif::ProgressStyle::with_template(template) {
+            bar.set_style(style.progress_chars("=> "));
+        }
+        bar
+    }
 }
 
 /// True when progress goes to an interactive terminal (bars) rather than to lines.
