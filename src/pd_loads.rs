@@ -193,8 +193,7 @@ pub fn damaged_throughout_note(phi: &[f64], volume: impl Fn(usize) -> f64) -> Op
 /// The note of a stand-alone PD scene whose loads pass the bonds' strength: a step load
 /// of explicit dynamics past the critical stretch
 /// ([`crate::dynamic_notes::overload_note`]), a quasi-static ramp's final load far past
-/// the damage onset ([`ramp_overload_note`]). `pdbem check` prints it; the runs log it
-/// before they start and keep it in `summary.json`.
+/// the damage onset ([`ramp_overload_note`]).
 pub(crate) fn overload_notes(scene: &Scene, problem: &PdProblem, dynamic: bool) -> Vec<String> {
     let onset = problem.bond_law().damage_onset();
     let note = if dynamic {
@@ -236,7 +235,16 @@ fn ramp_overload_note(scene: &Scene, onset: f64) -> Option<String> {
     })
 }
 
-/// The notes a stand-alone PD run logs before it starts ([`overload_notes`] of its
+/// The notes on a stand-alone PD scene before it runs: [`overload_notes`] and the
+/// ligaments narrower than the horizon ([`crate::setup::ligament::notes`]). `pdbem check`
+/// prints them; the runs log them and keep them in `summary.json` ([`early_notes`]).
+pub(crate) fn set_up_notes(scene: &Scene, problem: &PdProblem, dynamic: bool) -> Vec<String> {
+    let mut notes = overload_notes(scene, problem, dynamic);
+    notes.extend(crate::setup::ligament::notes(scene, problem.dx));
+    notes
+}
+
+/// The notes a stand-alone PD run logs before it starts ([`set_up_notes`] of its
 /// `problem`), for its summary.
 pub(crate) fn early_notes(
     scene: &Scene,
@@ -244,7 +252,7 @@ pub(crate) fn early_notes(
     dynamic: bool,
     ctx: &RunContext,
 ) -> Vec<String> {
-    let notes = overload_notes(scene, problem, dynamic);
+    let notes = set_up_notes(scene, problem, dynamic);
     for n in &notes {
         ctx.log(&format!("  note: {n}"));
     }

@@ -152,7 +152,7 @@ pub fn of(scene: &Scene) -> Result<Footprint> {
             add_pd(&mut f, &model);
             let dynamic = crate::run_dynamic::is_dynamic(scene);
             f.notes
-                .extend(crate::pd_loads::overload_notes(scene, &problem, dynamic));
+                .extend(crate::pd_loads::set_up_notes(scene, &problem, dynamic));
             f.pd_factor = tangent_factor(scene, &model)?;
             if let Some(r) = scene.pd.as_ref().and_then(|pd| pd.refinement.as_ref()) {
                 if cells.is_none() {

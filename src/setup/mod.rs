@@ -10,6 +10,8 @@
 //!   ([`balance::check`], run by [`bem::build`]; [`bem::check_balance`] for the modes
 //!   with PD windows);
 //! - [`pd`](mod@pd): the stand-alone PD problem ([`pd::problem_from_scene`]);
+//! - [`ligament`]: refusal of pre-cracks whose ligament the PD grid cannot resolve, notes
+//!   on ligaments under the horizon;
 //! - [`coupled`]: the coupled model (windows, macro body, PD settings, Algorithm 1
 //!   parameters; [`coupled::prepare`]);
 //! - [`growth`]: the PD-BEM growth driver's input ([`growth::input`]);
@@ -27,6 +29,7 @@ pub mod coupled;
 pub mod estimate;
 pub mod footprint;
 pub mod growth;
+pub mod ligament;
 pub mod pd;
 pub mod refined_size;
 pub mod sizing;

@@ -214,12 +214,12 @@ pub fn labelled_problem_from_scene(scene: &Scene) -> Result<(PdProblem, Vec<Stri
         o.iter().map(|p| p.x).fold(f64::INFINITY, f64::min),
         o.iter().map(|p| p.x).fold(f64::NEG_INFINITY, f64::max),
     );
-    let dx = match (pd.dx, pd.nx) {
-        (Some(dx), _) => dx,
-        (None, Some(nx)) => (hi - lo) / nx as f64,
+    let (dx, field) = match (pd.dx, pd.nx) {
+        (Some(dx), _) => (dx, "pd.dx"),
+        (None, Some(nx)) => ((hi - lo) / nx as f64, "the body's width / pd.nx"),
         (None, None) => bail!("{}: pd: give `dx` or `nx`", scene.file_label().display()),
     };
-    labelled_problem_at(scene, dx)
+    labelled_problem_at(scene, dx, field)
 }
 
 /// The PD problem of full-PD growth: the whole body at the windows' spacing
@@ -231,7 +231,7 @@ pub fn full_pd_problem(scene: &Scene) -> Result<PdProblem> {
             scene.file_label().display()
         )
     })?;
-    problem_at(scene, co.dx())
+    Ok(labelled_problem_at(scene, co.dx(), "coupling.side / coupling.n")?.0)
 }
 
 fn pd_and_geometry(scene: &Scene) -> Result<(&ScenePd, SceneGeometry)> {
@@ -285,14 +285,15 @@ fn zones_on_the_grid(scene: &Scene, problem: &PdProblem) -> Result<()> {
     }
 }
 
-/// The PD problem of a scene at grid spacing `dx` (m).
-pub fn problem_at(scene: &Scene, dx: f64) -> Result<PdProblem> {
-    Ok(labelled_problem_at(scene, dx)?.0)
-}
-
-/// [`problem_at`] with the boundary conditions' group names
-/// ([`labelled_problem_from_scene`]).
-fn labelled_problem_at(scene: &Scene, dx: f64) -> Result<(PdProblem, Vec<String>)> {
+/// The PD problem of a scene at grid spacing `dx` (m), set by the scene's field
+/// `spacing_field` (named in the advice of a refusal), with the boundary conditions' group
+/// names ([`labelled_problem_from_scene`]). A pre-crack whose ligament the grid cannot
+/// resolve is refused ([`super::ligament::refuse_unresolved`]).
+fn labelled_problem_at(
+    scene: &Scene,
+    dx: f64,
+    spacing_field: &str,
+) -> Result<(PdProblem, Vec<String>)> {
     let (pd, geo) = pd_and_geometry(scene)?;
     let Some(outline) = &geo.outline else {
         bail!(
@@ -320,6 +321,8 @@ fn labelled_problem_at(scene: &Scene, dx: f64) -> Result<(PdProblem, Vec<String>
         })
         .collect();
     let failure = pd_failure(scene, pd)?;
+    let zones = scene.coupling.is_none();
+    super::ligament::refuse_unresolved(scene, dx, spacing_field, zones)?;
     let wanted: Option<&Vec<String>> = pd.pre_cracks.as_ref();
     let delta = pd.horizon_factor * dx;
     let cracks = geo
