@@ -299,3 +299,41 @@ fn traction_ordering_is_refused_with_growth_with_windows_only() {
     ))
     .expect("BEM-only growth");
 }
+
+#[test]
+fn bem_only_increment_must_cross_the_body_in_at_most_1e4_steps() {
+    // The 10 x 20 body's diagonal is 22.36 m: da = 1e-3 takes 2.24e4 increments across.
+    assert_invalid(
+        &scene(MAT_GC, CRACKS, "growth: (mode: BemOnly, da: 0.001)"),
+        "growth.da = 0.001",
+        "a tip would take up to 2.24e4 increments to cross the body (its 2.2361e1 m diagonal / da), each a BEM solve of the whole body: use da of at least 2.2361e-3 m",
+    );
+    load(&scene(MAT_GC, CRACKS, "growth: (mode: BemOnly, da: 0.003)")).expect("valid");
+    // da is BEM-only's: the other modes do not read it.
+    load(&growth_with_windows("mode: PdBem, da: 0.001")).expect("valid");
+}
+
+#[test]
+fn growth_load_factors_keep_one_sign() {
+    assert_invalid(
+        &scene(
+            MAT_GC,
+            CRACKS,
+            "load: (initial: 1, step: -0.5, count: 4), growth: (mode: BemOnly)",
+        ),
+        "load",
+        "growth needs load factors of one sign: factor 1 at step 0 and -0.5 at step 3 reverse the load",
+    );
+    // Falling to zero, or negative throughout, keeps one sign.
+    for load_text in [
+        "load: (initial: 1, step: -0.5, count: 3)",
+        "load: (initial: -1, step: -0.5, count: 3)",
+    ] {
+        load(&scene(
+            MAT_GC,
+            CRACKS,
+            &format!("{load_text}, growth: (mode: BemOnly)"),
+        ))
+        .unwrap_or_else(|e| panic!("{load_text}: {e}"));
+    }
+}

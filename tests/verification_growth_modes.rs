@@ -511,3 +511,31 @@ fn plot_paths_overlays_two_run_folders() {
         let _ = std::fs::remove_dir_all(d);
     }
 }
+
+/// An edge crack at 1 degree to its edge leaves a 0.17 mm sliver beside 10 mm of crack
+/// that the mesh does not resolve: the static BEM gives K_I = -5.9e6 +- 2.6e7 Pa m^0.5, the
+/// first growth mesh overlapped and the second (K_I = +4.2e6) was accepted, and the run
+/// declared the plate failed at its first load with exit 0. Now the geometry is refined
+/// until K settles or the run is refused, naming the refinement.
+#[test]
+fn bem_only_refuses_a_crack_whose_k_does_not_settle_under_refinement() {
+    let scene = inline(
+        r#"(
+        name: "sliver",
+        material: (E: 30e9, nu: 0.3, plane: Stress, fracture: (g_c: 110)),
+        body: (outline: Rectangle(x0: 0, y0: 0, width: 0.05, height: 0.1)),
+        cracks: [(name: "crack", start: (0, 0.05), angle_deg: -89, length: 0.01)],
+        boundary: [(on: "top", y: Traction(1e6)), (on: "bottom", y: Traction(-1e6))],
+        load: (initial: 5, step: 0.5, count: 20),
+        growth: (mode: BemOnly, da: 0.001),
+    )"#,
+    );
+    let dir = scratch("sliver");
+    let ctx = RunContext::new(&dir, true).expect("run folder");
+    let err = format!("{:#}", bem_only::run(&scene, &ctx).expect_err("refused"));
+    ctx.writer.abort();
+    assert!(
+        err.contains("with the tip elements refined 4x") || err.contains("up to 4x"),
+        "{err}"
+    );
+}

@@ -199,7 +199,9 @@ fn solve_station(
             *last = Some((front, s.sifs, s.cmod));
             Ok(Ok(r))
         }
-        Checked::Overlap(why) => Ok(Err(format!("step {step} (load {load}): {why}"))),
+        Checked::Overlap(why) | Checked::Unsettled(why) => {
+            Ok(Err(format!("step {step} (load {load}): {why}")))
+        }
     }
 }
 

@@ -5,6 +5,12 @@ use super::Checker;
 use crate::plot::ticks::human;
 use crate::scene::{GrowthMode, Placement, Scene};
 
+/// Most increments a BEM-only tip may take to cross the body (its bounding box's
+/// diagonal over `growth.da`): each is a BEM solve of the whole body (0.2 s on a 50 x 100
+/// mm plate of 1000 elements), so 1e4 is about half an hour per crossing; at da = 1e-7 m
+/// that plate's run did not end in 5 minutes and had 1.1e6 increments to go.
+pub const MAX_INCREMENTS_ACROSS: f64 = 1e4;
+
 /// Checks the growth section.
 pub fn check(c: &mut Checker, scene: &Scene) {
     if let Some(g) = &scene.growth {
@@ -38,8 +44,11 @@ fn check_growth(c: &mut Checker, scene: &Scene, g: &crate::scene::Growth) {
         );
     }
     if let Some(da) = g.da {
-        c.positive("growth.da", da, "crack increment da");
+        if c.positive("growth.da", da, "crack increment da") && g.mode == GrowthMode::BemOnly {
+            check_increments_across(c, scene, da);
+        }
     }
+    check_one_sign(c, scene);
     if let Some(sp) = g.sif_spacing {
         if c.finite("growth.sif_spacing", sp) && sp < 0.0 {
             c.fail(
@@ -227,5 +236,47 @@ fn check_ligaments(c: &mut Checker, scene: &Scene, co: &crate::scene::Coupling) 
                 );
             }
         }
+    }
+}
+
+/// BEM-only growth: a tip must cross the body within [`MAX_INCREMENTS_ACROSS`] increments.
+fn check_increments_across(c: &mut Checker, scene: &Scene, da: f64) {
+    use crate::scene::shapes::SceneGeometry;
+    let geo = SceneGeometry::of(scene);
+    let Some(o) = &geo.outline else { return };
+    let (lo, hi) = crate::geometry::bounding_box(&o.points);
+    let diag = (hi - lo).norm();
+    let n = diag / da;
+    if n > MAX_INCREMENTS_ACROSS {
+        c.fail(
+            "growth.da",
+            da,
+            format!(
+                "a tip would take up to {n:.2e} increments to cross the body (its {diag:.4e} m \
+                 diagonal / da), each a BEM solve of the whole body: use da of at least \
+                 {:.4e} m ({MAX_INCREMENTS_ACROSS:.0e} increments across)",
+                diag / MAX_INCREMENTS_ACROSS
+            ),
+        );
+    }
+}
+
+/// Growth runs a monotonic ramp: load factors of both signs would reverse the load, and
+/// the models have no crack-face contact (a closing crack's K_I < 0 is not the body's).
+fn check_one_sign(c: &mut Checker, scene: &Scene) {
+    let factors = scene.load.factors();
+    let first = factors.iter().position(|f| *f != 0.0);
+    let Some(first) = first else { return };
+    let sign = factors[first].signum();
+    if let Some(k) = factors.iter().position(|f| *f * sign < 0.0) {
+        c.fail_at(
+            "load",
+            format!(
+                "growth needs load factors of one sign: factor {} at step {first} and {} at \
+                 step {k} reverse the load, and no growth mode models the crack faces closing \
+                 (no contact); end the ramp before it crosses zero (load.count)",
+                factors[first], factors[k]
+            ),
+        );
     }
 }

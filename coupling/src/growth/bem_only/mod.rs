@@ -264,6 +264,7 @@ pub fn run_from(
                  which has no contact (is the load opening the crack?)"
             )))
         }
+        Checked::Unsettled(why) => return Err(fail(format!("geometry {geometry}: {why}"))),
     };
     if next == 0 {
         observer.event("solve", solve_event(&front, &solved, k_c, geometry));
@@ -319,6 +320,14 @@ pub fn run_from(
                         "run ended at load {f} (step {k}), geometry {geometry}: {why}; the crack \
                          faces overlap in the linear solution (no contact), which is not a \
                          growth state; the path ends at the last increment"
+                    ));
+                    solved_now = false;
+                    break;
+                }
+                Ok(Checked::Unsettled(why)) => {
+                    not_a_state = Some(format!(
+                        "run ended at load {f} (step {k}), geometry {geometry}: {why}; the \
+                         path ends at the last increment"
                     ));
                     solved_now = false;
                     break;
