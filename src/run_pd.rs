@@ -165,6 +165,7 @@ pub fn solve_observed(
     if matches!(pd.solver, PdSolver::Explicit(_)) {
         unreachable_explicit(&file)?;
     }
+    crate::setup::ligament::refuse_loaded_loose_nodes(scene, &model)?;
     let factors = scene.load.factors();
     let last = factors.last().copied().unwrap_or(1.0);
     let mut summary = RunSummary {

@@ -180,3 +180,32 @@ fn full_pd_growth_names_the_windows_spacing() {
         assert!(msg.contains(part), "{part} not in {msg}");
     }
 }
+
+/// Seed 001's two parallel cracks on a 10 x 10 grid: both crack lines run through node
+/// rows, so 4 nodes lose every bond. The transfer-function tractions reach a horizon (15
+/// mm) into the body and load them (404 N each at load factor 1): refused by `check` and
+/// `run`, where the solve stalled with no reason. The body-force layer loads only the edge
+/// rows: accepted.
+#[test]
+fn loaded_nodes_a_crack_cuts_off_are_refused() {
+    let text = |traction: &str| {
+        format!(
+            r#"(name: "loose", material: (E: 30e9, nu: 0.3333333333333333, plane: Stress, fracture: (g_c: 110)),
+            body: (outline: Rectangle(x0: 0, y0: 0, width: 0.05, height: 0.05)),
+            cracks: [(name: "lower", center: (0.025, 0.0125), angle_deg: 0, length: 0.01),
+                     (name: "upper", center: (0.025, 0.0375), angle_deg: 0, length: 0.01)],
+            boundary: [(on: "top", y: Traction(1e6)), (on: "bottom", y: Traction(-1e6))],
+            load: (initial: 4, step: 0.2, count: 100),
+            pd: (nx: 10, solver: Implicit(), failure: FromGc, traction: {traction}),
+            outputs: (plots: false, csv: false))"#
+        )
+    };
+    let tf = text("TransferFunction");
+    let want = "pd: 4 loaded node(s) in 4 piece(s) have no intact bond to the body (the first at (0.022500, 0.012500) m, on crack 'lower'; a pre-crack through a row of nodes cuts every bond of the nodes on it), and nothing holds the 1.617e3 N";
+    let msg = format!("{:#}", check(&tf, "loose.ron").expect_err("check refuses"));
+    assert!(msg.contains(want), "{msg}");
+    let run =
+        pdbem::runner::run_scene(&scene(&tf), &temp("loose-run"), true).expect_err("run refuses");
+    assert!(format!("{run:#}").contains(want), "{run:#}");
+    check(&text("BodyForceLayer"), "layer.ron").expect("unloaded loose nodes are left");
+}

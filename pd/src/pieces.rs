@@ -98,7 +98,12 @@ impl PdModel {
     /// ([`pieces`]): loads `lambda b_i V` (per reference volume on a mixed grid), held
     /// components those of the displacement conditions.
     pub fn pieces(&self) -> Vec<Piece> {
-        let scale = self.load * self.grid.volume;
+        self.pieces_at(self.load)
+    }
+
+    /// [`Self::pieces`] under the loads of load factor `load`.
+    pub fn pieces_at(&self, load: f64) -> Vec<Piece> {
+        let scale = load * self.grid.volume;
         let force: Vec<P2> = self
             .bc
             .body

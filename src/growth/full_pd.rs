@@ -21,6 +21,7 @@ pub fn model_of(scene: &Scene) -> Result<(PdModel, f64, f64)> {
     let problem = crate::setup::pd::full_pd_problem(scene)?;
     let (dx, delta) = (problem.dx, problem.horizon());
     let model = PdModel::new(&problem).with_context(|| format!("{}: pd", file.display()))?;
+    crate::setup::ligament::refuse_loaded_loose_nodes(scene, &model)?;
     Ok((model, dx, delta))
 }
 

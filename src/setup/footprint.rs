@@ -151,6 +151,9 @@ pub fn of(scene: &Scene) -> Result<Footprint> {
             };
             add_pd(&mut f, &model);
             let dynamic = crate::run_dynamic::is_dynamic(scene);
+            if !dynamic {
+                super::ligament::refuse_loaded_loose_nodes(scene, &model)?;
+            }
             f.notes
                 .extend(crate::pd_loads::set_up_notes(scene, &problem, dynamic));
             f.pd_factor = tangent_factor(scene, &model)?;
@@ -180,10 +183,9 @@ pub fn of(scene: &Scene) -> Result<Footprint> {
             }
             GrowthMode::FullPd => {
                 let problem = super::pd::full_pd_problem(scene)?;
-                add_pd(
-                    &mut f,
-                    &PdModel::new(&problem).with_context(|| pd_ctx(scene))?,
-                );
+                let model = PdModel::new(&problem).with_context(|| pd_ctx(scene))?;
+                super::ligament::refuse_loaded_loose_nodes(scene, &model)?;
+                add_pd(&mut f, &model);
             }
             GrowthMode::PdBem => {
                 let input = super::growth::input(scene)?;

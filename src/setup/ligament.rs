@@ -14,6 +14,9 @@
 //! its columns (a 2 mm ligament at $h$ = 1 mm opens 1.33 times as much as at 0.5 mm), but
 //! the horizon $\delta = m h$ spans it: a ligament under the horizon is noted ([`notes`]).
 //!
+//! A node that lies on a pre-crack loses every bond (the grid's rows through a crack):
+//! [`refuse_loaded_loose_nodes`] refuses a model where the loads reach such nodes.
+//!
 //! The width is the distance from the tip to the nearest point of the other boundaries,
 //! leaving out what the crack starts from: the outline edge its mouth lies on (with the
 //! edges that continue it within [`MOUTH_TURN_DEG`], a curved outline's pieces) and a hole
@@ -170,6 +173,59 @@ pub fn notes(scene: &Scene, dx: f64) -> Vec<String> {
             })
         })
         .collect()
+}
+
+/// Refuses a quasi-static model whose pre-cracks cut real nodes off the body while the
+/// loads reach them: a node on a crack line loses every bond (`pdbem_pd::bonds::cut_cracks`
+/// cuts the bonds along the crack too, so that it is not left hanging on them), and a
+/// loaded piece nothing holds has no equilibrium. Seed 001's two parallel cracks at
+/// nx = 10 (their lines through node rows) with transfer-function tractions, which reach
+/// a horizon into the body: 4 such nodes carrying 1.6 kN, and the solves stalled with
+/// "implicit did not converge" and no reason. Unloaded loose nodes are left (the shipped
+/// 45-degree cracks of seed 001 run through 28 to 50 nodes of their 40 000).
+pub fn refuse_loaded_loose_nodes(scene: &Scene, model: &pdbem_pd::PdModel) -> Result<()> {
+    let pieces = model.pieces_at(1.0);
+    let Some(main) = (0..pieces.len()).max_by_key(|&k| pieces[k].nodes.len()) else {
+        return Ok(());
+    };
+    let n_real = model.n_real();
+    let total: f64 = pieces.iter().map(|p| p.load).sum();
+    let loaded: Vec<&pdbem_pd::pieces::Piece> = pieces
+        .iter()
+        .enumerate()
+        .filter(|(k, p)| *k != main && p.nodes.iter().any(|&i| i < n_real))
+        .map(|(_, p)| p)
+        .filter(|p| p.unbalanced() > 1e-9 * total)
+        .collect();
+    let Some(first) = loaded.first() else {
+        return Ok(());
+    };
+    let nodes: usize = loaded.iter().map(|p| p.nodes.len()).sum();
+    let unbalanced: f64 = loaded.iter().map(|p| p.unbalanced()).sum();
+    let x = model.positions()[first.nodes[0]];
+    let geo = SceneGeometry::of(scene);
+    let on = geo
+        .cracks
+        .iter()
+        .map(|c| {
+            let d = c
+                .points
+                .windows(2)
+                .map(|w| point_segment_distance(&P2::new(x[0], x[1]), &w[0], &w[1]))
+                .fold(f64::INFINITY, f64::min);
+            (d, &c.name)
+        })
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .filter(|(d, _)| *d <= 1e-6 * model.grid().dx)
+        .map(|(_, name)| format!(", on crack '{name}'"))
+        .unwrap_or_default();
+    bail!(
+        "{}: pd: {nodes} loaded node(s) in {} piece(s) have no intact bond to the body (the first at ({:.6}, {:.6}) m{on}; a pre-crack through a row of nodes cuts every bond of the nodes on it), and nothing holds the {unbalanced:.3e} N the loads put on them at load factor 1, so the solves have no equilibrium; change pd.dx (or pd.nx) so that the cracks run between node rows",
+        scene.file_label().display(),
+        loaded.len(),
+        x[0],
+        x[1]
+    )
 }
 
 /// The grid spacing at `p`: `dx` halved for each level of the deepest `pd.refine_zones`
