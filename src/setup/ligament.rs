@@ -21,7 +21,8 @@
 //! leaving out what the crack starts from: the outline edge its mouth lies on (with the
 //! edges that continue it within [`MOUTH_TURN_DEG`], a curved outline's pieces) and a hole
 //! its first point lies on. The spacing is the grid's at the tip: `dx` halved for each
-//! level of a `pd.refine_zones` zone over the tip.
+//! level of a `pd.refine_zones` zone over the tip (not for the cells `pd.refinement`
+//! splits as it sets up: the rule is the coarse grid's there, on the safe side).
 
 use anyhow::{bail, Result};
 
@@ -52,8 +53,8 @@ pub struct Ligament {
 }
 
 /// The narrowest ligament of each tip of the pre-cracks `cut` (names; all cracks when
-/// `None`), nearest first per tip; tips with no other boundary (an infinite plate with one
-/// crack) have none.
+/// `None`), one per tip; tips with no other boundary (an infinite plate with one crack)
+/// have none.
 pub fn ligaments(scene: &Scene, geo: &SceneGeometry, cut: Option<&[String]>) -> Vec<Ligament> {
     let tol = 1e-9 * body_size(geo);
     let cracks: Vec<(usize, &CrackLine)> = geo
