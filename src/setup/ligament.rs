@@ -26,7 +26,7 @@
 
 use anyhow::{bail, Result};
 
-use crate::geometry::{point_segment_distance, P2};
+use crate::geometry::{point_segment_distance, polyline_distance_hypot, P2};
 use crate::scene::shapes::{CrackLine, SceneGeometry};
 use crate::scene::Scene;
 
@@ -96,11 +96,7 @@ pub fn ligaments(scene: &Scene, geo: &SceneGeometry, cut: Option<&[String]>) -> 
                 }
             }
             for &(j, other) in cracks.iter().filter(|(j, _)| *j != i) {
-                let d = other
-                    .points
-                    .windows(2)
-                    .map(|w| point_segment_distance(&at, &w[0], &w[1]))
-                    .fold(f64::INFINITY, f64::min);
+                let d = polyline_distance_hypot(&at, &other.points);
                 let index = scene_index(scene, &other.name).unwrap_or(j);
                 offer(d, format!("cracks.{index} ('{}')", other.name));
             }
@@ -120,11 +116,17 @@ pub fn ligaments(scene: &Scene, geo: &SceneGeometry, cut: Option<&[String]>) -> 
 
 /// Error on the first ligament narrower than [`MIN_SPACINGS`] grid spacings at its tip:
 /// `dx` the grid's coarse spacing, `spacing_field` the scene field that sets it and
-/// `zones` whether `pd.refine_zones` may refine the grid (for the advice).
-pub fn refuse_unresolved(scene: &Scene, dx: f64, spacing_field: &str, zones: bool) -> Result<()> {
-    let geo = SceneGeometry::of(scene);
+/// `zones` whether `pd.refine_zones` may refine the grid (for the advice); `geo` the
+/// scene's geometry.
+pub fn refuse_unresolved(
+    scene: &Scene,
+    geo: &SceneGeometry,
+    dx: f64,
+    spacing_field: &str,
+    zones: bool,
+) -> Result<()> {
     let cut = scene.pd.as_ref().and_then(|p| p.pre_cracks.as_deref());
-    for l in ligaments(scene, &geo, cut) {
+    for l in ligaments(scene, geo, cut) {
         let h = spacing_at(scene, dx, l.at);
         if l.width < MIN_SPACINGS * h {
             bail!(
@@ -209,12 +211,10 @@ pub fn refuse_loaded_loose_nodes(scene: &Scene, model: &pdbem_pd::PdModel) -> Re
         .cracks
         .iter()
         .map(|c| {
-            let d = c
-                .points
-                .windows(2)
-                .map(|w| point_segment_distance(&P2::new(x[0], x[1]), &w[0], &w[1]))
-                .fold(f64::INFINITY, f64::min);
-            (d, &c.name)
+            (
+                polyline_distance_hypot(&P2::new(x[0], x[1]), &c.points),
+                &c.name,
+            )
         })
         .min_by(|a, b| a.0.total_cmp(&b.0))
         .filter(|(d, _)| *d <= 1e-6 * model.grid().dx)
@@ -282,7 +282,8 @@ fn mouth_edges(geo: &SceneGeometry, crack: &CrackLine, tol: f64) -> Vec<usize> {
             let (mut prev, mut total) = (e0, 0.0);
             for k in 1..n {
                 let e = (e0 + k * step) % n;
-                total += turn(prev, e) * if step == 1 { 1.0 } else { -1.0 };
+                // Walking backwards turns every step the other way: |total| is the same.
+                total += turn(prev, e);
                 if total.abs() >= limit || out.contains(&e) {
                     break;
                 }
@@ -359,7 +360,7 @@ mod tests {
             "{l:?} vs {want}"
         );
         assert!(l[0].other.starts_with("the outline"), "{l:?}");
-        refuse_unresolved(&scene, 0.002, "pd.dx", true).expect("resolved");
+        refuse_unresolved(&scene, &geo, 0.002, "pd.dx", true).expect("resolved");
         // With every edge counted, the 3.9 mm to the mouth's next edge would be the
         // ligament and the 2 mm grid refused.
         let tip = l[0].at;

@@ -322,7 +322,7 @@ fn labelled_problem_at(
         .collect();
     let failure = pd_failure(scene, pd)?;
     let zones = scene.coupling.is_none();
-    super::ligament::refuse_unresolved(scene, dx, spacing_field, zones)?;
+    super::ligament::refuse_unresolved(scene, &geo, dx, spacing_field, zones)?;
     let wanted: Option<&Vec<String>> = pd.pre_cracks.as_ref();
     let delta = pd.horizon_factor * dx;
     let cracks = geo
