@@ -187,7 +187,13 @@ pub(crate) fn loose_pieces_notes(
         });
     }
     let (n, share) = loose.parts;
-    if n > 0 {
+    if n == 1 && loose.pieces == loose.layers.0 + 1 {
+        // No crack cut the body: the one piece besides torn layers is the body itself.
+        notes.push(format!(
+            "the loads on the body do not balance: at the end it carries {:.1} % of the loads unbalanced and moves away as a whole under them{kinetic}; the crack measures are those of a body in flight (`pdbem check` gives the loads' resultant)",
+            100.0 * share
+        ));
+    } else if n > 0 {
         notes.push(format!(
             "the body is cut apart: at the end {n} of its {} pieces carry {:.1} % of the loads unbalanced and move away under the loads held on them{kinetic}; from when the crack cut through, the run follows pieces in flight, not a crack in a loaded body",
             loose.pieces,

@@ -196,13 +196,29 @@ pub fn damaged_throughout_note(phi: &[f64], volume: impl Fn(usize) -> f64) -> Op
 /// the damage onset ([`ramp_overload_note`]).
 pub(crate) fn overload_notes(scene: &Scene, problem: &PdProblem, dynamic: bool) -> Vec<String> {
     let onset = problem.bond_law().damage_onset();
-    let note = if dynamic {
+    if dynamic {
         let load = scene.load.factors().last().copied().unwrap_or(1.0);
-        crate::dynamic_notes::overload_note(problem, onset, load)
+        let mut notes: Vec<String> = crate::dynamic_notes::overload_note(problem, onset, load)
+            .into_iter()
+            .collect();
+        notes.extend(free_flight_note(scene, problem));
+        notes
     } else {
-        ramp_overload_note(scene, onset)
+        ramp_overload_note(scene, onset).into_iter().collect()
+    }
+}
+
+/// The note of an explicit run whose loads the free body does not balance
+/// ([`crate::setup::balance::dynamic_note`]; the quasi-static runs refuse such a scene).
+fn free_flight_note(scene: &Scene, problem: &PdProblem) -> Option<String> {
+    let crate::scene::PdSolver::Explicit(p) = &scene.pd.as_ref()?.solver else {
+        return None;
     };
-    note.into_iter().collect()
+    let density = scene.material.density?;
+    let (mesh, bcs) = crate::setup::bem::whole_body_where_meshable(scene)?;
+    let area = pdbem_pd::traction::region_area(problem);
+    crate::setup::balance::dynamic_note(scene, (&mesh, &bcs), area, density, p.end_time)
+        .map(|n| format!("boundary: {n}"))
 }
 
 /// Ratio of the final load's nominal strain to the bonds' damage onset from which

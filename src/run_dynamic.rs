@@ -14,7 +14,8 @@
 //!
 //! [`check`] (run by `pdbem check` and before every run) refuses a `dt` above the stable
 //! step of a patch of the scene's grid and material, and a run whose steps times bonds
-//! exceed the work bound, before anything is built at full size.
+//! exceed the work bound, before anything is built at full size; [`check_grid`] (`pdbem
+//! check`, on the grid the run builds) refuses what the run's own plan would.
 
 use anyhow::{bail, Context, Result};
 use pdbem_pd::dynamics::{
@@ -175,6 +176,16 @@ pub fn check(scene: &Scene) -> Result<()> {
         );
     }
     check_refinement_checks(scene, steps)
+}
+
+/// Refuses what the run on the uniform grid `model` (built from [`problem`]) would refuse
+/// before its first step: the library's own [`dynamics::plan`] (the stable step of this
+/// grid, which a crack or a corner can put below the patch's of [`check`]; a step past
+/// `end_time`; a velocity box that holds no node), run by `pdbem check`.
+pub fn check_grid(scene: &Scene, model: &PdModel) -> Result<()> {
+    dynamics::plan(model, &params(scene)?)
+        .map(|_| ())
+        .map_err(|e| anyhow::anyhow!("{}: pd.solver: {e}", scene.file_label().display()))
 }
 
 /// Adaptive dynamics checks its criteria every `check_every` steps: a run of fewer steps

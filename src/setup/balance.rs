@@ -33,7 +33,7 @@ pub fn check(scene: &Scene, mesh: &Mesh, bcs: &[[Bc; 2]]) -> Result<()> {
     let Some(first) = out.first() else {
         return Ok(());
     };
-    let pieces = pdbem_bem::mesh::pieces(mesh).map_or(1, |p| p.iter().max().map_or(1, |m| m + 1));
+    let pieces = mesh_pieces(mesh);
     let mut shown = first.clone();
     if pieces == 1 {
         if let Some(c) = outline_centroid(scene) {
@@ -41,10 +41,53 @@ pub fn check(scene: &Scene, mesh: &Mesh, bcs: &[[Bc; 2]]) -> Result<()> {
         }
     }
     bail!(
-        "{}: boundary: {}",
+        "{}: boundary: {}. The solution would be that of another load: balance the loads or \
+         add a support (a displacement condition)",
         scene.file_label().display(),
         describe(mesh, &shown, pieces > 1)
     )
+}
+
+/// The note of an explicit-dynamics scene (no pins, so a free body is solved as it is)
+/// whose prescribed tractions on the whole body `mesh` under `bcs` are out of balance
+/// along a rigid motion no displacement condition holds: the body accelerates as a whole,
+/// besides its waves and cracks. Gives the resultant and the largest rigid acceleration
+/// |F| / (rho A) of the body's mass per metre of thickness (`density` rho, area `area`)
+/// with the rigid displacement it makes by `end_time`. `None` when the loads balance.
+pub fn dynamic_note(
+    scene: &Scene,
+    (mesh, bcs): (&Mesh, &[[Bc; 2]]),
+    area: f64,
+    density: f64,
+    end_time: f64,
+) -> Option<String> {
+    let first = load_imbalance(mesh, bcs, BALANCE_TOLERANCE)
+        .into_iter()
+        .next()?;
+    let pieces = mesh_pieces(mesh);
+    let shown = match outline_centroid(scene) {
+        Some(c) if pieces == 1 => about(&first, c),
+        _ => first,
+    };
+    let mass = density * area;
+    let a = shown.force[0].hypot(shown.force[1]) / mass;
+    let motion = if a > 0.0 {
+        format!(
+            "; the resultant accelerates the body's {mass:.4e} kg/m (rho A) at up to {a:.3e} m/s^2, a rigid displacement of up to {:.3e} m by end_time",
+            0.5 * a * end_time * end_time
+        )
+    } else {
+        String::new()
+    };
+    Some(format!(
+        "{}{motion}. Explicit dynamics runs the body as it is: it accelerates as a whole, besides its waves and cracks, and the crack measures are those of a body in flight; balance the loads or add a support if that is not the intent",
+        describe(mesh, &shown, pieces > 1)
+    ))
+}
+
+/// The number of pieces of `mesh` (one when they cannot be told).
+fn mesh_pieces(mesh: &Mesh) -> usize {
+    pdbem_bem::mesh::pieces(mesh).map_or(1, |p| p.iter().max().map_or(1, |m| m + 1))
 }
 
 /// Area centroid of the scene's outline (None for an infinite plate).
@@ -82,9 +125,7 @@ fn describe(mesh: &Mesh, i: &Imbalance, several: bool) -> String {
     format!(
         "the prescribed tractions (on {}) are out of balance and {held}: resultant \
          Fx = {:.6e} N/m, Fy = {:.6e} N/m, M = {:.6e} N m/m about ({:.6}, {:.6}) m (per metre \
-         of thickness; {:.2e} of the summed |traction| x length, tolerance {:.0e}). The \
-         solution would be that of another load: balance the loads or add a support (a \
-         displacement condition)",
+         of thickness; {:.2e} of the summed |traction| x length, tolerance {:.0e})",
         groups.join(", "),
         i.force[0],
         i.force[1],

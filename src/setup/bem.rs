@@ -81,20 +81,21 @@ pub fn check_balance(scene: &Scene) -> Result<()> {
 /// BEM mesher or its conditions would refuse although the scene's validation passed it
 /// (none of the shipped cases) is left unchecked rather than refused for a BEM reason.
 pub fn check_balance_where_meshable(scene: &Scene) -> Result<()> {
-    let geo = SceneGeometry::of(scene);
-    if geo.outline.is_none() {
-        return Ok(());
+    match whole_body_where_meshable(scene) {
+        Some((mesh, bcs)) => super::balance::check(scene, &mesh, &bcs),
+        None => Ok(()),
     }
-    let Ok(builder) = mesh_builder(scene, &geo, 1.0) else {
-        return Ok(());
-    };
-    let Ok(mesh) = builder.build() else {
-        return Ok(());
-    };
-    let Ok(bcs) = conditions(scene, &mesh, 1.0, None, MissingGroup::Error) else {
-        return Ok(());
-    };
-    super::balance::check(scene, &mesh, &bcs)
+}
+
+/// The scene's whole body meshed at unit load with its conditions, for the balance of a
+/// body another solver discretises; `None` for an infinite plate and for a body the BEM
+/// mesher or its conditions would refuse although the scene's validation passed it.
+pub fn whole_body_where_meshable(scene: &Scene) -> Option<(Mesh, Vec<[Bc; 2]>)> {
+    let geo = SceneGeometry::of(scene);
+    geo.outline.as_ref()?;
+    let mesh = mesh_builder(scene, &geo, 1.0).ok()?.build().ok()?;
+    let bcs = conditions(scene, &mesh, 1.0, None, MissingGroup::Error).ok()?;
+    Some((mesh, bcs))
 }
 
 /// The loops, cracks and size field of the static BEM mesh at refinement `refine`

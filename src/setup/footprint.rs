@@ -128,7 +128,12 @@ pub fn of(scene: &Scene) -> Result<Footprint> {
     match mode_of(scene) {
         Mode::Bem => bem_levels(scene, &mut f)?,
         Mode::Pd => {
-            let problem = super::pd::problem_from_scene(scene)?;
+            let dynamic = crate::run_dynamic::is_dynamic(scene);
+            let problem = if dynamic {
+                crate::run_dynamic::problem(scene)?
+            } else {
+                super::pd::problem_from_scene(scene)?
+            };
             let cells = scene.pd.as_ref().and_then(|pd| {
                 pd.refinement
                     .as_ref()
@@ -150,9 +155,10 @@ pub fn of(scene: &Scene) -> Result<Footprint> {
                 None => PdModel::new(&problem).with_context(|| pd_ctx(scene))?,
             };
             add_pd(&mut f, &model);
-            let dynamic = crate::run_dynamic::is_dynamic(scene);
             if !dynamic {
                 super::ligament::refuse_loaded_loose_nodes(scene, &model)?;
+            } else if scene.pd.as_ref().is_some_and(|pd| pd.refinement.is_none()) {
+                crate::run_dynamic::check_grid(scene, &model)?;
             }
             f.notes
                 .extend(crate::pd_loads::set_up_notes(scene, &problem, dynamic));

@@ -33,8 +33,10 @@
 //! (the bond's diagonal and off-diagonal blocks), this is Silling & Askari's (2005)
 //! $\Delta t_c = \sqrt{2\rho / \sum_j V_j C_{ij}}$ with the bond stiffness
 //! $C_{ij} = c/|\xi|$ projected on the axes instead of taken whole (so ours is the
-//! larger, still a Gershgorin bound). A given `dt` above $\Delta t_c$ is refused; without
-//! one, `dt = safety_factor * dt_c`.
+//! larger, still a Gershgorin bound). A given `dt` above $\Delta t_c$ or above the end
+//! time $T$ is refused (the run ends at the first step at or past $T$); without one, `dt`
+//! is the largest step of at most `safety_factor * dt_c` that divides $T$ (so the run
+//! ends on $T$).
 //!
 //! **Energies** (J, recorded per output interval): kinetic $K = \tfrac12\sum_i \rho V
 //! |v_i|^2$, strain $U$ ([`PdModel::energy`]), work of the loads
@@ -92,7 +94,8 @@ pub struct ExplicitParams {
     pub density: f64,
     /// Simulated time (s), > 0.
     pub end_time: f64,
-    /// Time step (s), at most the stable `dt_c`; `None`: `safety_factor * dt_c`.
+    /// Time step (s), at most the stable `dt_c` and `end_time`; `None`: the largest step
+    /// of at most `safety_factor * dt_c` that divides `end_time`.
     pub dt: Option<f64>,
     /// Fraction of `dt_c` taken when `dt` is `None`, in (0, 1]. Default 0.8.
     pub safety_factor: f64,
@@ -229,7 +232,9 @@ fn positive(field: &str, v: f64) -> Result<(), PdError> {
 }
 
 /// Validate `p` against `model` and size the run: the time step, its bound and the
-/// work. The errors name the field (`density`, `end_time`, `dt`, ...).
+/// work, and the region velocities (each box must hold a node). The errors name the
+/// field (`density`, `end_time`, `dt`, `velocities[k].region`, ...). [`run`] starts with
+/// it, so a caller that checks a scene before running it refuses what the run would.
 pub fn plan(model: &PdModel, p: &ExplicitParams) -> Result<Plan, PdError> {
     positive("density", p.density)?;
     if model.grid.is_mixed() {
@@ -243,7 +248,15 @@ pub fn plan(model: &PdModel, p: &ExplicitParams) -> Result<Plan, PdError> {
         "the stable step dt_c = {dt_c:.4e} s (sqrt(4 rho / max row sum of the stiffness), rho = {} kg/m^3)",
         p.density
     );
-    plan_with(p, dt_c, &bound, model.n_bonds())
+    let plan = plan_with(p, dt_c, &bound, model.n_bonds())?;
+    let n = model.n_real();
+    region_velocities(
+        &p.velocities,
+        &model.positions()[..n],
+        &model.bc.fixed[..n],
+        model.grid.delta,
+    )?;
+    Ok(plan)
 }
 
 /// [`plan`] for a body whose stable step `dt_c` (described by `bound` in the errors) and
@@ -281,6 +294,15 @@ pub(crate) fn plan_with(
                     ),
                 ));
             }
+            if dt > p.end_time {
+                return Err(PdError::invalid(
+                    "dt",
+                    format!(
+                        "time step {dt:.4e} s exceeds end_time = {:.4e} s: the run would take one step and end at {dt:.4e} s; take dt <= end_time, or leave dt out",
+                        p.end_time
+                    ),
+                ));
+            }
             dt
         }
         None => {
@@ -296,7 +318,9 @@ pub(crate) fn plan_with(
                     "nothing moves (every component prescribed): nothing to integrate",
                 ));
             }
-            p.safety_factor * dt_c
+            // The largest step of at most safety_factor dt_c that ends on end_time.
+            let most = p.safety_factor * dt_c;
+            p.end_time / (p.end_time / most).ceil()
         }
     };
     let steps_f = (p.end_time / dt * (1.0 - 1e-12)).ceil();

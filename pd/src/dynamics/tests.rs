@@ -153,7 +153,8 @@ fn a_step_above_the_bound_is_refused_and_unstable() {
     );
 }
 
-/// Validation names the field: no density, a non-positive end time, too much work.
+/// Validation names the field: no density, a non-positive end time, too much work, a step
+/// past the end time, a velocity box without a node.
 #[test]
 fn validation_errors_name_the_field() {
     let m = pulled_plate(PdMaterial::Pmb, 1e6);
@@ -198,8 +199,44 @@ fn validation_errors_name_the_field() {
         }),
         "safety_factor"
     );
-    let auto = plan(&m, &ExplicitParams { dt: None, ..ok }).unwrap();
-    assert!((auto.dt - 0.8 * auto.dt_c).abs() < 1e-15 * auto.dt_c);
+    assert_eq!(
+        field(&ExplicitParams {
+            dt: Some(2e-6),
+            ..ok.clone()
+        }),
+        "dt",
+        "a step longer than end_time"
+    );
+    assert_eq!(
+        field(&ExplicitParams {
+            velocities: vec![RegionVelocity {
+                region: Selection::Box {
+                    min: [-1.0, -1.0],
+                    max: [-0.5, -0.5],
+                },
+                velocity: [1.0, 0.0],
+                hold: false,
+            }],
+            ..ok.clone()
+        }),
+        "velocities[0].region"
+    );
+    // Without dt: the largest step of at most 0.8 dt_c that ends on end_time.
+    for end_time in [1e-6, 3.3e-6, 1e-9] {
+        let auto = plan(
+            &m,
+            &ExplicitParams {
+                dt: None,
+                end_time,
+                ..ok.clone()
+            },
+        )
+        .unwrap();
+        let steps = auto.steps as f64;
+        assert!(auto.dt <= 0.8 * auto.dt_c, "{} > 0.8 dt_c", auto.dt);
+        assert!(((steps * auto.dt - end_time) / end_time).abs() < 1e-12);
+        assert!(end_time / (steps - 1.0) > 0.8 * auto.dt_c || auto.steps == 1);
+    }
 }
 
 /// A plane-stress strip (300 mm x 10 mm, dx = 1 mm, state-based, surface corrected)

@@ -119,7 +119,16 @@ fn check_explicit(c: &mut Checker, scene: &Scene, p: &crate::scene::ExplicitPara
         }
     }
     if let Some(dt) = p.dt {
-        c.positive("pd.solver.dt", dt, "time step");
+        if c.positive("pd.solver.dt", dt, "time step") && p.end_time > 0.0 && dt > p.end_time {
+            c.fail(
+                "pd.solver.dt",
+                dt,
+                format!(
+                    "the time step exceeds end_time = {}: the run would take one step and end at dt; take dt <= end_time, or leave dt out",
+                    p.end_time
+                ),
+            );
+        }
     }
     check_velocities(c, scene, &p.velocities);
     if let Some(e) = p.output_every {
