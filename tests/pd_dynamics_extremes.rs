@@ -52,8 +52,9 @@ fn run_error(scene: &Scene, tag: &str) -> String {
 /// this grid is 1.78996e-7 s (the nodes by the crack tip and the corners bound it), the
 /// patch of 8 horizons that `check` sized the run with gives 1.7914e-7 s: a step between
 /// them passed `check` and was refused by the run. A step longer than `end_time` ran one
-/// step past it (end_time 1e-12 s: 1e-8 s simulated); the scene is refused now. A box of `velocities` between the
-/// nodes was refused only when the run started.
+/// step past it (end_time 1e-12 s: 1e-8 s simulated); the scene is refused now. A box of
+/// `velocities` between the nodes (or between adaptive dynamics' particles) was refused
+/// only when the run started.
 #[test]
 fn check_refuses_what_the_run_refuses() {
     let between = plate("Explicit(end_time: 5e-6, dt: Some(1.7905e-7))");
@@ -85,6 +86,23 @@ fn check_refuses_what_the_run_refuses() {
         "{e}"
     );
     assert_eq!(run_error(&empty, "empty"), e);
+    // The same box with adaptive refinement: its particles at the start.
+    let text = PLATE
+        .replace(
+            "failure: FromGc,",
+            "failure: FromGc, refinement: (critical_damage: 0.4, strain_factor: 0.5),",
+        )
+        .replace(
+            "SOLVER",
+            "Explicit(end_time: 5e-6, dt: Some(1e-8), velocities: [(min: (0.0101, 0.0051), max: (0.0102, 0.0052), velocity: (1, 0))])",
+        );
+    let refined = Scene::from_ron_str(&text, Path::new("dyn.ron")).unwrap();
+    let e = check_error(&refined).expect("an empty box among the particles");
+    assert!(
+        e.contains("adaptive dynamics: invalid input `velocities[0].region`: holds no node"),
+        "{e}"
+    );
+    assert_eq!(run_error(&refined, "empty_refined"), e);
 
     assert_eq!(
         check_error(&plate("Explicit(end_time: 5e-6, dt: Some(1.7899e-7))")),

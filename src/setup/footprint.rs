@@ -88,19 +88,27 @@ fn refined_start(
     r: &crate::scene::PdRefinement,
     problem: &PdProblem,
 ) -> Result<String> {
-    let settings = crate::run_refined::settings(r, &problem.cracks);
+    let dynamic = crate::run_dynamic::is_dynamic(scene);
+    let settings = if dynamic {
+        crate::run_adaptive::settings(r, &problem.cracks)
+    } else {
+        crate::run_refined::settings(r, &problem.cracks)
+    };
     let mut body = Body::from_problem(problem).with_context(|| pd_ctx(scene))?;
     body.keep_horizon = settings.keep_horizon;
-    let dynamic = scene
-        .pd
-        .as_ref()
-        .is_some_and(|pd| matches!(pd.solver, crate::scene::PdSolver::Explicit(_)));
     let split = if dynamic {
         set_up_static(&mut body, &settings)
     } else {
         set_up(&mut body, &settings)
     }
     .with_context(|| pd_ctx(scene))?;
+    if dynamic {
+        // What the run refuses before its first step (`crate::run_adaptive::run`).
+        let p = crate::run_dynamic::params(scene)?;
+        pdbem_pd::refine::dynamics::check_plan(&body, &p, &settings).map_err(|e| {
+            anyhow::anyhow!("{}: adaptive dynamics: {e}", scene.file_label().display())
+        })?;
+    }
     Ok(format!(
         "pd.refinement: the set-up splits {split} particles: {} particles and {} directed bonds at the start (the criteria split more as they fire)",
         body.len(),

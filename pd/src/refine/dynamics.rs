@@ -340,6 +340,30 @@ fn plan(
     Ok((plan.dt, plan.dt_c, plan.steps, plan.record_every))
 }
 
+/// Refinement settings adaptive dynamics cannot run: invalid ones, and kept horizons.
+fn refuse_settings(r: &Refinement) -> Result<(), PdError> {
+    r.validate()?;
+    if r.keep_horizon {
+        return Err(PdError::invalid(
+            "refinement.keep_horizon",
+            "explicit dynamics needs children with halved horizons (the stable step scales with the spacing at a fixed horizon factor)",
+        ));
+    }
+    Ok(())
+}
+
+/// What [`run_dynamic`] refuses before its first step, on `body` set up as it sets it up
+/// ([`super::run::set_up_static`] with `r`): the settings, the plan (the step against the
+/// bound of the smallest particles, the work) and the region velocities (each box must
+/// hold a particle). For a caller that checks a scene before it runs it.
+pub fn check_plan(body: &Body, ex: &ExplicitParams, r: &Refinement) -> Result<(), PdError> {
+    refuse_settings(r)?;
+    plan(body, ex, r)?;
+    let delta_max = body.dh.delta.iter().fold(0.0f64, |a, &b| a.max(b));
+    region_velocities(&ex.velocities, body.positions(), &body.fixed, delta_max)?;
+    Ok(())
+}
+
 /// Run the explicit dynamics of `p`'s refined body from rest with adaptive refinement
 /// `r` checked every `check_every` steps (module docs), reporting through `obs`. Set-up:
 /// the static regions of `r` ([`super::run::set_up_static`]; Eq. 15 fires during the run,
@@ -351,13 +375,7 @@ pub fn run_dynamic(
     check_every: usize,
     obs: &mut dyn AdaptiveObserver,
 ) -> Result<(Body, AdaptiveInfo), PdError> {
-    r.validate()?;
-    if r.keep_horizon {
-        return Err(PdError::invalid(
-            "refinement.keep_horizon",
-            "explicit dynamics needs children with halved horizons (the stable step scales with the spacing at a fixed horizon factor)",
-        ));
-    }
+    refuse_settings(r)?;
     if check_every == 0 {
         return Err(PdError::invalid("check_every", "must be at least 1 step"));
     }
