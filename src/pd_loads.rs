@@ -62,7 +62,14 @@ pub fn traction_scale(scene: &Scene) -> Option<f64> {
             Component::Traction(v) => Some(v.abs()),
             _ => None,
         })
-        .chain(scene.boundary.iter().filter_map(|b| b.normal.map(f64::abs)))
+        .chain(
+            scene
+                .boundary
+                .iter()
+                .flat_map(|b| [b.normal, b.shear])
+                .flatten()
+                .map(f64::abs),
+        )
         .fold(None, |m: Option<f64>, v| Some(m.map_or(v, |m| m.max(v))))
 }
 

@@ -37,8 +37,10 @@ fn group_polylines(scene: &Scene, geo: &SceneGeometry, name: &str) -> Vec<Vec<P>
     for (hn, shape) in &geo.holes {
         if hn == name {
             let pts: Vec<P> = match shape {
+                // Clockwise, as polygon holes: the right-hand normal points out of the
+                // body (a `normal` traction) and `shear` runs clockwise (docs/scene.md).
                 HoleShape::Circle { center, radius } => {
-                    crate::geometry::circle_polygon(center, *radius, 128, false)
+                    crate::geometry::circle_polygon(center, *radius, 128, true)
                         .iter()
                         .map(|p| [p.x, p.y])
                         .collect()
@@ -55,8 +57,9 @@ fn group_polylines(scene: &Scene, geo: &SceneGeometry, name: &str) -> Vec<Vec<P>
 
 /// The force (N, thickness included) the traction conditions of boundary group `name` put
 /// on the body at load factor 1: the traction vector of each condition on the group plus
-/// its normal traction along the right-hand normal of each piece (as the PD loads are
-/// built), integrated over the group's outline edges, patches and holes.
+/// its normal and shear tractions along each segment's outward normal and running
+/// direction ([`traction_pieces`], as the PD loads are built), integrated over the
+/// group's outline edges, patches and holes.
 pub fn applied_resultant(scene: &Scene, name: &str) -> [f64; 2] {
     let geo = SceneGeometry::of(scene);
     let lines = group_polylines(scene, &geo, name);
@@ -68,16 +71,44 @@ pub fn applied_resultant(scene: &Scene, name: &str) -> [f64; 2] {
         };
         let t = [trac(bc.x), trac(bc.y)];
         for line in &lines {
-            for w in line.windows(2) {
-                let (dx_, dy_) = (w[1][0] - w[0][0], w[1][1] - w[0][1]);
-                let l = dx_.hypot(dy_);
-                let tn = bc.normal.unwrap_or(0.0);
-                f[0] += (t[0] * l + tn * dy_) * scene.material.thickness;
-                f[1] += (t[1] * l - tn * dx_) * scene.material.thickness;
+            for (piece, t) in traction_pieces(line, t, bc.normal, bc.shear) {
+                let l = pdbem_pd::geometry::polyline_length(&piece) * scene.material.thickness;
+                f[0] += t[0] * l;
+                f[1] += t[1] * l;
             }
         }
     }
     f
+}
+
+/// The traction pieces of a condition on `line`, one polyline of its group (an outline
+/// edge or a patch, counter-clockwise, or a hole, clockwise: the right-hand normal points
+/// out of the body): the global components `t` on the whole line, or, with a `normal` or
+/// `shear` traction, one piece per segment with t + t_n n + t_s s, n the segment's outward
+/// normal and s its running direction (docs/scene.md, Conventions). Pieces without load
+/// are left out. Before, the normal of the first segment was taken for the whole line (a
+/// pressurised circular hole pushed the body sideways with the pressure times the
+/// perimeter) and `shear` was dropped.
+fn traction_pieces(line: &[P], t: P, normal: Option<f64>, shear: Option<f64>) -> Vec<(Vec<P>, P)> {
+    if normal.is_none() && shear.is_none() {
+        return if t == [0.0, 0.0] {
+            Vec::new()
+        } else {
+            vec![(line.to_vec(), t)]
+        };
+    }
+    let (tn, ts) = (normal.unwrap_or(0.0), shear.unwrap_or(0.0));
+    line.windows(2)
+        .filter_map(|w| {
+            let (dx, dy) = (w[1][0] - w[0][0], w[1][1] - w[0][1]);
+            let l = dx.hypot(dy);
+            let piece = [
+                t[0] + (tn * dy + ts * dx) / l,
+                t[1] + (-tn * dx + ts * dy) / l,
+            ];
+            (l > 0.0 && piece != [0.0, 0.0]).then(|| (w.to_vec(), piece))
+        })
+        .collect()
 }
 
 /// Pre-crack polyline of a crack: an end on the outline (within `tol`) is carried on
@@ -368,21 +399,15 @@ fn labelled_problem_at(
                 Component::Traction(v) => v,
                 _ => 0.0,
             };
-            let mut t = [trac(bc.x), trac(bc.y)];
-            if let (Some(tn), [a, b, ..]) = (bc.normal, line.as_slice()) {
-                // Outward normal of a counter-clockwise outline edge: right-hand normal.
-                let (dx_, dy_) = (b[0] - a[0], b[1] - a[1]);
-                let l = dx_.hypot(dy_);
-                t = [t[0] + tn * dy_ / l, t[1] - tn * dx_ / l];
-            }
-            if t != [0.0, 0.0] {
+            let t = [trac(bc.x), trac(bc.y)];
+            for (edge, traction) in traction_pieces(&line, t, bc.normal, bc.shear) {
                 // One node column deep (seed 000 section 2.3): a deeper layer moves the
                 // resultant inward (a cantilever tip load over delta deflects ~4 % less).
                 // The transfer functions spread over the horizon instead (seed 001).
                 labels.push(bc.on.clone());
                 boundary.push(PdBc::Traction {
-                    edge: line.clone(),
-                    traction: t,
+                    edge,
+                    traction,
                     depth: (pd.traction == PdTraction::BodyForceLayer).then_some(dx),
                 });
             }
