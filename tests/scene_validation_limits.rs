@@ -180,6 +180,14 @@ fn psi_is_a_small_relative_tolerance() {
         );
     }
     load(&scene("pd: (), coupling: (side: 2, n: 20, psi: 0.1)")).expect("psi = 0.1");
+    // Below what the iteration can settle to: round-off near 1e-12 in a static solve
+    // (coupled_sent_a5 ended unconverged at 9.7e-12 with psi = 1e-12).
+    assert_invalid(
+        &scene("pd: (), coupling: (side: 2, n: 20, psi: 1e-12)"),
+        "coupling.psi",
+        "below 1e-10 cannot mean convergence",
+    );
+    load(&scene("pd: (), coupling: (side: 2, n: 20, psi: 1e-10)")).expect("psi = 1e-10");
 }
 
 #[test]

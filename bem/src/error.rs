@@ -35,4 +35,20 @@ pub enum BemError {
     /// A post-processing request cannot be served (e.g. a crack without a mouth asked for CMOD).
     #[error("post-processing: {0}")]
     Post(String),
+    /// The dense system would exceed the memory budget ([`crate::system::set_system_budget`]).
+    #[error(
+        "system: {elements} elements ({unknowns} unknowns) need {:.3} GiB for the dense system, over the memory budget of {:.3} GiB",
+        bytes / 1073741824.0,
+        budget / 1073741824.0
+    )]
+    TooLarge {
+        /// Elements of the mesh.
+        elements: usize,
+        /// Unknowns of the system.
+        unknowns: usize,
+        /// Bytes the system needs.
+        bytes: f64,
+        /// The budget (bytes).
+        budget: f64,
+    },
 }

@@ -217,6 +217,11 @@ pub fn of(scene: &Scene) -> Result<Footprint> {
                 for w in &p.windows {
                     add_pd(&mut f, &w.model);
                 }
+                f.notes.extend(super::growth::mesh_growth_note(
+                    scene,
+                    p.mesh.len(),
+                    growth.tips().len(),
+                )?);
             }
         },
     }

@@ -322,3 +322,49 @@ pub fn toughness(scene: &Scene) -> Result<(f64, Option<String>)> {
     );
     Ok((k_c, Some(note)))
 }
+
+/// The memory budget against PD-BEM growth's growing mesh: each window relocation adds
+/// `2 growth.elements_per_extension` BEM elements per tip (both faces), and the dense
+/// system of N elements takes 8 (2N)^2 bytes, so the budget holds
+/// N_max = sqrt(budget / 8) / 2 elements. An error when not one relocation of every tip
+/// fits beside the `elements` of the first mesh (the crack could not grow; the run's BEM
+/// system refuses the rebuild, `pdbem_bem::system::set_system_budget`); a note when the
+/// relocations the budget holds, at least max(move_distance, dx) each, reach less far than
+/// the body's bounding-box diagonal: a longer path ends the run there (`complete: false`).
+/// Before, such a run grew the mesh until the machine killed it (elements_per_extension =
+/// 10000 on `growth_tension_edge`: 24 GB in 90 s).
+pub fn mesh_growth_note(scene: &Scene, elements: usize, tips: usize) -> Result<Option<String>> {
+    let (Some(gr), Some(co)) = (&scene.growth, &scene.coupling) else {
+        return Ok(None);
+    };
+    let budget = super::estimate::budget() as f64;
+    let most = (budget / 8.0).sqrt() / 2.0;
+    let per = 2.0 * gr.elements_per_extension as f64 * tips as f64;
+    let gib = |n: f64| 8.0 * (2.0 * n).powi(2) / 1073741824.0;
+    let first = elements as f64 + per;
+    if first > most {
+        bail!(
+            "{}: growth.elements_per_extension = {}: the first window relocation would take the BEM mesh from {elements} to {first:.0} elements ({tips} tip(s), both faces; a {:.3} GiB dense system), over the memory budget of {:.3} GiB ({most:.0} elements): the crack could not grow; lower it (the seed's 5) or raise the budget with --max-memory",
+            scene.file_label().display(),
+            gr.elements_per_extension,
+            gib(first),
+            budget / 1073741824.0
+        );
+    }
+    let relocations = ((most - elements as f64) / per).floor();
+    let advance = gr.move_distance.unwrap_or(0.25 * co.side).max(co.dx());
+    let reach = relocations * advance;
+    let geo = SceneGeometry::of(scene);
+    let Some(outline) = &geo.outline else {
+        return Ok(None);
+    };
+    let (lo, hi) = crate::geometry::bounding_box(&outline.points);
+    let diagonal = (hi - lo).norm();
+    Ok((reach < diagonal).then(|| {
+        format!(
+            "growth.elements_per_extension = {}: each window relocation adds {per:.0} BEM elements ({tips} tip(s), both faces), and the memory budget of {:.3} GiB holds {most:.0} (the first mesh has {elements}): about {relocations:.0} relocations, {reach:.3e} m of crack at {advance:.3e} m each, against the body's {diagonal:.3e} m diagonal; a longer path ends the run there (complete: false). Lower it or raise --max-memory",
+            gr.elements_per_extension,
+            budget / 1073741824.0
+        )
+    }))
+}

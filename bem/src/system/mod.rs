@@ -29,6 +29,7 @@
 
 mod assemble;
 pub mod balance;
+mod budget;
 mod cache;
 mod condition;
 mod rigid;
@@ -41,6 +42,7 @@ use faer::perm::PermRef;
 use faer::{MatMut, MatRef, Par};
 use std::time::Instant;
 
+pub use budget::{set_system_budget, system_budget};
 pub use cache::PairCache;
 
 /// Prescribed value of one component on one element.
@@ -246,6 +248,8 @@ impl BemSystem {
         } else {
             rigid::free_modes(mesh, bcs)
         };
+        let unknowns = (2 * mesh.len()).saturating_add(modes.len());
+        budget::check(mesh.len(), unknowns, dense_bytes(unknowns))?;
         let stencil = params
             .reconstruct
             .then(|| crate::mesh::stencil::tangential_stencil(mesh));

@@ -157,16 +157,28 @@ fn check_room_to_move(c: &mut Checker, scene: &Scene, co: &crate::scene::Couplin
         // (1 - r) side + (m + 1.5) side / n <= side / 2.
         let nodes = ((m + 1.5) / (ratio - 0.5) - 1e-9).ceil();
         let len = |v: f64| human(v, 4);
+        // A ratio must stay below 1: where even 1 leaves no room, only more nodes do.
+        let remedy = if lowest < 1.0 {
+            format!(
+                "Use a trigger ratio of at least {}, or at least {nodes} nodes per side (coupling.n)",
+                (lowest.max(0.5) * 1e4).ceil() / 1e4
+            )
+        } else {
+            let least = ((m + 1.5) / (0.99 - 0.5) - 1e-9).ceil();
+            format!(
+                "No trigger ratio below 1 leaves room at {} nodes per side: use at least {least} nodes per side (coupling.n) at a ratio of 0.99, or {nodes} at this one",
+                co.n
+            )
+        };
         c.fail(
             "growth.trigger_ratio",
             ratio,
             format!(
-                "a window moves on when its tip comes within {} m of an interface side (the no-fail band (1 - trigger_ratio) x {side} m, a horizon {} m and a dx {} m), but a window centred on the tip leaves it only {} m (half a side less half a dx) from its sides: no window could move on. Use a trigger ratio of at least {}, or at least {nodes} nodes per side (coupling.n)",
+                "a window moves on when its tip comes within {} m of an interface side (the no-fail band (1 - trigger_ratio) x {side} m, a horizon {} m and a dx {} m), but a window centred on the tip leaves it only {} m (half a side less half a dx) from its sides: no window could move on. {remedy}",
                 len(trigger),
                 len(m * dx),
                 len(dx),
                 len(room),
-                (lowest.max(0.5) * 1e4).ceil() / 1e4
             ),
         );
     }
