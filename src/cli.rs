@@ -296,11 +296,8 @@ fn parse_max_memory(text: &str) -> Result<u64, String> {
 }
 
 fn set_budget(max_memory: Option<u64>) {
+    // The engines' sparse factors and dense BEM systems within it too.
     crate::setup::estimate::set_budget(max_memory.unwrap_or(0));
-    // Sparse factors (Newton tangents, the refined ramp's preconditioner) within it too,
-    // and every dense BEM system (a growing crack's mesh is checked at each rebuild).
-    pdbem_pd::tangent::set_factor_budget(crate::setup::estimate::budget());
-    pdbem_bem::system::set_system_budget(crate::setup::estimate::budget());
 }
 
 fn load(path: &Path) -> anyhow::Result<Scene> {

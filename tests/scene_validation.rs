@@ -397,6 +397,31 @@ fn reference_must_fit_the_geometry() {
         "below the strip width",
     );
     load(&base_with("reference: SentTada(width: 10, sigma: 1)")).expect("valid reference");
+    // Tada's table is the straight edge crack normal to its edge: the coupled SENT plate
+    // with its crack at -45 degrees reported k1_err = -50.7 % against it, exit 0.
+    let turned = |deg: &str| {
+        make(
+            MAT,
+            BODY,
+            &format!(r#"[(name: "c", start: (0, 10), angle_deg: {deg}, length: 3)]"#),
+            BOUNDARY,
+            "reference: SentTada(width: 10, sigma: 1)",
+        )
+    };
+    assert_invalid(
+        &turned("45"),
+        "reference",
+        "cracks.0 leaves its edge at 45.00 degrees from the edge's normal",
+    );
+    load(&turned("0.5")).expect("within a degree of the normal");
+    let bent = make(
+        MAT,
+        BODY,
+        r#"[(name: "c", points: [(0, 10), (1.5, 10), (3, 10.5)])]"#,
+        BOUNDARY,
+        "reference: SentTada(width: 10, sigma: 1)",
+    );
+    assert_invalid(&bent, "reference", "cracks.0 bends");
 }
 
 #[test]

@@ -42,9 +42,14 @@ pub const FALLBACK_BUDGET: u64 = 8 << 30;
 
 static BUDGET: AtomicU64 = AtomicU64::new(0);
 
-/// Sets the budget of this process (`--max-memory`); 0 restores the default.
+/// Sets the budget of this process (`--max-memory`); 0 restores the default. The
+/// engines take it too: sparse factors (Newton tangents, the refined ramp's
+/// preconditioner) and every dense BEM system (a growing crack's mesh is checked at each
+/// rebuild) are refused over it before they allocate.
 pub fn set_budget(bytes: u64) {
     BUDGET.store(bytes, Ordering::Relaxed);
+    pdbem_pd::tangent::set_factor_budget(budget());
+    pdbem_bem::system::set_system_budget(budget());
 }
 
 /// The budget in bytes: the one set by [`set_budget`], else half of `MemTotal`, else

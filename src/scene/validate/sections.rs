@@ -190,6 +190,12 @@ fn check_reference(c: &mut Checker, scene: &Scene) {
                             format!("crack length {a} m must be below the strip width"),
                         );
                     }
+                    if let Some(why) = not_a_tada_crack(&geo, &cr.points) {
+                        c.fail_at(
+                            "reference",
+                            format!("SentTada is Tada's straight edge crack normal to its edge under tension across it, and cracks.0 {why}: its k1_err, k2_err and cmod_err would be against another geometry; remove `reference` (K and CMOD keep their own error estimates)"),
+                        );
+                    }
                 }
                 _ => c.fail_at(
                     "reference",
@@ -214,6 +220,53 @@ fn check_reference(c: &mut Checker, scene: &Scene) {
             }
         }
     }
+}
+
+/// Largest turn (degrees) of an edge crack from its edge's normal that Tada's table of
+/// the straight edge crack still describes (the crack at -89 degrees instead of -90: K_I
+/// changes by about 1e-4).
+const TADA_ANGLE_DEG: f64 = 1.0;
+
+/// Why the edge crack `pts` (mouth first) is not Tada's: bent (a point off its chord by
+/// more than 1e-6 of its length) or leaving the outline edge at its mouth at more than
+/// [`TADA_ANGLE_DEG`] from the edge's normal (the coupled SENT plate with its crack at
+/// -45 degrees reported k1_err = -50.7 % and cmod_err = -41 % against the table).
+fn not_a_tada_crack(geo: &SceneGeometry, pts: &[crate::geometry::P2]) -> Option<String> {
+    let (first, last) = (pts.first()?, pts.last()?);
+    let chord = last - first;
+    let len = chord.norm();
+    if len == 0.0 {
+        return None;
+    }
+    let dir = chord / len;
+    let off = pts
+        .iter()
+        .map(|p| ((p - first).x * dir.y - (p - first).y * dir.x).abs())
+        .fold(0.0, f64::max);
+    if off > 1e-6 * len {
+        return Some(format!("bends ({off:.3e} m off its chord)"));
+    }
+    let o = geo.outline.as_ref()?;
+    let n = o.points.len();
+    // The edges through the mouth (two at a corner): the crack may leave either normally.
+    let turns: Vec<f64> = (0..n)
+        .filter_map(|i| {
+            let (p, q) = (o.points[i], o.points[(i + 1) % n]);
+            let d = crate::geometry::point_segment_distance(first, &p, &q);
+            let t = q - p;
+            (d <= 1e-9 * len.max(t.norm())).then(|| {
+                let cos = (t.x * dir.x + t.y * dir.y).abs() / t.norm();
+                cos.clamp(0.0, 1.0).asin().to_degrees()
+            })
+        })
+        .collect();
+    let least = turns.iter().copied().fold(f64::INFINITY, f64::min);
+    (least.is_finite() && least > TADA_ANGLE_DEG).then(|| {
+        format!(
+            "leaves its edge at {:.2} degrees from the edge's normal",
+            least
+        )
+    })
 }
 
 fn check_outputs(c: &mut Checker, scene: &Scene, body_ok: bool) {
