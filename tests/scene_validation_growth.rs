@@ -20,6 +20,18 @@ fn growth_with_windows(growth: &str) -> String {
     scene(MAT_GC, CRACKS, &format!("{PD_BEM}, growth: ({growth})"))
 }
 
+/// A growth scene with 2 m windows of `n` nodes per side, coupling settings `coupling`
+/// and the `growth` settings.
+fn growth_with(n: usize, coupling: &str, growth: &str) -> String {
+    scene(
+        MAT_GC,
+        CRACKS,
+        &format!(
+            "pd: (failure: FromGc), coupling: (side: 2, n: {n}{coupling}), growth: ({growth})"
+        ),
+    )
+}
+
 #[test]
 fn valid_growth_scenes_of_each_mode_load() {
     for mode in ["PdBem", "BemOnly", "FullPd"] {
@@ -109,22 +121,12 @@ fn trigger_distance_that_leaves_a_window_no_room_to_move() {
     load(&ok).expect("0.73 leaves room");
     // 8 nodes per side (dx 0.25 m): even a ratio of 1 would leave no room; the advice was
     // a ratio of at least 1.0644, which no scene can take. At 0.99, 10 nodes leave room.
-    let coarse = scene(
-        MAT_GC,
-        CRACKS,
-        "pd: (failure: FromGc), coupling: (side: 2, n: 8), growth: ()",
-    );
     assert_invalid(
-        &coarse,
+        &growth_with(8, "", ""),
         "growth.trigger_ratio = 0.9",
         "No trigger ratio below 1 leaves room at 8 nodes per side: use at least 10 nodes per side (coupling.n) at a ratio of 0.99, or 12 at this one",
     );
-    let ten = scene(
-        MAT_GC,
-        CRACKS,
-        "pd: (failure: FromGc), coupling: (side: 2, n: 10), growth: (trigger_ratio: 0.99)",
-    );
-    load(&ten).expect("10 nodes at 0.99 leave room");
+    load(&growth_with(10, "", "trigger_ratio: 0.99")).expect("10 nodes at 0.99 leave room");
     // BEM-only and full-PD growth move no window.
     for mode in ["BemOnly", "FullPd"] {
         let src = growth_with_windows(&format!("mode: {mode}, trigger_ratio: 0.6, da: 0.5"));
@@ -137,19 +139,12 @@ fn trigger_distance_that_leaves_a_window_no_room_to_move() {
 /// unconverged (exit 3), at 1e-8 it ran as at 1e-4.
 #[test]
 fn growth_psi_must_be_reachable() {
-    let pd_bem = |psi: &str| {
-        scene(
-            MAT_GC,
-            CRACKS,
-            &format!("pd: (failure: FromGc), coupling: (side: 2, n: 20, psi: {psi}), growth: ()"),
-        )
-    };
     assert_invalid(
-        &pd_bem("1e-10"),
+        &growth_with(20, ", psi: 1e-10", ""),
         "coupling.psi",
         "below 1e-8 cannot mean convergence: in PD-BEM growth",
     );
-    load(&pd_bem("1e-8")).expect("psi = 1e-8");
+    load(&growth_with(20, ", psi: 1e-8", "")).expect("psi = 1e-8");
 }
 
 #[test]
