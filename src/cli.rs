@@ -311,6 +311,7 @@ fn load(path: &Path) -> anyhow::Result<Scene> {
 fn check(path: &Path, plot_dir: Option<&Path>) -> anyhow::Result<()> {
     let scene = load(path)?;
     crate::setup::estimate::check(&scene)?;
+    crate::setup::reference_loads::check(&scene)?;
     let footprint = crate::setup::footprint::of(&scene)?;
     crate::outln!("{}", describe(&scene));
     for line in footprint.describe() {
@@ -379,14 +380,17 @@ pub fn describe(scene: &Scene) -> String {
         "  boundary groups: {}",
         scene.edge_groups().join(", ")
     ));
+    let f = crate::runner::reference::load_factor(scene);
     for (name, r) in crate::runner::reference::tip_references(scene) {
         out.push(format!(
-            "  reference at {name}: K_I = {:.6e}, K_II = {:.6e} Pa m^0.5",
+            "  reference at {name} (load factor {f}): K_I = {:.6e}, K_II = {:.6e} Pa m^0.5",
             r.k1, r.k2
         ));
     }
     if let Some((name, c)) = crate::runner::reference::cmod_reference(scene) {
-        out.push(format!("  reference CMOD of {name}: {c:.6e} m"));
+        out.push(format!(
+            "  reference CMOD of {name} (load factor {f}): {c:.6e} m"
+        ));
     }
     out.join("\n")
 }

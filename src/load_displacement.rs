@@ -136,7 +136,10 @@ impl LoadDisplacement {
                 force: [0.0; 2],
                 displacement: [0.0; 2],
             };
-            let Some(g) = mesh.group(&bc.on) else {
+            let groups: Vec<usize> = (0..mesh.groups.len())
+                .filter(|&g| scene.covers(&bc.on, &mesh.groups[g]))
+                .collect();
+            if groups.is_empty() {
                 // Inside a PD window: the window carries the group's load.
                 let f = crate::setup::pd::applied_resultant(scene, &bc.on);
                 out.groups.push(GroupCurve {
@@ -152,13 +155,13 @@ impl LoadDisplacement {
                     displacement_known: false,
                 });
                 continue;
-            };
+            }
             let (mut f, mut u, mut len) = ([0.0; 2], [0.0; 2], 0.0);
             for (e, el) in mesh
                 .elements
                 .iter()
                 .enumerate()
-                .filter(|(_, e)| e.group == g)
+                .filter(|(_, e)| groups.contains(&e.group))
             {
                 for c in 0..2 {
                     f[c] += scene.material.thickness * solution.t[e][c] * el.h;

@@ -173,12 +173,11 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<RunSummary> {
     ctx.writer
         .write_csv("boundary.csv", &boundary_table(&level))?;
     for name in &scene.outputs.boundary_stress {
-        let Some(g) = mesh.group(name) else { continue };
-        let Some(l) = mesh
-            .loops
-            .iter()
-            .position(|r| r.clone().any(|i| mesh.elements[i].group == g))
-        else {
+        // Validation takes holes and `outline` only: each names one closed loop.
+        let Some(l) = mesh.loops.iter().position(|r| {
+            r.clone()
+                .any(|i| scene.covers(name, &mesh.groups[mesh.elements[i].group]))
+        }) else {
             continue;
         };
         let hoop = ev.boundary_hoop_stress(l);

@@ -86,6 +86,7 @@ fn in_pool<R: Send>(f: impl FnOnce() -> R + Send) -> R {
 fn run_in_pool(scene: &Scene, out_dir: &Path, options: &RunOptions) -> anyhow::Result<RunSummary> {
     let mode = mode_of(scene);
     crate::setup::estimate::check(scene)?;
+    crate::setup::reference_loads::check(scene)?;
     let stops = options.stop_after.is_some() || options.stop_within.is_some();
     if (options.resume || stops) && mode != Mode::Growth {
         anyhow::bail!(

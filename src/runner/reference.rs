@@ -5,6 +5,11 @@
 //! when a reference value is zero (K_II of a mode-I crack) the error is taken
 //! relative to |K_ref| = sqrt(k1_ref^2 + k2_ref^2). `kink_err_deg` is the
 //! difference in degrees.
+//!
+//! A reference's `sigma` (and an infinite plate's remote stress) is at load factor 1, as the
+//! boundary values are; a static run solves once at the scene's final load factor
+//! ([`crate::setup::final_factor`]), so its references are at that factor
+//! ([`load_factor`]); a growth run's K record scales them by each step's factor.
 
 use serde_json::json;
 
@@ -36,14 +41,23 @@ pub struct TipReference {
     pub k1_fem: Option<f64>,
 }
 
-/// Reference values of every tip that has one, by tip name.
+/// The load factor the references of a static run are at: the scene's final one, at
+/// which the static modes solve (a scene with `load: (initial: 2)` and tractions of 0.5 Pa
+/// under `SentTada(sigma: 0.5)` read k1_err = +99.6 % against the unscaled table).
+pub fn load_factor(scene: &Scene) -> f64 {
+    crate::setup::final_factor(scene)
+}
+
+/// Reference values of every tip that has one, by tip name, at [`load_factor`].
 pub fn tip_references(scene: &Scene) -> Vec<(String, TipReference)> {
     let geo = SceneGeometry::of(scene);
     let Some(crack) = geo.cracks.first() else {
         return Vec::new();
     };
+    let f = load_factor(scene);
     match scene.reference {
         Some(Reference::SentTada { width, sigma }) if crack.mouth => {
+            let sigma = sigma * f;
             let a = polyline_length(&crack.points);
             let k1 = sent_k1(sigma, a, width);
             let fem = sent_f_fem(a / width).map(|f| sigma * (std::f64::consts::PI * a).sqrt() * f);
@@ -57,14 +71,26 @@ pub fn tip_references(scene: &Scene) -> Vec<(String, TipReference)> {
             )]
         }
         Some(Reference::InclinedCrackInfinite { sigma, beta_deg }) => {
-            inclined_references(crack, geo.remote, sigma, beta_deg)
+            // The remote stress, or without beta_deg the uniform stress of the loads.
+            let stress = geo.remote.or_else(|| {
+                beta_deg
+                    .is_none()
+                    .then(|| crate::setup::reference_loads::load_stress(scene))
+                    .flatten()
+            });
+            match (stress, beta_deg) {
+                (Some(s), _) => inclined_references(crack, Some(s.map(|v| v * f)), 0.0, 0.0),
+                (None, Some(b)) => inclined_references(crack, None, sigma * f, b),
+                (None, None) => Vec::new(),
+            }
         }
         _ => Vec::new(),
     }
 }
 
-/// Inclined-crack references: from the remote stress tensor when the plate is
-/// infinite (sign-consistent per tip), else from sigma and beta.
+/// Inclined-crack references: from the stress tensor `remote` (an infinite plate's remote
+/// stress, or the loads' uniform stress when `beta_deg` is not given; sign-consistent per
+/// tip), else from sigma and beta.
 fn inclined_references(
     crack: &CrackLine,
     remote: Option<[f64; 3]>,
@@ -136,7 +162,7 @@ fn fill_tip(tip: &mut TipResult, r: &TipReference) {
     tip.k1_err_fem = r.k1_fem.map(|f| relative_error(tip.k1, f, scale));
 }
 
-/// SENT CMOD reference of the first crack, `(crack name, cmod)`.
+/// SENT CMOD reference of the first crack at [`load_factor`], `(crack name, cmod)`.
 pub fn cmod_reference(scene: &Scene) -> Option<(String, f64)> {
     let Some(Reference::SentTada { width, sigma }) = scene.reference else {
         return None;
@@ -146,7 +172,12 @@ pub fn cmod_reference(scene: &Scene) -> Option<(String, f64)> {
     let a = polyline_length(&crack.points);
     Some((
         crack.name.clone(),
-        sent_cmod(sigma, a, width, scene.material.e_prime()),
+        sent_cmod(
+            sigma * load_factor(scene),
+            a,
+            width,
+            scene.material.e_prime(),
+        ),
     ))
 }
 
@@ -160,13 +191,13 @@ fn apply_cmod(scene: &Scene, summary: &mut RunSummary) {
     }
 }
 
-/// Kirsch: `hoop_peak_ref` = 3 sigma, and `hoop_peak_err` when the solver
-/// reported `hoop_peak` (Pa) in `extra`.
+/// Kirsch: `hoop_peak_ref` = 3 sigma (at [`load_factor`]), and `hoop_peak_err` when the
+/// solver reported `hoop_peak` (Pa) in `extra`.
 fn apply_kirsch(scene: &Scene, summary: &mut RunSummary) {
     let Some(Reference::Kirsch { sigma }) = scene.reference else {
         return;
     };
-    let reference = 3.0 * sigma;
+    let reference = 3.0 * sigma * load_factor(scene);
     summary
         .extra
         .insert("hoop_peak_ref".into(), json!(reference));

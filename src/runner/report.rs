@@ -218,10 +218,11 @@ pub fn sif_plot(scene: &Scene, summary: &RunSummary) -> Option<XyPlot> {
     let refs = tip_references(scene);
     let (name, _) = refs.first()?;
     let tip = summary.tips.iter().find(|t| &t.name == name)?;
+    let f = super::reference::load_factor(scene);
     match scene.reference.clone()? {
         Reference::SentTada { width, sigma } => {
             let a = polyline_length(&SceneGeometry::of(scene).cracks.first()?.points);
-            let mut p = sent_curves(sigma, width);
+            let mut p = sent_curves(sigma * f, width);
             p.title = format!("{}: K_I against a/W", scene.name);
             p.series.push(Series::new(
                 format!("pdbem ({})", summary.mode),
@@ -231,8 +232,10 @@ pub fn sif_plot(scene: &Scene, summary: &RunSummary) -> Option<XyPlot> {
             Some(p)
         }
         Reference::InclinedCrackInfinite { sigma, beta_deg } => {
+            let beta_deg =
+                beta_deg.or_else(|| crate::setup::reference_loads::load_beta_deg(scene))?;
             let half = 0.5 * polyline_length(&SceneGeometry::of(scene).cracks.first()?.points);
-            let mut p = inclined_curves(sigma, half);
+            let mut p = inclined_curves(sigma * f, half);
             p.title = format!("{}: K against beta", scene.name);
             p.series.push(Series::new(
                 "K_I pdbem",

@@ -314,6 +314,23 @@ impl Scene {
         g
     }
 
+    /// True when a condition on group `on` applies to the boundary piece named `group` (an
+    /// outline edge, patch, hole or crack face, as the BEM mesh and the PD set-up name
+    /// them): the same name, `outline` for every outline edge and patch, a crack's name for
+    /// both its faces.
+    pub fn covers(&self, on: &str, group: &str) -> bool {
+        if on == group {
+            return true;
+        }
+        if on == "outline" && !matches!(self.body.outline, Outline::Infinite { .. }) {
+            return self.body.outline.edge_names().iter().any(|n| n == group)
+                || self.body.patches.iter().any(|p| p.name == group);
+        }
+        self.cracks
+            .iter()
+            .any(|c| c.name == on && c.face_names().iter().any(|f| f == group))
+    }
+
     /// Scene with defaults applied to the JSON form (what sweeps edit).
     pub fn to_json(&self) -> serde_json::Value {
         // Serialising plain data with finite numbers cannot fail.

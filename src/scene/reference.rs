@@ -21,8 +21,11 @@ pub enum Reference {
     InclinedCrackInfinite {
         /// Remote uniaxial tension (Pa).
         sigma: f64,
-        /// Angle between crack line and load (degrees).
-        beta_deg: f64,
+        /// Angle between crack line and load (degrees, counter-clockwise from the line of
+        /// cracks.0 to the tension). Default: from the loads (the direction of their
+        /// uniform tension), so that a sweep over the crack's angle keeps its reference.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        beta_deg: Option<f64>,
     },
     /// Circular hole (first hole) under remote uniaxial tension: hoop stress
     /// sigma (1 - 2 cos 2 theta), peak 3 sigma.

@@ -180,6 +180,32 @@ impl SceneGeometry {
         in_outline && !self.holes.iter().any(|(_, h)| h.contains(p, 0.0))
     }
 
+    /// The unit normal, pointing into the body, of the outline edge through the mouth of
+    /// edge crack `crack` (its first point) that lies closest to the crack's chord (at a
+    /// corner two edges pass through the mouth). `None` without an outline, a mouth on it or
+    /// a chord. The axis of Tada's strip: its width runs along it, its tension across it.
+    pub fn mouth_axis(&self, crack: &CrackLine) -> Option<P2> {
+        let o = self.outline.as_ref()?;
+        let (first, last) = (crack.points.first()?, crack.points.last()?);
+        let chord = last - first;
+        let len = chord.norm();
+        if len == 0.0 {
+            return None;
+        }
+        let d = chord / len;
+        let n = o.points.len();
+        (0..n)
+            .filter_map(|i| {
+                let (p, q) = (o.points[i], o.points[(i + 1) % n]);
+                let t = q - p;
+                let on = crate::geometry::point_segment_distance(first, &p, &q)
+                    <= 1e-9 * len.max(t.norm());
+                let m = P2::new(-t.y, t.x) / t.norm();
+                on.then(|| if m.dot(&d) < 0.0 { -m } else { m })
+            })
+            .max_by(|a, b| a.dot(&d).total_cmp(&b.dot(&d)))
+    }
+
     /// All tips `(name, position)` of all cracks.
     pub fn tips(&self) -> Vec<(String, P2)> {
         self.cracks.iter().flat_map(|c| c.tips()).collect()

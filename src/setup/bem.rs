@@ -297,13 +297,21 @@ pub fn conditions(
 ) -> Result<Vec<[Bc; 2]>> {
     let mut bcs = vec![[Bc::Traction(0.0), Bc::Traction(0.0)]; mesh.len()];
     for (k, bc) in scene.boundary.iter().enumerate() {
-        let Some(g) = mesh.group(&bc.on) else {
+        let groups: Vec<usize> = (0..mesh.groups.len())
+            .filter(|&g| scene.covers(&bc.on, &mesh.groups[g]))
+            .collect();
+        if groups.is_empty() {
             if missing == MissingGroup::Skip {
                 continue;
             }
-            bail!("boundary.{k}.on = '{}': no such group in the mesh", bc.on);
-        };
-        for i in mesh.group_elements(g) {
+            bail!(
+                "{}: boundary.{k}.on = '{}': no such group in the mesh",
+                scene.file_label().display(),
+                bc.on
+            );
+        }
+        let elements = (0..mesh.len()).filter(|&i| groups.contains(&mesh.elements[i].group));
+        for i in elements {
             let e = &mesh.elements[i];
             for (c, comp) in [bc.x, bc.y].iter().enumerate() {
                 match comp {

@@ -483,7 +483,7 @@ pub fn outer_conditions(
             for bc in scene
                 .boundary
                 .iter()
-                .filter(|bc| bc.on == outline.edge_groups[i])
+                .filter(|bc| scene.covers(&bc.on, &outline.edge_groups[i]))
             {
                 let mut c = EdgeCondition {
                     from,

@@ -10,6 +10,8 @@
 //!   ([`balance::check`], run by [`bem::build`]; [`bem::check_balance`] for the modes
 //!   with PD windows);
 //! - [`pd`](mod@pd): the stand-alone PD problem ([`pd::problem_from_scene`]);
+//! - [`reference_loads`]: refusal of a `reference` whose closed form assumes other loads
+//!   than the scene's ([`reference_loads::check`], in `pdbem check` and before every run);
 //! - [`ligament`]: refusal of pre-cracks whose ligament the PD grid cannot resolve, notes
 //!   on ligaments under the horizon;
 //! - [`coupled`]: the coupled model (windows, macro body, PD settings, Algorithm 1
@@ -31,6 +33,7 @@ pub mod footprint;
 pub mod growth;
 pub mod ligament;
 pub mod pd;
+pub mod reference_loads;
 pub mod refined_size;
 pub mod sizing;
 

@@ -17,6 +17,18 @@ pub fn check(c: &mut Checker, scene: &Scene) {
                 format!("{:?}", bc.on),
                 "this group already has a condition: merge the two",
             );
+        } else if let Some(j) = scene.boundary[..i]
+            .iter()
+            .position(|o| scene.covers(&o.on, &bc.on) || scene.covers(&bc.on, &o.on))
+        {
+            c.fail(
+                format!("boundary.{i}.on"),
+                format!("{:?}", bc.on),
+                format!(
+                    "overlaps boundary.{j}.on = {:?} (`outline` is every outline edge and patch, a crack's name both its faces): give each piece of the boundary one condition",
+                    scene.boundary[j].on
+                ),
+            );
         }
     }
     check_load(c, scene);

@@ -3,7 +3,7 @@
 use super::{fmt_pt, Checker};
 use crate::geometry::{p2, polyline_length};
 use crate::scene::bem::MIN_TOLERANCE;
-use crate::scene::shapes::SceneGeometry;
+use crate::scene::shapes::{CrackLine, SceneGeometry};
 use crate::scene::{elements_on, Hole, Reference, Scene};
 
 /// Checks the BEM settings, the reference and the outputs.
@@ -190,10 +190,15 @@ fn check_reference(c: &mut Checker, scene: &Scene) {
                             format!("crack length {a} m must be below the strip width"),
                         );
                     }
-                    if let Some(why) = not_a_tada_crack(&geo, &cr.points) {
+                    if let Some(why) = not_a_tada_crack(&geo, cr) {
                         c.fail_at(
                             "reference",
                             format!("SentTada is Tada's straight edge crack normal to its edge under tension across it, and cracks.0 {why}: its k1_err, k2_err and cmod_err would be against another geometry; remove `reference` (K and CMOD keep their own error estimates)"),
+                        );
+                    } else if let Some((field, why)) = not_tadas_strip(scene, &geo, cr, *width) {
+                        c.fail_at(
+                            field,
+                            format!("SentTada is Tada's strip of width W along its one crack, with no hole, and {why}: its k1_err, k2_err and cmod_err would be against another geometry"),
                         );
                     }
                 }
@@ -205,7 +210,9 @@ fn check_reference(c: &mut Checker, scene: &Scene) {
         }
         Reference::InclinedCrackInfinite { sigma, beta_deg } => {
             c.finite("reference.sigma", *sigma);
-            c.finite("reference.beta_deg", *beta_deg);
+            if let Some(b) = beta_deg {
+                c.finite("reference.beta_deg", *b);
+            }
             if geo.cracks.first().is_none_or(|cr| cr.mouth) {
                 c.fail_at(
                     "reference",
@@ -227,11 +234,12 @@ fn check_reference(c: &mut Checker, scene: &Scene) {
 /// changes by about 1e-4).
 const TADA_ANGLE_DEG: f64 = 1.0;
 
-/// Why the edge crack `pts` (mouth first) is not Tada's: bent (a point off its chord by
-/// more than 1e-6 of its length) or leaving the outline edge at its mouth at more than
+/// Why the edge crack `cr` is not Tada's: bent (a point off its chord by more than 1e-6
+/// of its length) or leaving the outline edge at its mouth at more than
 /// [`TADA_ANGLE_DEG`] from the edge's normal (the coupled SENT plate with its crack at
 /// -45 degrees reported k1_err = -50.7 % and cmod_err = -41 % against the table).
-fn not_a_tada_crack(geo: &SceneGeometry, pts: &[crate::geometry::P2]) -> Option<String> {
+fn not_a_tada_crack(geo: &SceneGeometry, cr: &CrackLine) -> Option<String> {
+    let pts = &cr.points;
     let (first, last) = (pts.first()?, pts.last()?);
     let chord = last - first;
     let len = chord.norm();
@@ -246,27 +254,80 @@ fn not_a_tada_crack(geo: &SceneGeometry, pts: &[crate::geometry::P2]) -> Option<
     if off > 1e-6 * len {
         return Some(format!("bends ({off:.3e} m off its chord)"));
     }
-    let o = geo.outline.as_ref()?;
-    let n = o.points.len();
-    // The edges through the mouth (two at a corner): the crack may leave either normally.
-    let turns: Vec<f64> = (0..n)
-        .filter_map(|i| {
-            let (p, q) = (o.points[i], o.points[(i + 1) % n]);
-            let d = crate::geometry::point_segment_distance(first, &p, &q);
-            let t = q - p;
-            (d <= 1e-9 * len.max(t.norm())).then(|| {
-                let cos = (t.x * dir.x + t.y * dir.y).abs() / t.norm();
-                cos.clamp(0.0, 1.0).asin().to_degrees()
-            })
-        })
-        .collect();
-    let least = turns.iter().copied().fold(f64::INFINITY, f64::min);
-    (least.is_finite() && least > TADA_ANGLE_DEG).then(|| {
+    let least = geo
+        .mouth_axis(cr)?
+        .dot(&dir)
+        .clamp(-1.0, 1.0)
+        .acos()
+        .to_degrees();
+    (least > TADA_ANGLE_DEG).then(|| {
         format!(
             "leaves its edge at {:.2} degrees from the edge's normal",
             least
         )
     })
+}
+
+/// Why the body of the Tada crack `cr` is not Tada's strip of width `width`: `(field,
+/// reason)` for a hole, a second crack, an outline that is no rectangle with sides along
+/// and across the normal of the crack's edge ([`SceneGeometry::mouth_axis`]), or a width
+/// that is not the outline's extent along that normal from the mouth (`sent_bem_a5` with
+/// `width: 20`, its plate's length: k1_err = +88.8 %, cmod_err = +145 %, exit 0).
+fn not_tadas_strip(
+    scene: &Scene,
+    geo: &SceneGeometry,
+    cr: &CrackLine,
+    width: f64,
+) -> Option<(&'static str, String)> {
+    if !scene.body.holes.is_empty() {
+        return Some(("body.holes", "this body has a hole".into()));
+    }
+    if scene.cracks.len() > 1 {
+        return Some((
+            "cracks",
+            format!("this body has {} cracks", scene.cracks.len()),
+        ));
+    }
+    let o = geo.outline.as_ref()?;
+    let first = cr.points.first()?;
+    let d = geo.mouth_axis(cr)?;
+    let e = crate::geometry::P2::new(-d.y, d.x);
+    let along = |p: &crate::geometry::P2| (p - first).dot(&d);
+    let across = |p: &crate::geometry::P2| (p - first).dot(&e);
+    let span = |f: &dyn Fn(&crate::geometry::P2) -> f64| {
+        o.points
+            .iter()
+            .map(f)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                (a.min(v), b.max(v))
+            })
+    };
+    let ((back, w), (lo, hi)) = (span(&along), span(&across));
+    let area = crate::geometry::signed_area(&o.points).abs();
+    if (area - (w - back) * (hi - lo)).abs() > 1e-6 * area {
+        return Some((
+            "body.outline",
+            "the outline is no rectangle with sides along and across the normal of the crack's edge".into(),
+        ));
+    }
+    ((w - width).abs() > 1e-6 * w).then(|| {
+        (
+            "reference.width",
+            format!("the outline spans {w} m from the mouth of cracks.0 along its edge's normal, not {width} m"),
+        )
+    })
+}
+
+/// The groups `outputs.boundary_stress` takes: every hole and, on a finite body,
+/// `outline` (the closed loops around which the BEM writes the tangential stress).
+fn loop_groups(scene: &Scene) -> Vec<String> {
+    let mut out: Vec<String> = (scene.body.holes.iter().enumerate())
+        .map(|(i, h)| h.name(i))
+        .collect();
+    if !matches!(scene.body.outline, crate::scene::Outline::Infinite { .. }) {
+        out.push("outline".into());
+    }
+    out
 }
 
 fn check_outputs(c: &mut Checker, scene: &Scene, body_ok: bool) {
@@ -297,12 +358,28 @@ fn check_outputs(c: &mut Checker, scene: &Scene, body_ok: bool) {
     }
     if body_ok {
         let groups = scene.edge_groups();
+        let loops = loop_groups(scene);
         for (i, g) in o.boundary_stress.iter().enumerate() {
+            let path = format!("outputs.boundary_stress.{i}");
             if !groups.contains(g) {
                 c.fail(
-                    format!("outputs.boundary_stress.{i}"),
+                    path,
                     format!("{g:?}"),
                     format!("unknown edge group; known groups: {}", groups.join(", ")),
+                );
+            } else if !loops.contains(g) {
+                // An edge's name wrote the whole outline's stress under its name; a crack's
+                // was skipped without a word.
+                c.fail(
+                    path,
+                    format!("{g:?}"),
+                    format!("the boundary stress is written around a closed loop: name a hole or `outline` ({})", loops.join(", ")),
+                );
+            } else if scene.growth.is_some() || scene.coupling.is_some() || scene.pd.is_some() {
+                c.fail(
+                    path,
+                    format!("{g:?}"),
+                    "the boundary stress is written by static BEM runs (no `pd`, `coupling` or `growth` section): remove it",
                 );
             }
         }
