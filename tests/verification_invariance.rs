@@ -130,6 +130,32 @@ fn a_pd_body_far_from_the_origin_is_refused() {
     );
 }
 
+#[test]
+fn a_body_far_from_the_origin_in_its_features_is_refused() {
+    // The geometry's tolerances are 1e-9 of the coordinates' size: at 5e9 m the SENT
+    // plate's tip (5 m from its mouth) was taken for a point of the outline and the run
+    // gave no K with exit 0. Within 1e7 crack lengths (5e7 m) it solves as at the origin.
+    let near = |off: f64| {
+        let (path, src) = case_text("sent_bem_a5");
+        let shifted = src
+            .replace("x0: 0, y0: 0", &format!("x0: {off:?}, y0: {off:?}"))
+            .replace(
+                "start: (10, 10)",
+                &format!("start: ({:?}, {:?})", 10.0 + off, 10.0 + off),
+            )
+            .replace("element_size: 0.1", "element_size: 0.25");
+        Scene::from_ron_str(&shifted, &path)
+    };
+    let msg = near(5e9).expect_err("refused").to_string();
+    assert!(
+        msg.contains("body.outline = reaching 5.0000e9 m from the origin: a body must lie within 1e7 of its smallest feature (5.0000e0 m, a crack segment)"),
+        "{msg}"
+    );
+    let k = |s: &Scene| pdbem::run_bem::solve(s).expect("solves").0.tips[0].k1;
+    let (k0, k_far) = (k(&near(0.0).unwrap()), k(&near(4e7).unwrap()));
+    assert!((k_far / k0 - 1.0).abs() < 1e-6, "K_I {k0} -> {k_far}");
+}
+
 /// The SENT plate of `coupled_sent_a5` turned by `deg` about the origin, with tension 0.5
 /// on the ends as normal tractions; `pd` is the scene's `pd` section and `refine` the
 /// window's `coupling.refine` (empty: a uniform window).

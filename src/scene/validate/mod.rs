@@ -94,6 +94,7 @@ pub fn check(scene: &Scene) -> Vec<Issue> {
     material::check(&mut c, scene);
     let body_ok = body::check(&mut c, scene);
     if body_ok {
+        strain::check_feature_origin(&mut c, scene);
         cracks::check(&mut c, scene);
     }
     boundary::check(&mut c, scene);

@@ -219,6 +219,78 @@ pub fn check_origin(c: &mut Checker, scene: &Scene) {
     }
 }
 
+/// Largest distance of a body's coordinates from the origin, in its smallest feature (the
+/// shortest outline or hole edge, hole radius or crack segment). The geometry decides
+/// "on the outline", "inside" and "a tip" within 1e-9 of the coordinates' magnitude
+/// (`pdbem_geometry::scale_of`), so far from the origin that band reaches the features:
+/// `sent_bem_a5` moved by 1e9 m (1e9 / 5 m = 2e8) ran as at the origin; at 2e9 m `check`
+/// estimated 1e6 elements ("raise bem.element_size"), at 5e9 m the run lost its crack tip
+/// (no K, exit 0) and at 1e11 m `check` said the crack crosses the outline. The bound
+/// keeps a factor 40 from the first failure (the band then stays within 1e-2 of the
+/// smallest feature).
+pub const MAX_FEATURES_FROM_ORIGIN: f64 = 1e7;
+
+/// Every body (BEM or PD) must lie within [`MAX_FEATURES_FROM_ORIGIN`] of its smallest
+/// feature from the origin.
+pub fn check_feature_origin(c: &mut Checker, scene: &Scene) {
+    let geo = SceneGeometry::of(scene);
+    let Some((feature, what)) = smallest_feature(&geo) else {
+        return;
+    };
+    let (lo, hi) = geo.bounds();
+    let far = [lo.x, lo.y, hi.x, hi.y]
+        .iter()
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    if far.is_finite() && far > MAX_FEATURES_FROM_ORIGIN * feature {
+        let path = if geo.outline.is_some() {
+            "body.outline"
+        } else {
+            "cracks"
+        };
+        c.fail(
+            path,
+            format!("reaching {far:.4e} m from the origin"),
+            format!(
+                "a body must lie within {MAX_FEATURES_FROM_ORIGIN:e} of its smallest feature ({feature:.4e} m, {what}) from the origin: the geometry's tolerances are 1e-9 of the coordinates' size, {:.2e} m here; move the body to the origin (subtract ({:.6e}, {:.6e}) from every coordinate)",
+                far * 1e-9,
+                0.5 * (lo.x + hi.x),
+                0.5 * (lo.y + hi.y)
+            ),
+        );
+    }
+}
+
+/// The shortest outline or hole edge, hole radius or crack segment, with what it is.
+fn smallest_feature(geo: &SceneGeometry) -> Option<(f64, &'static str)> {
+    use crate::geometry::HoleShape;
+    let edges = |pts: &[crate::geometry::P2], closed: bool| {
+        let n = pts.len();
+        let m = if closed { n } else { n.saturating_sub(1) };
+        (0..m)
+            .map(|i| (pts[(i + 1) % n] - pts[i]).norm())
+            .fold(f64::INFINITY, f64::min)
+    };
+    let mut out = (f64::INFINITY, "");
+    let mut take = |v: f64, what: &'static str| {
+        if v > 0.0 && v < out.0 {
+            out = (v, what);
+        }
+    };
+    if let Some(o) = &geo.outline {
+        take(edges(&o.points, true), "an outline edge");
+    }
+    for (_, h) in &geo.holes {
+        match h {
+            HoleShape::Circle { radius, .. } => take(*radius, "a hole's radius"),
+            HoleShape::Polygon(p) => take(edges(p, true), "a hole's edge"),
+        }
+    }
+    for cr in &geo.cracks {
+        take(edges(&cr.points, false), "a crack segment");
+    }
+    out.0.is_finite().then_some(out)
+}
+
 /// The smallest PD spacing a scene asks for: the stand-alone grid's or the windows',
 /// divided by its refinement levels; `None` when a value is not usable (other rules
 /// report it).
