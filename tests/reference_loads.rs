@@ -106,6 +106,16 @@ fn tadas_strip_needs_its_width_one_crack_and_no_hole() {
         r#"{"Polygon": {"points": [[0, 0], [20, 0], [20, 10], [5, 10], [5, 5], [0, 5]]}}"#;
     let msg = invalid("sent_bem_a5", &[("body.outline", l_shape)]);
     assert!(msg.contains("no rectangle"), "{msg}");
+    // A strip W / 2 long on each side of its crack (H = W / 2): K_I +6 %, CMOD +24 %.
+    let short = r#"{"Rectangle": {"x0": 0, "y0": 0, "width": 10, "height": 10}}"#;
+    let msg = invalid(
+        "sent_bem_a5",
+        &[("body.outline", short), ("cracks.0.start", "[5, 10]")],
+    );
+    assert!(
+        msg.contains("reaches 5 m from the line of cracks.0 towards its nearer end, under the strip's width 10 m"),
+        "{msg}"
+    );
 }
 
 #[test]

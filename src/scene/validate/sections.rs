@@ -270,9 +270,12 @@ fn not_a_tada_crack(geo: &SceneGeometry, cr: &CrackLine) -> Option<String> {
 
 /// Why the body of the Tada crack `cr` is not Tada's strip of width `width`: `(field,
 /// reason)` for a hole, a second crack, an outline that is no rectangle with sides along
-/// and across the normal of the crack's edge ([`SceneGeometry::mouth_axis`]), or a width
-/// that is not the outline's extent along that normal from the mouth (`sent_bem_a5` with
-/// `width: 20`, its plate's length: k1_err = +88.8 %, cmod_err = +145 %, exit 0).
+/// and across the normal of the crack's edge ([`SceneGeometry::mouth_axis`]), a strip
+/// shorter than W on either side of the crack (REFERENCES.md: end effects fade for a
+/// half-height H >= W; at H = W / 4 `sent_bem_a5`'s plate read k1_err_fem = +68 % and
+/// cmod_err = +266 %, exit 0), or a width that is not the outline's extent along that
+/// normal from the mouth (`width: 20`, the plate's length: k1_err = +88.8 %, cmod_err =
+/// +145 %, exit 0).
 fn not_tadas_strip(
     scene: &Scene,
     geo: &SceneGeometry,
@@ -310,6 +313,14 @@ fn not_tadas_strip(
         return Some((
             "body.outline",
             "the outline is no rectangle with sides along and across the normal of the crack's edge".into(),
+        ));
+    }
+    // Half-height: the nearer end of the strip from the crack's line.
+    let half = (-lo).min(hi);
+    if half < (1.0 - 1e-9) * w {
+        return Some((
+            "body.outline",
+            format!("the outline reaches {half} m from the line of cracks.0 towards its nearer end, under the strip's width {w} m (Tada's strip is long: against a strip 4 W high, K_I and the CMOD are 0.03 % and 0.13 % higher at a half-height of W, 6 % and 24 % at W / 2; a = W / 2)"),
         ));
     }
     ((w - width).abs() > 1e-6 * w).then(|| {
