@@ -388,7 +388,34 @@ fn an_infinite_plate_reference_on_a_finite_body_is_noted() {
         vec![note],
         "the edited scene carries its own note"
     );
+    // A hole by the crack of the infinite plate (k1_err +45 % on the finite plate, no word
+    // before), and Kirsch's hole in a finite plate (hoop peak +12 %, no word before).
+    let hole = r#"[{"Circle": {"center": [1.7072, 1.7072], "radius": 1}}]"#;
+    let note = scope(&case("inclined_crack_45", &[("body.holes", hole)])).expect("noted");
+    assert!(
+        note.contains("it holds 1 other hole(s) and 0 other crack(s)"),
+        "{note}"
+    );
+    let square = r#"{"Rectangle": {"x0": -5, "y0": -5, "width": 10, "height": 10}}"#;
+    let pulled =
+        r#"[{"on": "left", "x": {"Traction": -1}}, {"on": "right", "x": {"Traction": 1}}]"#;
+    let kirsch = case(
+        "kirsch_hole",
+        &[
+            ("body.outline", square),
+            ("boundary", pulled),
+            ("outputs.grids", "[]"),
+            ("outputs.lines", "[]"),
+        ],
+    );
+    let note = scope(&kirsch).expect("noted");
+    assert!(
+        note.contains("Kirsch is the infinite plate's closed form for one hole")
+            && note.contains("nearest edge is 5.0 hole radii"),
+        "{note}"
+    );
     // The infinite plate is the reference's own body; SENT is not an idealisation of it.
+    assert_eq!(scope(&case("kirsch_hole", &[])), None);
     assert_eq!(scope(&case("inclined_crack_45", &[])), None);
     assert_eq!(scope(&case("sent_bem_a5", &[])), None);
 }

@@ -139,3 +139,26 @@ pub fn crack_results(mesh: &pdbem_bem::Mesh, solution: &Solution) -> Vec<CrackRe
         })
         .collect()
 }
+
+/// The tangential stress around the closed loop `name` of `outputs.boundary_stress` (a
+/// hole or `outline`) at every element midpoint of `level`, with its peak; `None` when
+/// no loop of the mesh carries that group.
+pub fn hoop(scene: &Scene, level: &Level, name: &str) -> Option<(Vec<(pdbem_bem::V2, f64)>, f64)> {
+    let mesh = &level.setup.mesh;
+    let l = mesh.loops.iter().position(|r| {
+        r.clone()
+            .any(|i| scene.covers(name, &mesh.groups[mesh.elements[i].group]))
+    })?;
+    let ev = FieldEvaluator::new(
+        mesh,
+        &level.setup.material,
+        &level.solution,
+        level.setup.background,
+    );
+    let values = ev.boundary_hoop_stress(l);
+    let peak = values
+        .iter()
+        .map(|(_, s)| *s)
+        .fold(f64::NEG_INFINITY, f64::max);
+    Some((values, peak))
+}
