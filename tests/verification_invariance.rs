@@ -148,7 +148,7 @@ fn a_body_far_from_the_origin_in_its_features_is_refused() {
     };
     let msg = near(5e9).expect_err("refused").to_string();
     assert!(
-        msg.contains("body.outline = reaching 5.0000e9 m from the origin: a body must lie within 1e7 of its smallest feature (5.0000e0 m, a crack segment)"),
+        msg.contains("body.outline = reaching 5.0000e9 m from the origin: a body must lie within 1e7 of its smallest feature (5.0000e0 m, a crack's length)"),
         "{msg}"
     );
     let k = |s: &Scene| pdbem::run_bem::solve(s).expect("solves").0.tips[0].k1;

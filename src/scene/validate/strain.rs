@@ -220,7 +220,7 @@ pub fn check_origin(c: &mut Checker, scene: &Scene) {
 }
 
 /// Largest distance of a body's coordinates from the origin, in its smallest feature (the
-/// shortest outline or hole edge, hole radius or crack segment). The geometry decides
+/// shortest outline or hole edge, hole radius or crack). The geometry decides
 /// "on the outline", "inside" and "a tip" within 1e-9 of the coordinates' magnitude
 /// (`pdbem_geometry::scale_of`), so far from the origin that band reaches the features:
 /// `sent_bem_a5` moved by 1e9 m (1e9 / 5 m = 2e8) ran as at the origin; at 2e9 m `check`
@@ -230,7 +230,8 @@ pub fn check_origin(c: &mut Checker, scene: &Scene) {
 /// smallest feature).
 pub const MAX_FEATURES_FROM_ORIGIN: f64 = 1e7;
 
-/// Every body (BEM or PD) must lie within [`MAX_FEATURES_FROM_ORIGIN`] of its smallest
+/// Every body (BEM or PD) away from the origin (its centre farther than half its
+/// farthest coordinate) must lie within [`MAX_FEATURES_FROM_ORIGIN`] of its smallest
 /// feature from the origin.
 pub fn check_feature_origin(c: &mut Checker, scene: &Scene) {
     let geo = SceneGeometry::of(scene);
@@ -241,26 +242,32 @@ pub fn check_feature_origin(c: &mut Checker, scene: &Scene) {
     let far = [lo.x, lo.y, hi.x, hi.y]
         .iter()
         .fold(0.0f64, |m, v| m.max(v.abs()));
-    if far.is_finite() && far > MAX_FEATURES_FROM_ORIGIN * feature {
+    let centre = (lo + hi) * 0.5;
+    // A body about the origin keeps its coordinates as small as its size allows; a
+    // feature small against the body is the mesh's business, not this rule's.
+    let away = centre.x.abs().max(centre.y.abs()) > 0.5 * far;
+    if far.is_finite() && away && far > MAX_FEATURES_FROM_ORIGIN * feature {
         let path = if geo.outline.is_some() {
             "body.outline"
         } else {
             "cracks"
         };
+        let fix = format!(
+            "move the body to the origin (subtract ({:.6e}, {:.6e}) from every coordinate)",
+            centre.x, centre.y
+        );
         c.fail(
             path,
             format!("reaching {far:.4e} m from the origin"),
             format!(
-                "a body must lie within {MAX_FEATURES_FROM_ORIGIN:e} of its smallest feature ({feature:.4e} m, {what}) from the origin: the geometry's tolerances are 1e-9 of the coordinates' size, {:.2e} m here; move the body to the origin (subtract ({:.6e}, {:.6e}) from every coordinate)",
+                "a body must lie within {MAX_FEATURES_FROM_ORIGIN:e} of its smallest feature ({feature:.4e} m, {what}) from the origin: the geometry's tolerances are 1e-9 of the coordinates' size, {:.2e} m here; {fix}",
                 far * 1e-9,
-                0.5 * (lo.x + hi.x),
-                0.5 * (lo.y + hi.y)
             ),
         );
     }
 }
 
-/// The shortest outline or hole edge, hole radius or crack segment, with what it is.
+/// The shortest outline or hole edge, hole radius or crack, with what it is.
 fn smallest_feature(geo: &SceneGeometry) -> Option<(f64, &'static str)> {
     use crate::geometry::HoleShape;
     let edges = |pts: &[crate::geometry::P2], closed: bool| {
@@ -286,7 +293,10 @@ fn smallest_feature(geo: &SceneGeometry) -> Option<(f64, &'static str)> {
         }
     }
     for cr in &geo.cracks {
-        take(edges(&cr.points, false), "a crack segment");
+        take(
+            crate::geometry::polyline_length(&cr.points),
+            "a crack's length",
+        );
     }
     out.0.is_finite().then_some(out)
 }
