@@ -12,10 +12,10 @@
 //! least-squares fit of S over those elements reproduces each to 1e-6 of the largest
 //! traction), and S is the reference's, sigma e (x) e, to 1e-6 of |sigma| (Kirsch, and
 //! `InclinedCrackInfinite` without `beta_deg`: the principal stresses sigma and 0, e along
-//! the first; that reference then takes its K from S, [`load_stress`]). A displacement condition may hold
-//! the body only with zero values and only where the outline's normal is along e (a held
-//! end of the strip, as `growth_tension_edge` holds its left edge); holes and crack faces
-//! carry no condition. An infinite plate's S is its remote stress.
+//! the first; that reference then takes its K from S, [`load_stress`]). A displacement
+//! condition may hold the body only with zero values and only where the outline's normal
+//! is along e (a held end of the strip, as `growth_tension_edge` holds its left edge);
+//! holes and crack faces carry no condition. An infinite plate's S is its remote stress.
 
 use anyhow::{bail, Result};
 use pdbem_bem::{Bc, Mesh};
