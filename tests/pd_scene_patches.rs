@@ -107,3 +107,21 @@ fn an_edge_crack_separates_the_boundary_layers_at_its_mouth() {
     );
     assert!(moved < -0.8e-3, "moved side {moved:e} m");
 }
+
+/// An edge's condition stops at the patches on it, in PD as in the BEM mesh: a traction
+/// on `top` with a 0.2 m patch `pin` on it loads 0.8 m of the 1 m edge. Before, the PD
+/// set-up gave `top`'s condition to the whole edge (1 m: the patch's piece carried both
+/// conditions; `pd_bar_tension`'s pin was held in x too, by `left`).
+#[test]
+fn an_edge_condition_stops_at_its_patches() {
+    let src = r#"(name: "p", material: (E: 1e4, nu: 0.3333333333333333, plane: Stress),
+           body: (outline: Rectangle(x0: 0, y0: 0, width: 1, height: 0.5),
+                  patches: [(name: "pin", from: (0.4, 0.5), to: (0.6, 0.5))]),
+           boundary: [(on: "bottom", x: Displacement(0), y: Displacement(0)),
+                      (on: "top", y: Traction(2)),
+                      (on: "pin", x: Displacement(0))],
+           pd: (failure: Elastic, dx: 0.05))"#;
+    let scene = Scene::from_ron_str(src, "edge.ron").unwrap_or_else(|e| panic!("{e}"));
+    let f = pdbem::setup::pd::applied_resultant(&scene, "top");
+    assert!((f[1] - 2.0 * 0.8).abs() < 1e-12, "{f:?}");
+}

@@ -239,7 +239,7 @@ pub fn face_mode(f: Faces) -> FaceMode {
 
 /// Splits the outline at the end points of `body.patches` and names the pieces inside a
 /// patch by the patch name.
-fn split_at_patches(scene: &Scene, pts: &[P2], groups: &[String]) -> (Vec<P2>, Vec<String>) {
+pub fn split_at_patches(scene: &Scene, pts: &[P2], groups: &[String]) -> (Vec<P2>, Vec<String>) {
     if scene.body.patches.is_empty() {
         return (pts.to_vec(), groups.to_vec());
     }

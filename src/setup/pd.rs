@@ -13,7 +13,10 @@ use pdbem_pd::{PdProblem, TractionLoad};
 
 type P = [f64; 2];
 
-/// The outline edges (or patch pieces) of a group as polylines.
+/// The outline edges (or patch pieces) of a group as polylines. An edge's group is the
+/// edge without the patches on it, as in the BEM mesh ([`super::bem::split_at_patches`]):
+/// `pd_bar_tension` held its `pin` patch in x too, through the `left` edge's condition,
+/// where the BEM held it in y only.
 fn group_polylines(scene: &Scene, geo: &SceneGeometry, name: &str) -> Vec<Vec<P>> {
     let mut out = Vec::new();
     for p in &scene.body.patches {
@@ -26,10 +29,12 @@ fn group_polylines(scene: &Scene, geo: &SceneGeometry, name: &str) -> Vec<Vec<P>
         }
     }
     if let Some(o) = &geo.outline {
-        let n = o.points.len();
+        let (pts, groups) = super::bem::split_at_patches(scene, &o.points, &o.groups);
+        let patch = scene.body.patches.iter().any(|p| p.name == name);
+        let n = pts.len();
         for i in 0..n {
-            if o.groups[i] == name || name == "outline" {
-                let (a, b) = (o.points[i], o.points[(i + 1) % n]);
+            if name == "outline" || (groups[i] == name && !patch) {
+                let (a, b) = (pts[i], pts[(i + 1) % n]);
                 out.push(vec![[a.x, a.y], [b.x, b.y]]);
             }
         }
