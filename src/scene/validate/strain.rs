@@ -270,10 +270,10 @@ pub fn check_feature_origin(c: &mut Checker, scene: &Scene) {
 /// The shortest outline or hole edge, hole radius or crack, with what it is.
 fn smallest_feature(geo: &SceneGeometry) -> Option<(f64, &'static str)> {
     use crate::geometry::HoleShape;
-    let edges = |pts: &[crate::geometry::P2], closed: bool| {
+    // The shortest edge of a closed polygon.
+    let edges = |pts: &[crate::geometry::P2]| {
         let n = pts.len();
-        let m = if closed { n } else { n.saturating_sub(1) };
-        (0..m)
+        (0..n)
             .map(|i| (pts[(i + 1) % n] - pts[i]).norm())
             .fold(f64::INFINITY, f64::min)
     };
@@ -284,12 +284,12 @@ fn smallest_feature(geo: &SceneGeometry) -> Option<(f64, &'static str)> {
         }
     };
     if let Some(o) = &geo.outline {
-        take(edges(&o.points, true), "an outline edge");
+        take(edges(&o.points), "an outline edge");
     }
     for (_, h) in &geo.holes {
         match h {
             HoleShape::Circle { radius, .. } => take(*radius, "a hole's radius"),
-            HoleShape::Polygon(p) => take(edges(p, true), "a hole's edge"),
+            HoleShape::Polygon(p) => take(edges(p), "a hole's edge"),
         }
     }
     for cr in &geo.cracks {
