@@ -312,6 +312,7 @@ fn check(path: &Path, plot_dir: Option<&Path>) -> anyhow::Result<()> {
     let scene = load(path)?;
     crate::setup::estimate::check(&scene)?;
     crate::setup::reference_loads::check(&scene)?;
+    crate::setup::fit_stations::check(&scene)?;
     let footprint = crate::setup::footprint::of(&scene)?;
     crate::outln!("{}", describe(&scene));
     for line in footprint.describe() {

@@ -28,6 +28,12 @@
 //! budget cannot reach ends with the best level and a note that says so, never with a
 //! claim of convergence; so does an estimate that stops decreasing ([`STAGNATION`]).
 //! Since every estimate has the floor, the smallest tolerance is S times the floor.
+//!
+//! A level whose crack meshes leave a tip's crack-opening fit with fewer than
+//! [`pdbem_bem::post::sif::MIN_FIT_STATIONS`] stations has a K error the estimate cannot
+//! see ([`crate::setup::fit_stations`]): it never meets a tolerance (refinement goes on),
+//! and a run whose reported level (or the coarse level of a Richardson pair) is such a
+//! level is refused with the size that would do.
 
 use anyhow::Result;
 use serde::Serialize;
@@ -35,6 +41,7 @@ use std::time::Instant;
 
 use crate::run_bem::level::{solve_level, Level};
 use crate::scene::Scene;
+use crate::setup::fit_stations;
 
 /// Largest refinement the tolerance loop tries (sizes / 64 of the scene's).
 pub const MAX_REFINE: f64 = 64.0;
@@ -190,16 +197,19 @@ pub fn solve(scene: &Scene, factor: f64, start: f64) -> Result<Refined> {
         }
         let Some(tol) = tol else { break };
         let w = worst.unwrap_or(f64::INFINITY);
-        if SAFETY * w <= tol {
+        let resolved = fit_stations::unresolved(scene, &fine.setup.mesh).is_empty();
+        if resolved && SAFETY * w <= tol {
             reached = Some(true);
             break;
         }
         reached = Some(false);
-        if let Some(why) = stagnation(previous, w, tol, fine.setup.mesh.len()) {
-            stop_reason = Some(why);
-            break;
+        if resolved {
+            if let Some(why) = stagnation(previous, w, tol, fine.setup.mesh.len()) {
+                stop_reason = Some(why);
+                break;
+            }
+            previous = Some(w);
         }
-        previous = Some(w);
         if let Some(why) = next_level_refused(scene, 2.0 * r, w, tol, fine.setup.mesh.len()) {
             stop_reason = Some(why);
             break;
@@ -209,6 +219,14 @@ pub fn solve(scene: &Scene, factor: f64, start: f64) -> Result<Refined> {
         coarse = Some(std::mem::replace(&mut fine, next));
         coarse_failure = None;
     }
+    fit_stations::require(
+        scene,
+        &fine.setup.mesh,
+        &level_name(r, stop_reason.as_deref()),
+    )?;
+    if let (true, Some(c)) = (scene.bem.richardson, &coarse) {
+        fit_stations::require(scene, &c.setup.mesh, &level_name(0.5 * r, None))?;
+    }
     Ok(Refined {
         fine,
         coarse,
@@ -217,6 +235,19 @@ pub fn solve(scene: &Scene, factor: f64, start: f64) -> Result<Refined> {
         reached,
         stop_reason,
     })
+}
+
+/// The BEM level at refinement `r` for a message, with why refinement stopped there.
+fn level_name(r: f64, stopped: Option<&str>) -> String {
+    let level = if r == 1.0 {
+        "the BEM mesh at the scene's sizes".to_string()
+    } else {
+        format!("the BEM mesh at the scene's sizes / {r}")
+    };
+    match stopped {
+        Some(why) => format!("{level} ({why})"),
+        None => level,
+    }
 }
 
 /// Why refinement stops although the tolerance is not met: the estimate `worst` of the

@@ -18,7 +18,7 @@ const SRC: &str = r#"(
     body: (outline: Rectangle(x0: 0, y0: 0, width: 1, height: 4)),
     cracks: [(name: "c", start: (0, 2), angle_deg: 0, length: 0.5)],
     boundary: [(on: "top", y: Traction(1)), (on: "bottom", y: Traction(-1))],
-    bem: (element_size: 0.2, group_sizes: {"c": 0.05}),
+    bem: (element_size: 0.2, group_sizes: {"c": 0.01}),
     reference: SentTada(width: 1, sigma: 1),
     outputs: (formats: [Svg]),
 )"#;

@@ -78,7 +78,9 @@ pub fn solve_level_with(
 
 /// The runner's tip record of a BEM tip analysis (name `<crack>.end` / `<crack>.start`;
 /// primary K from the crack-opening fit, or from the interaction integral with a note
-/// when the fit had no station).
+/// when the fit had no station). A reported level holds enough stations at every tip
+/// ([`crate::setup::fit_stations`]); the fallback serves the coarse level of an error
+/// estimate, whose K only enters |K(h) - K(2h)|.
 pub fn tip_result(mesh: &pdbem_bem::Mesh, t: &pdbem_bem::post::TipResult) -> TipResult {
     let end = if t.at_end { "end" } else { "start" };
     let name = format!("{}.{end}", mesh.cracks[t.crack].name);

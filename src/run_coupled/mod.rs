@@ -203,6 +203,7 @@ pub fn summarize(scene: &Scene, out: &CoupledOutcome) -> Result<RunSummary> {
         contour_fraction: scene.bem.j_contour.radius_fraction,
         contour_points: scene.bem.j_contour.points,
     };
+    crate::setup::fit_stations::require(scene, &pb.mesh, "the coupled BEM body's mesh")?;
     for t in analyze_tips(&pb.mesh, &ev, sol, &opts).context("BEM tips")? {
         tips.push(crate::run_bem::tip_result(&pb.mesh, &t));
     }

@@ -87,6 +87,7 @@ fn run_in_pool(scene: &Scene, out_dir: &Path, options: &RunOptions) -> anyhow::R
     let mode = mode_of(scene);
     crate::setup::estimate::check(scene)?;
     crate::setup::reference_loads::check(scene)?;
+    crate::setup::fit_stations::check(scene)?;
     let stops = options.stop_after.is_some() || options.stop_within.is_some();
     if (options.resume || stops) && mode != Mode::Growth {
         anyhow::bail!(

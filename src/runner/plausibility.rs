@@ -2,11 +2,9 @@
 //! the error it reports or comes with a note that says why not. [`review`] runs on every
 //! summary before the reference values are added, and:
 //!
-//! 1. moves the tips' own notes ([`TipResult::notes`], e.g. the crack-opening fit that
-//!    had no station and fell back to the interaction integral) into `notes`;
-//! 2. with `bem.richardson`, when either level's crack-opening fit had no station at a
-//!    tip, reports that tip's extrapolated interaction-integral K instead of an
-//!    extrapolation that would mix the two estimates;
+//! 1. moves the tips' own notes ([`TipResult::notes`]) into `notes`;
+//! 2. (a crack-opening fit with too few stations for a K is not reviewed here: it is
+//!    refused before the run, [`crate::setup::fit_stations`]);
 //! 3. notes crack faces that overlap: the linear solution has no contact, so
 //!    $K_I < 0$ or CMOD $< 0$ is not physical ([`OVERLAP_TOLERANCE`]);
 //! 4. notes tips where the crack-opening fit and the interaction integral disagree,
@@ -21,8 +19,6 @@
 //! 7. puts the scene's own notes first ([`Scene::notes`]: fields no solver reads, e.g.
 //!    a Poisson ratio the bond-based PD model cannot take), so `summary.json` keeps them
 //!    and not only the terminal.
-
-use serde_json::Value;
 
 use super::summary::{RunSummary, TipResult};
 use crate::scene::shapes::SceneGeometry;
@@ -58,14 +54,12 @@ pub const CONDITION_LIMIT: f64 = 1e10;
 /// overlap is far larger.
 pub const OVERLAP_TOLERANCE: f64 = 1e-6;
 
-/// Adds the plausibility notes of `summary` (see the module docs) and applies the
-/// Richardson fallback.
+/// Adds the plausibility notes of `summary` (see the module docs).
 pub fn review(scene: &Scene, summary: &mut RunSummary) {
     let mut notes = Vec::new();
     for t in &mut summary.tips {
         notes.append(&mut t.notes);
     }
-    notes.extend(richardson_fallback(summary));
     notes.extend(summary.tips.iter().filter_map(tip_overlap));
     notes.extend(crack_overlap(scene, summary));
     notes.extend(summary.tips.iter().filter_map(disagreement));
@@ -191,50 +185,6 @@ fn condition(summary: &RunSummary) -> Option<String> {
     })
 }
 
-/// Tips of the Richardson levels in `summary.extra.richardson` whose crack-opening fit
-/// had no station (`k1_cod` absent): their reported K becomes the extrapolated
-/// interaction integral. Returns the notes.
-fn richardson_fallback(summary: &mut RunSummary) -> Vec<String> {
-    let Some(levels) = summary.extra.get("richardson") else {
-        return Vec::new();
-    };
-    let missing = |key: &str| -> Vec<String> {
-        levels
-            .get(key)
-            .and_then(Value::as_array)
-            .map(|tips| {
-                tips.iter()
-                    .filter(|t| t.get("k1_cod").is_none_or(Value::is_null))
-                    .filter_map(|t| t.get("name")?.as_str().map(String::from))
-                    .collect()
-            })
-            .unwrap_or_default()
-    };
-    let mut names = missing("tips_h");
-    names.extend(missing("tips_h2"));
-    let mut notes = Vec::new();
-    for t in &mut summary.tips {
-        if !names.contains(&t.name) {
-            continue;
-        }
-        let (Some(k1), Some(k2)) = (t.k1_j, t.k2_j) else {
-            continue;
-        };
-        t.k1 = k1;
-        t.k2 = k2;
-        t.kink_deg = pdbem_bem::post::kink_angle(k1, k2).to_degrees();
-        t.k1_cod = None;
-        t.k2_cod = None;
-        notes.push(format!(
-            "tip {}: k1, k2 are the extrapolated interaction-integral values: the \
-             crack-opening fit had no crack-face station within its fit length on a \
-             Richardson level",
-            t.name
-        ));
-    }
-    notes
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -277,21 +227,5 @@ mod tests {
             serde_json::json!(10.0 * CONDITION_LIMIT),
         );
         assert!(condition(&s).unwrap().contains("1.000e11"));
-    }
-
-    #[test]
-    fn richardson_levels_without_cod_fall_back_to_the_integral() {
-        let mut s = RunSummary {
-            tips: vec![tip(3.0, 2.0)],
-            ..Default::default()
-        };
-        s.extra.insert(
-            "richardson".into(),
-            serde_json::json!({"tips_h": [{"name": "c.end", "k1": 2.0}], "tips_h2": [{"name": "c.end", "k1_cod": 2.5}]}),
-        );
-        let notes = richardson_fallback(&mut s);
-        assert_eq!(notes.len(), 1);
-        assert_eq!(s.tips[0].k1, 2.0);
-        assert!(s.tips[0].k1_cod.is_none());
     }
 }

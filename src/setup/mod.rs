@@ -12,6 +12,9 @@
 //! - [`pd`](mod@pd): the stand-alone PD problem ([`pd::problem_from_scene`]);
 //! - [`reference_loads`]: refusal of a `reference` whose closed form assumes other loads
 //!   than the scene's ([`reference_loads::check`], in `pdbem check` and before every run);
+//! - [`fit_stations`]: refusal of crack meshes that leave a tip's crack-opening fit with
+//!   too few stations for a K ([`fit_stations::check`], in `pdbem check` and before every
+//!   run);
 //! - [`ligament`]: refusal of pre-cracks whose ligament the PD grid cannot resolve, notes
 //!   on ligaments under the horizon;
 //! - [`coupled`]: the coupled model (windows, macro body, PD settings, Algorithm 1
@@ -29,6 +32,7 @@ pub mod balance;
 pub mod bem;
 pub mod coupled;
 pub mod estimate;
+pub mod fit_stations;
 pub mod footprint;
 pub mod growth;
 pub mod ligament;
