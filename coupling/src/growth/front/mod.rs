@@ -407,25 +407,7 @@ impl Front {
     pub fn step_ahead(&mut self, t: usize, dir: P2, da: f64, margin: f64) -> Obstacle {
         let tip = self.tip_position(t);
         let reach = da + margin;
-        let to_outline = self
-            .outline
-            .as_ref()
-            .and_then(|o| ray_polygon(&tip, &dir, o));
-        let to_hole = self
-            .holes
-            .iter()
-            .filter_map(|(n, h)| ray_hole(&tip, &dir, h).map(|s| (s, n.clone())))
-            .min_by(|a, b| a.0.total_cmp(&b.0));
-        let to_crack = self.ray_cracks(t, &tip, &dir);
-        let first = [
-            to_outline.map(|s| (s, Obstacle::Outline)),
-            to_hole.map(|(s, n)| (s, Obstacle::Hole(n))),
-            to_crack.map(|(s, n)| (s, Obstacle::Crack(n))),
-        ]
-        .into_iter()
-        .flatten()
-        .filter(|(s, _)| *s <= reach)
-        .min_by(|a, b| a.0.total_cmp(&b.0));
+        let first = self.first_ahead(t, dir).filter(|(s, _)| *s <= reach);
         let end = tip + dir * da;
         let hit = match first {
             Some((s, Obstacle::Outline)) => {
@@ -460,6 +442,36 @@ impl Front {
         };
         self.stop(t, &hit);
         hit
+    }
+
+    /// Distance (m) from tip `t` along `dir` (unit) to the first outline, hole or crack
+    /// the ray meets; None when it meets nothing.
+    pub fn room_ahead(&self, t: usize, dir: P2) -> Option<f64> {
+        self.first_ahead(t, dir).map(|(s, _)| s)
+    }
+
+    /// The first outline, hole or crack the ray from tip `t` along `dir` meets, with its
+    /// distance.
+    fn first_ahead(&self, t: usize, dir: P2) -> Option<(f64, Obstacle)> {
+        let tip = self.tip_position(t);
+        let to_outline = self
+            .outline
+            .as_ref()
+            .and_then(|o| ray_polygon(&tip, &dir, o));
+        let to_hole = self
+            .holes
+            .iter()
+            .filter_map(|(n, h)| ray_hole(&tip, &dir, h).map(|s| (s, n.clone())))
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        let to_crack = self.ray_cracks(t, &tip, &dir);
+        [
+            to_outline.map(|s| (s, Obstacle::Outline)),
+            to_hole.map(|(s, n)| (s, Obstacle::Hole(n))),
+            to_crack.map(|(s, n)| (s, Obstacle::Crack(n))),
+        ]
+        .into_iter()
+        .flatten()
+        .min_by(|a, b| a.0.total_cmp(&b.0))
     }
 
     /// First crossing of the ray from `tip` along `dir` with another crack (or the far part

@@ -133,3 +133,23 @@ fn ray_hits() {
     };
     assert!((ray_hole(&o, &d, &c).unwrap() - 4.0).abs() < 1e-12);
 }
+
+#[test]
+fn room_ahead_is_the_distance_to_the_first_obstacle_on_the_ray() {
+    // Edge crack from (0, 5) to (2, 5); a circular hole of radius 1 at (6, 5); a crack
+    // across the ray at x = 8 beyond it.
+    let hole = HoleShape::Circle {
+        center: P2::new(6.0, 5.0),
+        radius: 1.0,
+    };
+    let f = plate(
+        &[("c", (0.0, 5.0), 0.0, 2.0), ("d", (8.0, 2.0), 90.0, 6.0)],
+        vec![hole],
+    );
+    let t = f.tips.iter().position(|t| t.name == "c.end").unwrap();
+    let ahead = f.room_ahead(t, P2::new(1.0, 0.0)).unwrap();
+    assert!((ahead - 3.0).abs() < 1e-12, "{ahead}");
+    // Upwards: the top edge, 5 m away; downwards the bottom edge.
+    assert!((f.room_ahead(t, P2::new(0.0, 1.0)).unwrap() - 5.0).abs() < 1e-12);
+    assert!((f.room_ahead(t, P2::new(0.0, -1.0)).unwrap() - 5.0).abs() < 1e-12);
+}
