@@ -72,7 +72,9 @@ pub fn solve_setup(mut setup: CoupledSetup) -> Result<CoupledOutcome> {
 /// Solves `scene` without writing anything: summary and outcome.
 pub fn solve(scene: &Scene) -> Result<(RunSummary, CoupledOutcome)> {
     let t0 = Instant::now();
-    let out = solve_setup(prepare(scene)?)?;
+    let setup = prepare(scene)?;
+    crate::setup::fit_stations::require(scene, &setup.problem.mesh, "the coupled BEM body's mesh")?;
+    let out = solve_setup(setup)?;
     let mut summary = summarize(scene, &out)?;
     estimate::attach(scene, &out, &mut summary);
     summary.wall_time_s = t0.elapsed().as_secs_f64();
@@ -203,7 +205,6 @@ pub fn summarize(scene: &Scene, out: &CoupledOutcome) -> Result<RunSummary> {
         contour_fraction: scene.bem.j_contour.radius_fraction,
         contour_points: scene.bem.j_contour.points,
     };
-    crate::setup::fit_stations::require(scene, &pb.mesh, "the coupled BEM body's mesh")?;
     for t in analyze_tips(&pb.mesh, &ev, sol, &opts).context("BEM tips")? {
         tips.push(crate::run_bem::tip_result(&pb.mesh, &t));
     }

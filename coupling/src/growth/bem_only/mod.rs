@@ -367,13 +367,16 @@ pub fn run_from(
                     // The approach to an obstacle reached a geometry the BEM cannot take
                     // as a growth state: the tips are taken onto it from where they were.
                     (front, history) = before;
-                    let note = format!(
-                        "step {k} (load {f}): after the shortened increments of {} towards \
-                         the boundary, geometry {geometry} was not a growth state ({why}); \
-                         the increments were taken with the full growth.da instead, which \
-                         takes a tip within 2.5 growth.da of the outline or a hole onto it",
-                        shortened.join(", ")
-                    );
+                    let note = full_increment_note((k, f, geometry), &shortened, &why);
+                    observer.event("note", json!({ "message": note }));
+                    history.notes.push(note);
+                    snap = true;
+                    continue;
+                }
+                Err(e) if !shortened.is_empty() => {
+                    (front, history) = before;
+                    let why = format!("it could not be meshed or solved: {e}");
+                    let note = full_increment_note((k, f, geometry), &shortened, &why);
                     observer.event("note", json!({ "message": note }));
                     history.notes.push(note);
                     snap = true;
@@ -503,6 +506,22 @@ fn fresh_history(front: &Front, first: f64) -> GrowthHistory {
             .collect(),
         ..Default::default()
     }
+}
+
+/// The note of a round of shortened increments taken again with the full `da`: load
+/// step, load and geometry, the tips that were shortened, why the geometry was refused.
+fn full_increment_note(
+    (step, load, geometry): (usize, f64, usize),
+    shortened: &[String],
+    why: &str,
+) -> String {
+    format!(
+        "step {step} (load {load}): after the shortened increments of {} towards the \
+         boundary, geometry {geometry} was not a growth state ({why}); the increments were \
+         taken with the full growth.da instead, which takes a tip within 2.5 growth.da of \
+         the outline or a hole onto it",
+        shortened.join(", ")
+    )
 }
 
 /// Why the body came apart: a tip reached the outline, or cracks joined across it.
