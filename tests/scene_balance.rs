@@ -152,6 +152,16 @@ fn stand_alone_pd_refuses_loads_out_of_balance_along_a_free_motion() {
     );
     let msg = format!("{:#}", pdbem::run_pd::solve(&up).expect_err("run refuses"));
     assert!(msg.contains("are out of balance"), "{msg}");
+    // The scene's `bem` section is not what PD runs: the balance mesh takes the default
+    // sizes (with the scene's 1e-9 m elements the mesher refused the body, and the
+    // unbalanced loads ran unchecked).
+    let mut tiny = up.clone();
+    tiny.bem.element_size = Some(1e-9);
+    let msg = format!(
+        "{:#}",
+        pdbem::setup::footprint::of(&tiny).expect_err("check refuses")
+    );
+    assert!(msg.contains("are out of balance"), "{msg}");
     // A couple: shear right on top, left at the bottom: M = -1 MPa x 50 mm x 50 mm
     // (clockwise).
     let text = std::fs::read_to_string("cases/pd_edge_crack.ron").unwrap();

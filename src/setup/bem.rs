@@ -79,7 +79,8 @@ pub fn check_balance(scene: &Scene) -> Result<()> {
 
 /// [`check_balance`] for a body another solver discretises (stand-alone PD): a body the
 /// BEM mesher or its conditions would refuse although the scene's validation passed it
-/// (none of the shipped cases) is left unchecked rather than refused for a BEM reason.
+/// (none of the shipped cases: a crack tip closer to another boundary than the BEM
+/// resolves) is left unchecked rather than refused for a BEM reason.
 pub fn check_balance_where_meshable(scene: &Scene) -> Result<()> {
     match whole_body_where_meshable(scene) {
         Some((mesh, bcs)) => super::balance::check(scene, &mesh, &bcs),
@@ -89,10 +90,15 @@ pub fn check_balance_where_meshable(scene: &Scene) -> Result<()> {
 
 /// The scene's whole body meshed at unit load with its conditions, for the balance of a
 /// body another solver discretises; `None` for an infinite plate and for a body the BEM
-/// mesher or its conditions would refuse although the scene's validation passed it.
+/// mesher or its conditions would refuse although the scene's validation passed it. The
+/// mesh takes the default BEM sizes: the scene's `bem` section is not what that solver
+/// runs (a stand-alone PD scene with `bem.element_size: 1e-9` left its loads unchecked).
 pub fn whole_body_where_meshable(scene: &Scene) -> Option<(Mesh, Vec<[Bc; 2]>)> {
     let geo = SceneGeometry::of(scene);
     geo.outline.as_ref()?;
+    let mut scene = scene.clone();
+    scene.bem = crate::scene::BemSettings::default();
+    let scene = &scene;
     let mesh = mesh_builder(scene, &geo, 1.0).ok()?.build().ok()?;
     let bcs = conditions(scene, &mesh, 1.0, None, MissingGroup::Error).ok()?;
     Some((mesh, bcs))
