@@ -172,9 +172,11 @@ pub fn point(p: [f64; 2]) -> String {
 fn growth_lines(s: &RunSummary) -> Vec<String> {
     let g = |k: &str| s.extra.get(k).cloned().unwrap_or(Value::Null);
     let load = |v: Value| v.as_f64().map_or("none".into(), |x| human(x, 4));
-    let failure = match g("failure").as_bool() {
-        Some(true) => format!("failure at load factor {}", load(g("failure_load"))),
-        _ => "no failure".into(),
+    let failed = g("failure").as_bool() == Some(true);
+    let failure = if failed {
+        format!("failure at load factor {}", load(g("failure_load")))
+    } else {
+        "no failure".into()
     };
     let mut out = vec![format!(
         "  {} load steps, initiation at load factor {}, {failure}, {} window relocations",
@@ -187,9 +189,17 @@ fn growth_lines(s: &RunSummary) -> Vec<String> {
             .as_array()
             .and_then(|a| Some([a.first()?.as_f64()?, a.get(1)?.as_f64()?]))
             .map_or("?".into(), point);
+        // A tip that did not end at the outline, a hole or another crack is inside the
+        // body: arrested or growing at the last load, or where it was tracked when the body
+        // failed by another way (a PD ligament that gave way in its window, another tip).
+        let inside = if failed {
+            "inside the body when it failed"
+        } else {
+            "inside the body"
+        };
         let ended = t["ended"]
             .as_str()
-            .map_or("still growing".to_string(), |w| format!("ended: {w}"));
+            .map_or(inside.to_string(), |w| format!("ended: {w}"));
         out.push(format!(
             "  tip {}: at {pos} m, grew {} m, {ended}",
             t["name"].as_str().unwrap_or("?"),
@@ -254,6 +264,23 @@ mod tests {
             "{text}"
         );
         assert!(!text.contains("99999") && !text.contains("e-16"), "{text}");
+        // A tip tracked inside the body when it failed another way (its PD ligament gave
+        // way in the window) was reported as "still growing".
+        s.extra.insert(
+            "tips_final".into(),
+            json!([{"name": "crack.end", "position": [10.05, 0.95], "extension": 7.055, "ended": null}]),
+        );
+        let text = summary_lines(&s).join("\n");
+        assert!(
+            text.contains("grew 7.055 m, inside the body when it failed"),
+            "{text}"
+        );
+        s.extra.insert("failure".into(), json!(false));
+        let text = summary_lines(&s).join("\n");
+        assert!(
+            text.contains("grew 7.055 m, inside the body\n") || text.ends_with("inside the body"),
+            "{text}"
+        );
     }
 
     #[test]
