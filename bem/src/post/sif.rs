@@ -7,7 +7,7 @@
 //! fitted by least squares over $r < 0.3 L$ ($L$ = crack length, half length for interior
 //! cracks, or the ligament ahead of the tip if shorter). The fit needs
 //! [`MIN_FIT_STATIONS`] crack-face stations in that range to mean K: with fewer it has
-//! fewer terms than the opening's shape (module docs of the constant), and its error no
+//! fewer terms than the opening's shape (see the constant's docs), and its error no
 //! longer shrinks with h, so no two-level estimate can see it.
 //!
 //! **Interaction integral**: on a circle of radius $\rho$ around the tip (tip frame),
