@@ -331,7 +331,12 @@ pub fn run_from(
                     .snapshots
                     .push(displacement_snapshot(body, &front, bounds, &solved, f, k));
             }
-            let before = (front.clone(), history.clone());
+            // The state before the round, for the fallback below; kept only when an
+            // increment will be shortened (cloning the history every round is O(n)).
+            let mut before = growing
+                .iter()
+                .any(|t| shortens(&front, t, &sizes))
+                .then(|| (front.clone(), history.clone()));
             let mut shortened = Vec::new();
             for t in &growing {
                 if grow_tip(
@@ -363,18 +368,24 @@ pub fn run_from(
             };
             match checked {
                 Ok(Checked::Ok(s)) => solved = *s,
-                Ok(Checked::Overlap(why) | Checked::Unsettled(why)) if !shortened.is_empty() => {
+                Ok(Checked::Overlap(why) | Checked::Unsettled(why))
+                    if !shortened.is_empty() && before.is_some() =>
+                {
                     // The approach to an obstacle reached a geometry the BEM cannot take
                     // as a growth state: the tips are taken onto it from where they were.
-                    (front, history) = before;
+                    if let Some(b) = before.take() {
+                        (front, history) = b;
+                    }
                     let note = full_increment_note((k, f, geometry), &shortened, &why);
                     observer.event("note", json!({ "message": note }));
                     history.notes.push(note);
                     snap = true;
                     continue;
                 }
-                Err(e) if !shortened.is_empty() => {
-                    (front, history) = before;
+                Err(e) if !shortened.is_empty() && before.is_some() => {
+                    if let Some(b) = before.take() {
+                        (front, history) = b;
+                    }
                     let why = format!("it could not be meshed or solved: {e}");
                     let note = full_increment_note((k, f, geometry), &shortened, &why);
                     observer.event("note", json!({ "message": note }));
@@ -506,6 +517,13 @@ fn fresh_history(front: &Front, first: f64) -> GrowthHistory {
             .collect(),
         ..Default::default()
     }
+}
+
+/// Whether tip `t`'s next increment is shortened by an obstacle ahead ([`increment`]).
+fn shortens(front: &Front, t: &TipSif, sizes: &Sizes) -> bool {
+    let dir = rotate(&front.tip_direction(t.tip), t.theta);
+    let da = sizes.da[front.tips[t.tip].crack];
+    increment(front.room_ahead(t.tip, dir), da) < da
 }
 
 /// The note of a round of shortened increments taken again with the full `da`: load
