@@ -313,6 +313,9 @@ fn check(path: &Path, plot_dir: Option<&Path>) -> anyhow::Result<()> {
     crate::setup::estimate::check(&scene)?;
     crate::setup::reference_loads::check(&scene)?;
     crate::setup::fit_stations::check(&scene)?;
+    for note in crate::runner::plausibility::thin_ligaments(&scene) {
+        eprintln!("note: {}: {note}", path.display());
+    }
     let footprint = crate::setup::footprint::of(&scene)?;
     crate::outln!("{}", describe(&scene));
     for line in footprint.describe() {

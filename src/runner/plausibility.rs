@@ -11,7 +11,9 @@
 //!    $\sqrt{(K_I^{cod} - K_I^{J})^2 + (K_{II}^{cod} - K_{II}^{J})^2} >
 //!    \epsilon\,K_{eq}$ with $K_{eq} = \max(\sqrt{K_I^2 + K_{II}^2})$ over the two
 //!    estimates and $\epsilon$ = [`COD_J_DISAGREEMENT`];
-//! 5. notes a BEM condition estimate above [`CONDITION_LIMIT`];
+//! 5. notes a BEM condition estimate above [`CONDITION_LIMIT`], and cracks whose flank
+//!    runs along a thin ligament the BEM does not resolve
+//!    ([`crate::setup::thin_ligament`]);
 //! 6. sets every tip's energy release rate $G = (K_I^2 + K_{II}^2) / E'$ from its
 //!    reported K and notes a tip whose contour J-integral (computed from the solved
 //!    field alone) differs from it by more than [`J_G_DISAGREEMENT`] of G: in linear
@@ -64,6 +66,7 @@ pub fn review(scene: &Scene, summary: &mut RunSummary) {
     notes.extend(crack_overlap(scene, summary));
     notes.extend(summary.tips.iter().filter_map(disagreement));
     notes.extend(condition(summary));
+    notes.extend(thin_ligaments(scene));
     let e_prime = scene.material.e_prime();
     for t in &mut summary.tips {
         t.g = Some((t.k1 * t.k1 + t.k2 * t.k2) / e_prime);
@@ -72,6 +75,19 @@ pub fn review(scene: &Scene, summary: &mut RunSummary) {
     summary.notes.extend(notes);
     let scene_notes = scene.notes.iter().map(|n| format!("scene: {n}"));
     summary.notes.splice(0..0, scene_notes);
+}
+
+/// The notes of cracks along a thin ligament, in every mode whose K and CMOD come from
+/// the BEM ([`crate::setup::thin_ligament`]).
+pub fn thin_ligaments(scene: &Scene) -> Vec<String> {
+    if matches!(super::mode::mode_of(scene), super::mode::Mode::Pd) {
+        return Vec::new();
+    }
+    let ligaments = crate::setup::thin_ligament::of_scene(scene);
+    ligaments
+        .iter()
+        .map(|l| crate::setup::thin_ligament::note(scene, l))
+        .collect()
 }
 
 /// K_eq = sqrt(K_I^2 + K_II^2).

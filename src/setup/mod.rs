@@ -5,6 +5,7 @@
 //!
 //! Map:
 //! - [`sizing`]: the one element-size rule (outline, holes, cracks and mouths, windows);
+//! - [`thin_ligament`]: notes on cracks whose flank runs close along another boundary (a thin ligament the BEM crack faces do not resolve);
 //! - [`bem`](mod@bem): the BEM model of a scene ([`bem::build`]: mesh, conditions, material);
 //! - [`balance`]: refusal of finite bodies whose tractions nothing balances
 //!   ([`balance::check`], run by [`bem::build`]; [`bem::check_balance`] for the modes
@@ -40,6 +41,7 @@ pub mod pd;
 pub mod reference_loads;
 pub mod refined_size;
 pub mod sizing;
+pub mod thin_ligament;
 
 use anyhow::{Context, Result};
 
