@@ -44,3 +44,35 @@ pub fn stop_after_step(
     }
     false
 }
+
+/// The note of a run in which no tip advanced by a horizon: before its failure at
+/// `failure` (a body that came apart elsewhere, e.g. at a clamp) or within the load budget
+/// ending at `last`.
+pub fn no_initiation_note(failure: Option<f64>, last: f64) -> String {
+    match failure {
+        Some(f) => format!("no tip advanced by a horizon before the failure at load {f}"),
+        None => format!("no tip advanced by a horizon within the load budget (last factor {last})"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_run_that_failed_before_any_tip_moved_names_the_failure_load() {
+        // Full PD on a clamped plate pulled sideways broke at its clamp at load 3.3 with
+        // a budget to 5.25: "within the load budget (last factor 5.25)" read as if the
+        // loads had reached 5.25.
+        let n = no_initiation_note(Some(3.3), 5.25);
+        assert!(
+            n.contains("before the failure at load 3.3") && !n.contains("5.25"),
+            "{n}"
+        );
+        let n = no_initiation_note(None, 5.25);
+        assert!(
+            n.contains("within the load budget (last factor 5.25)"),
+            "{n}"
+        );
+    }
+}

@@ -498,9 +498,9 @@ pub fn run_from(
         history.notes.push(format!("first bond broke at load {f}"));
     }
     if history.initiation_load.is_none() {
-        history.notes.push(format!(
-            "no tip advanced by a horizon within the load budget (last factor {})",
-            factors.last().copied().unwrap_or(first)
+        history.notes.push(super::verdict::no_initiation_note(
+            history.failure_load,
+            factors.last().copied().unwrap_or(first),
         ));
     }
     for (p, t) in history.paths.iter_mut().zip(&front.tips) {
