@@ -2,24 +2,29 @@
 //! edge, a hole, another crack), leaving a strip of material between them.
 //!
 //! A strip of thickness $w$ and length $\ell$ between a crack face and another boundary
-//! bends like a beam. The BEM crack faces (constant elements, dual equations) converge on
-//! it only at elements far below $w$, and the error estimate from two levels sees little
-//! of the error before that. Measured on an edge crack 0.03 m under the free top edge
-//! of a 2 m x 1 m plate, 0.5 m long ($\ell / w = 17$), the plate pulled by 1 Pa on its top
-//! and bottom edges (E = 1e4 Pa), with elements along the strip of the default size (w /
-//! 3), w / 8, w / 32 and w / 64: CMOD 0.028 m (its estimate 0.0016 m), 0.093, 0.287 and
-//! 0.340 m, extrapolated 0.394 m (Euler-Bernoulli with a rigid root puts the strip's end
-//! $q \ell^4 / 8EI$ = 0.347 m above the bulk, a polygon body with the same strip and
-//! no crack gives 0.415 m); $K_I$ 5.6 (its estimate 1.7), 3.7, 30 and 40 Pa m^0.5,
-//! extrapolated 49. The default sizes are 93 % (CMOD) and 89 % (K_I) low with estimates
-//! of 6 and 31 %, w / 64 still 14 % and 19 % low. At $\ell / w = 5$ (the crack 0.1 m
-//! under the edge) the default sizes give $K_I$ and CMOD 6 % and 5 % below their
-//! extrapolated values, with estimates of 7 % and 5 %: covered, narrowly.
+//! bends like a beam. The BEM crack faces (constant elements, the traction equation
+//! deciding the opening) converge on it only at elements far below $w$, and the error
+//! estimate from two levels sees little of the error before that; ordinary boundaries
+//! converge far sooner (a polygon body with the same strip and no crack: within a few
+//! per cent at elements of w / 8). Measured on an edge crack 0.03 m under the free top
+//! edge of a 2 m x 1 m plate, 0.5 m long ($\ell / w = 17$), the plate pulled by 1 Pa on
+//! its top and bottom edges (E = 1e4 Pa); Euler-Bernoulli with a rigid root puts the
+//! strip's end at least $q \ell^4 / 8EI$ = 0.347 m above the bulk (the root's compliance
+//! and shear only add). The default sizes (w / 3 along the strip) give a CMOD of 0.028 m
+//! with an estimate of 0.0016 m: more than 92 % low, exit 0. Uniform crack elements
+//! (`bem.group_sizes.<crack>`) of w / 16, w / 32, w / 64 and w / 128 give 0.190, 0.303,
+//! 0.383 and 0.431 m with estimates of 0.153, 0.206, 0.164 and 0.066 m, $K_I$ 9.8, 25, 37
+//! and 45 Pa m^0.5 with estimates of 7, 26, 34 and 35: from w / 32 within their estimates
+//! as far as the bound tells, converging at about $h^{0.6}$. At $\ell / w = 50$ (0.01 m
+//! under the edge, bound 9.4 m) w / 16, w / 32 and w / 64 (7000 elements) give 0.18,
+//! 0.38 and 0.72 m and $K_I$ of either sign: no affordable mesh resolves it. At
+//! $\ell / w = 5$ (0.1 m under the edge) the default sizes give $K_I$ and CMOD about 6 %
+//! and 5 % below their values at w / 64, with estimates of 7 % and 5 %: covered, narrowly.
 //!
-//! No element-size rule makes such a strip affordable (w / 64 along both faces and the
-//! edge), so the scene is solved and every K and CMOD of a crack with a ligament more than
-//! [`SLENDERNESS_LIMIT`] times as long as it is thick gets a note ([`note`]; `pdbem
-//! check` prints it too).
+//! So the scene is solved as it is, and every K and CMOD of a crack with a ligament more
+//! than [`SLENDERNESS_LIMIT`] times as long as it is thick gets a note ([`note`]; `pdbem
+//! check` prints it too) with what helps: up to [`RESOLVED_SLENDERNESS`], crack elements
+//! of [`RESOLVING_FRACTION`] w, with which the note goes ([`resolved`]).
 //!
 //! Each crack is sampled along its length (every half gap, at least every 1/1000 of its
 //! length); at a sample $p$ the gap $w(p)$ is the distance to the nearest point $q$ of
@@ -40,6 +45,11 @@ use crate::scene::Scene;
 /// Largest length / thickness of a ligament that passes without a note (module docs:
 /// 5 is at the edge of the estimate, 17 far beyond it).
 pub const SLENDERNESS_LIMIT: f64 = 4.0;
+/// Crack elements of at most this fraction of a ligament's thickness resolve it, up to
+/// [`RESOLVED_SLENDERNESS`] (module docs: from w / 32 within the estimates at 17).
+pub const RESOLVING_FRACTION: f64 = 1.0 / 64.0;
+/// Most slender ligament crack elements of [`RESOLVING_FRACTION`] are known to resolve.
+pub const RESOLVED_SLENDERNESS: f64 = 17.0;
 /// Consecutive samples whose gaps lie within this ratio belong to one ligament.
 pub const RUN_RATIO: f64 = 2.0;
 /// Finest sampling along a crack, as a fraction of its length.
@@ -78,7 +88,8 @@ struct Sample {
 }
 
 /// The ligaments of `scene`'s cracks more slender than [`SLENDERNESS_LIMIT`], on the
-/// static BEM loops at refinement 1.
+/// static BEM loops at refinement 1, leaving out those the crack's own elements
+/// (`bem.group_sizes.<crack>`) resolve ([`resolved`]).
 pub fn of_scene(scene: &Scene) -> Vec<Ligament> {
     let geo = SceneGeometry::of(scene);
     if geo.cracks.is_empty() {
@@ -87,8 +98,21 @@ pub fn of_scene(scene: &Scene) -> Vec<Ligament> {
     let loops = super::bem::loops(scene, &geo, 1.0);
     find(&geo, &loops)
         .into_iter()
-        .filter(|l| l.slenderness() > SLENDERNESS_LIMIT)
+        .filter(|l| l.slenderness() > SLENDERNESS_LIMIT && !resolved(scene, l))
         .collect()
+}
+
+/// Whether the scene's elements on the ligament's crack resolve it: at most
+/// [`RESOLVING_FRACTION`] of its thickness (`bem.group_sizes.<crack>`), and the ligament
+/// no more slender than [`RESOLVED_SLENDERNESS`].
+pub fn resolved(scene: &Scene, l: &Ligament) -> bool {
+    let name = &scene.cracks[l.crack].name;
+    let fine = scene
+        .bem
+        .group_sizes
+        .get(name)
+        .is_some_and(|&h| h <= RESOLVING_FRACTION * l.width * (1.0 + 1e-9));
+    fine && l.slenderness() <= RESOLVED_SLENDERNESS
 }
 
 /// The note of a ligament (module docs).
@@ -99,10 +123,11 @@ pub fn note(scene: &Scene, l: &Ligament) -> String {
          ({:.4}, {:.4}) to ({:.4}, {:.4}) m (a strip {:.0} times as long as it is thick, more \
          than {SLENDERNESS_LIMIT}): BEM crack faces resolve such a strip only with elements \
          far below its thickness, and the error estimates do not see it (an edge crack 0.03 m \
-         under a free edge over 0.5 m: CMOD 93 % low with an estimate of 6 %, 14 % low at \
-         elements of 1/64 of the thickness); the K of the crack '{name}''s tips and its CMOD \
-         may be off by more than their estimates. Move the crack away from {}, or model the \
-         strip with a PD window",
+         under a free edge over 0.5 m: CMOD more than 92 % low with an estimate of 6 %); the \
+         K at the tips of '{name}' and its CMOD may be off by more than their estimates. Up to \
+         {RESOLVED_SLENDERNESS} times, crack elements of 1/64 of the thickness \
+         (bem.group_sizes.{name}: {:.3e}) bring them within their estimates; beyond, move the \
+         crack away from {}",
         l.crack,
         l.length,
         l.other,
@@ -112,6 +137,7 @@ pub fn note(scene: &Scene, l: &Ligament) -> String {
         l.to.x,
         l.to.y,
         l.slenderness(),
+        RESOLVING_FRACTION * l.width,
         l.other,
     )
 }
