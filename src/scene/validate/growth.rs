@@ -48,7 +48,7 @@ fn check_growth(c: &mut Checker, scene: &Scene, g: &crate::scene::Growth) {
             check_increments_across(c, scene, da);
         }
     }
-    check_one_sign(c, scene);
+    check_positive_factors(c, scene);
     if let Some(sp) = g.sif_spacing {
         if c.finite("growth.sif_spacing", sp) && sp < 0.0 {
             c.fail(
@@ -273,21 +273,25 @@ fn check_increments_across(c: &mut Checker, scene: &Scene, da: f64) {
     }
 }
 
-/// Growth runs a monotonic ramp: load factors of both signs would reverse the load, and
-/// the models have no crack-face contact (a closing crack's K_I < 0 is not the body's).
-fn check_one_sign(c: &mut Checker, scene: &Scene) {
+/// Growth runs take every load factor positive: the growth criteria and the K record
+/// (`sif_path.csv`) scale the solution of the loads as written by the factor, and a
+/// negative factor reverses every load. Before, negative ramps ran in BEM-only and full PD
+/// with K_I < 0 of closing faces in the K record and no note (a compression BEM-only
+/// refused only when the loads as written were compressive), while PD-BEM refused them at
+/// setup; a ramp through zero reverses the load mid-run, and no growth mode models the
+/// crack faces closing (no contact). Loading the other way is a matter of the boundary
+/// values' signs.
+fn check_positive_factors(c: &mut Checker, scene: &Scene) {
     let factors = scene.load.factors();
-    let first = factors.iter().position(|f| *f != 0.0);
-    let Some(first) = first else { return };
-    let sign = factors[first].signum();
-    if let Some(k) = factors.iter().position(|f| *f * sign < 0.0) {
+    if let Some(k) = factors.iter().position(|f| f.is_nan() || *f <= 0.0) {
         c.fail_at(
             "load",
             format!(
-                "growth needs load factors of one sign: factor {} at step {first} and {} at \
-                 step {k} reverse the load, and no growth mode models the crack faces closing \
-                 (no contact); end the ramp before it crosses zero (load.count)",
-                factors[first], factors[k]
+                "growth needs positive load factors: factor {} at step {k} is not (a negative \
+                 factor reverses every load, and no growth mode models the crack faces closing); \
+                 to load the other way, flip the signs of the boundary values (or the remote \
+                 stress) and keep the factors positive",
+                factors[k]
             ),
         );
     }
