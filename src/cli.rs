@@ -313,6 +313,13 @@ fn check(path: &Path, plot_dir: Option<&Path>) -> anyhow::Result<()> {
     crate::setup::estimate::check(&scene)?;
     crate::setup::reference_loads::check(&scene)?;
     crate::setup::fit_stations::check(&scene)?;
+    if scene
+        .growth
+        .as_ref()
+        .is_some_and(|g| g.mode == GrowthMode::BemOnly)
+    {
+        crate::growth::bem_only::check(&scene)?;
+    }
     for note in crate::runner::plausibility::thin_ligaments(&scene) {
         eprintln!("note: {}: {note}", path.display());
     }

@@ -93,3 +93,41 @@ fn an_approach_that_leaves_no_growth_state_takes_the_full_increment() {
         s.notes
     );
 }
+
+#[test]
+fn check_refuses_a_bem_only_scene_whose_loads_close_the_crack() {
+    // The tension plate pushed instead of pulled: the run refused it at its first solve
+    // (K_I < 0), exit 1, while `pdbem check` passed it.
+    let shipped = format!(
+        "{}/cases/growth_tension_edge.ron",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let text = std::fs::read_to_string(shipped)
+        .unwrap()
+        .replace("mode: PdBem", "mode: BemOnly");
+    let text: String = text
+        .lines()
+        .filter(|l| !l.contains("reference: SentTada"))
+        .collect::<Vec<_>>()
+        .join("\n");
+    assert!(text.contains("x: Traction(1))"));
+    let check = |text: &str, tag: &str| {
+        let file =
+            std::env::temp_dir().join(format!("pdbem-increment-{}-{tag}.ron", std::process::id()));
+        std::fs::write(&file, text).unwrap();
+        let r = pdbem::cli::execute(pdbem::cli::Command::Check {
+            scene: file.clone(),
+            plot: None,
+            max_memory: None,
+        });
+        let _ = std::fs::remove_file(&file);
+        r
+    };
+    check(&text, "pulled").expect("the pulled plate passes");
+    let pushed = text.replace("x: Traction(1))", "x: Traction(-1))");
+    let msg = format!("{:#}", check(&pushed, "pushed").expect_err("check refuses"));
+    assert!(
+        msg.contains("geometry 0: K_I = ") && msg.contains("the crack faces overlap"),
+        "{msg}"
+    );
+}

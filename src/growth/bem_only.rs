@@ -52,3 +52,12 @@ pub fn critical_loads(scene: &Scene) -> Result<Vec<TipCritical>> {
     engine::critical_loads(&input.body, &input.front, input.params.k_c, &input.scenario)
         .with_context(|| scene.file_label().display().to_string())
 }
+
+/// Refuses a scene whose initial geometry the run would refuse at its first solve (faces
+/// that overlap under the loads, a K that does not settle): `pdbem check` calls it for
+/// BEM-only growth scenes.
+pub fn check(scene: &Scene) -> Result<()> {
+    let input = bem_only_input(scene)?;
+    engine::check_initial(&input.body, &input.front, &input.scenario)
+        .with_context(|| scene.file_label().display().to_string())
+}

@@ -47,8 +47,12 @@ mod body;
 pub mod sizing;
 pub(crate) mod solve;
 
+mod initial;
+
 pub(crate) use self::body::fail;
 pub use self::body::BemOnlyBody;
+use self::initial::critical_factor;
+pub use self::initial::{check_initial, critical_loads, TipCritical};
 pub use super::criterion::TipSif;
 
 use std::time::Instant;
@@ -113,49 +117,6 @@ pub struct BemOnlyParams {
     pub snapshot_steps: Vec<usize>,
     /// A test hook: the geometries re-meshed in load step `Some(k)` fail to solve.
     pub fail_step: Option<usize>,
-}
-
-/// Critical load of one tip of the initial geometry.
-#[derive(Debug, Clone, PartialEq)]
-pub struct TipCritical {
-    /// Tip name.
-    pub tip: String,
-    /// K_I, K_II at load factor 1 (Pa sqrt(m)).
-    pub k: [f64; 2],
-    /// Kink angle (degrees).
-    pub kink_deg: f64,
-    /// Load factor at which K_eq reaches K_c (infinite when K_eq <= 0).
-    pub load: f64,
-}
-
-/// Critical load factor of every tip of the initial geometry: K_c / K_eq at unit load.
-pub fn critical_loads(
-    body: &BemOnlyBody,
-    front: &Front,
-    k_c: f64,
-    scenario: &dyn Scenario,
-) -> Result<Vec<TipCritical>, CouplingError> {
-    let mut engine = Engine::new(body, scenario);
-    let sizes = engine.sizes(front, None)?;
-    let solved = engine.solve(front, &sizes, false)?;
-    Ok(solved
-        .sifs
-        .iter()
-        .map(|s| TipCritical {
-            tip: front.tips[s.tip].name.clone(),
-            k: [s.k1, s.k2],
-            kink_deg: s.theta.to_degrees(),
-            load: critical_factor(k_c, s.k_eq),
-        })
-        .collect())
-}
-
-fn critical_factor(k_c: f64, k_eq: f64) -> f64 {
-    if k_eq > 0.0 {
-        k_c / k_eq
-    } else {
-        f64::INFINITY
-    }
 }
 
 /// The `solve` event of a geometry.
@@ -292,12 +253,7 @@ pub fn run_from(
         .map_err(|e| fail(format!("geometry {geometry}: {e}")))?
     {
         Checked::Ok(s) => *s,
-        Checked::Overlap(why) => {
-            return Err(fail(format!(
-                "geometry {geometry}: {why}: the crack faces overlap in the linear solution, \
-                 which has no contact (is the load opening the crack?)"
-            )))
-        }
+        Checked::Overlap(why) => return Err(fail(initial::overlap_message(geometry, &why))),
         Checked::Unsettled(why) => return Err(fail(format!("geometry {geometry}: {why}"))),
     };
     if next == 0 {

@@ -1,0 +1,81 @@
+//! The initial geometry of a BEM-only run: its critical loads, and the check `pdbem
+//! check` makes before a run (the run's first solve, whose refusal would otherwise come
+//! only at run time).
+
+use super::body::fail;
+use super::solve::{Checked, Engine};
+use super::BemOnlyBody;
+use crate::error::CouplingError;
+use crate::growth::front::Front;
+use crate::growth::records::Scenario;
+
+/// Critical load of one tip of the initial geometry.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TipCritical {
+    /// Tip name.
+    pub tip: String,
+    /// K_I, K_II at load factor 1 (Pa sqrt(m)).
+    pub k: [f64; 2],
+    /// Kink angle (degrees).
+    pub kink_deg: f64,
+    /// Load factor at which K_eq reaches K_c (infinite when K_eq <= 0).
+    pub load: f64,
+}
+
+/// Critical load factor of every tip of the initial geometry: K_c / K_eq at unit load.
+pub fn critical_loads(
+    body: &BemOnlyBody,
+    front: &Front,
+    k_c: f64,
+    scenario: &dyn Scenario,
+) -> Result<Vec<TipCritical>, CouplingError> {
+    let mut engine = Engine::new(body, scenario);
+    let sizes = engine.sizes(front, None)?;
+    let solved = engine.solve(front, &sizes, false)?;
+    Ok(solved
+        .sifs
+        .iter()
+        .map(|s| TipCritical {
+            tip: front.tips[s.tip].name.clone(),
+            k: [s.k1, s.k2],
+            kink_deg: s.theta.to_degrees(),
+            load: critical_factor(k_c, s.k_eq),
+        })
+        .collect())
+}
+
+pub(super) fn critical_factor(k_c: f64, k_eq: f64) -> f64 {
+    if k_eq > 0.0 {
+        k_c / k_eq
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// Solves the initial geometry as the run's first geometry is solved (at unit load,
+/// K confirmed on tip elements refined 4x) and refuses it as the run would: faces that
+/// overlap (K_I < 0 or CMOD < 0: the loads close the crack) or a K that does not settle.
+pub fn check_initial(
+    body: &BemOnlyBody,
+    front: &Front,
+    scenario: &dyn Scenario,
+) -> Result<(), CouplingError> {
+    let mut engine = Engine::new(body, scenario);
+    let sizes = engine.sizes(front, None)?;
+    let checked = engine
+        .solve_checked(front, &sizes, false)
+        .map_err(|e| fail(format!("geometry 0: {e}")))?;
+    match checked {
+        Checked::Ok(_) => Ok(()),
+        Checked::Overlap(why) => Err(fail(overlap_message(0, &why))),
+        Checked::Unsettled(why) => Err(fail(format!("geometry 0: {why}"))),
+    }
+}
+
+/// The refusal of geometry `geometry` whose faces overlap (`why` names the tip or crack).
+pub(super) fn overlap_message(geometry: usize, why: &str) -> String {
+    format!(
+        "geometry {geometry}: {why}: the crack faces overlap in the linear solution, which has \
+         no contact (is the load opening the crack?)"
+    )
+}
