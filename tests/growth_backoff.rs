@@ -189,3 +189,52 @@ fn a_bem_only_geometry_that_cannot_be_solved_ends_the_run_without_retry() {
     assert!(dir.join("paths.png").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The seed 002 tension plate at half size (10 m x 5 m, a 1 m edge crack pulled at the
+/// right edge), full PD at dx = 1/3 m with horizon factor `m`, one load step at 3.3.
+fn half_tension_plate(m: f64) -> Scene {
+    inline(&format!(
+        r#"(
+        name: "half_tension_plate",
+        material: (E: 1e3, nu: 0.3333333333333333, plane: Stress, fracture: (g_c: 0.08637338761597162)),
+        body: (outline: Rectangle(x0: 0, y0: 0, width: 10, height: 5)),
+        cracks: [(name: "crack", start: (5, 5), angle_deg: -90, length: 1)],
+        boundary: [
+            (on: "left", x: Displacement(0), y: Displacement(0)),
+            (on: "right", x: Traction(1)),
+        ],
+        load: (initial: 3.3, step: 0.05, count: 1),
+        pd: (horizon_factor: {m}, failure: CriticalStretch(0.02)),
+        coupling: (side: 2, n: 6),
+        growth: (mode: FullPd),
+    )"#
+    ))
+}
+
+#[test]
+fn a_full_pd_body_torn_at_its_loaded_edge_says_so() {
+    // Horizon factor 6: the rows by the pulled edge (no surface correction) break before
+    // the crack moves and the body comes apart there (seed 002's plate at full size: the
+    // same at load 3.3). The failure is the model's, but it is not the crack's: a note
+    // names the damaged nodes by the loaded edge.
+    let dir = scratch("torn");
+    let s = run(&half_tension_plate(6.0), &dir, None);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(
+        s.notes
+            .iter()
+            .any(|n| n.contains("lie within a horizon of the traction-loaded edges")),
+        "{:?}",
+        s.notes
+    );
+    assert!(s.notes.iter().any(|n| n.starts_with("failure at load 3.3")));
+    // The default horizon factor holds the edge (and the crack, at this load): no note.
+    let dir = scratch("held");
+    let s = run(&half_tension_plate(3.015), &dir, None);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(
+        !s.notes.iter().any(|n| n.contains("traction-loaded edges")),
+        "{:?}",
+        s.notes
+    );
+}

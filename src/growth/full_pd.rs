@@ -52,5 +52,17 @@ pub fn run(scene: &Scene, ctx: &RunContext) -> Result<GrowthHistory> {
     obs.finish()?;
     let mut history = history?;
     super::sif_record::replay_record(scene, &mut history)?;
+    // Damage in the loaded edges' rows, which a body without the surface correction can
+    // take before its crack (a horizon factor of 6 on the tension plate tore the pulled
+    // edge off at the first load: failure declared, no tip moved).
+    let problem = crate::setup::pd::full_pd_problem(scene)?;
+    let damage = model.damage();
+    history
+        .notes
+        .extend(crate::dynamic_notes::loaded_edge_damage_note(
+            &problem,
+            model.positions(),
+            &damage,
+        ));
     Ok(history)
 }

@@ -184,8 +184,8 @@ fn solve_station(
     let scales = tip_scales(&front, &body.loops, body.fit_fraction, grown);
     if let Some(s) = scales.iter().find(|s| s.scale < p.clear) {
         return Ok(Err(format!(
-            "step {step} (load {load}): tip {} lies {:.3e} m from another crack or a \
-             boundary, closer than a horizon",
+            "step {step} (load {load}): tip {}: its length scale {:.3e} m (the crack's \
+             length, or the distance to another crack or a boundary) is under a horizon",
             front.tips[s.tip].name, s.scale
         )));
     }
