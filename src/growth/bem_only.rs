@@ -58,6 +58,6 @@ pub fn critical_loads(scene: &Scene) -> Result<Vec<TipCritical>> {
 /// BEM-only growth scenes.
 pub fn check(scene: &Scene) -> Result<()> {
     let input = bem_only_input(scene)?;
-    engine::check_initial(&input.body, &input.front, &input.scenario)
+    engine::check_initial(&input.body, &input.front, input.params.da, &input.scenario)
         .with_context(|| scene.file_label().display().to_string())
 }

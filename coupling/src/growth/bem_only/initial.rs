@@ -52,16 +52,18 @@ pub(super) fn critical_factor(k_c: f64, k_eq: f64) -> f64 {
     }
 }
 
-/// Solves the initial geometry as the run's first geometry is solved (at unit load,
-/// K confirmed on tip elements refined 4x) and refuses it as the run would: faces that
-/// overlap (K_I < 0 or CMOD < 0: the loads close the crack) or a K that does not settle.
+/// Solves the initial geometry as the run's first geometry is solved (the same sizes for
+/// the increment `da`, at unit load, K confirmed on tip elements refined 4x) and refuses
+/// it as the run would: faces that overlap (K_I < 0 or CMOD < 0: the loads close the
+/// crack) or a K that does not settle.
 pub fn check_initial(
     body: &BemOnlyBody,
     front: &Front,
+    da: Option<f64>,
     scenario: &dyn Scenario,
 ) -> Result<(), CouplingError> {
     let mut engine = Engine::new(body, scenario);
-    let sizes = engine.sizes(front, None)?;
+    let sizes = engine.sizes(front, da)?;
     let checked = engine
         .solve_checked(front, &sizes, false)
         .map_err(|e| fail(format!("geometry 0: {e}")))?;
