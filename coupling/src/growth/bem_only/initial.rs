@@ -3,7 +3,7 @@
 //! only at run time).
 
 use super::body::fail;
-use super::solve::{Checked, Engine};
+use super::solve::{Checked, Engine, Sizes, Solved};
 use super::BemOnlyBody;
 use crate::error::CouplingError;
 use crate::growth::front::Front;
@@ -64,20 +64,27 @@ pub fn check_initial(
 ) -> Result<(), CouplingError> {
     let mut engine = Engine::new(body, scenario);
     let sizes = engine.sizes(front, da)?;
-    let checked = engine
-        .solve_checked(front, &sizes, false)
-        .map_err(|e| fail(format!("geometry 0: {e}")))?;
-    match checked {
-        Checked::Ok(_) => Ok(()),
-        Checked::Overlap(why) => Err(fail(overlap_message(0, &why))),
-        Checked::Unsettled(why) => Err(fail(format!("geometry 0: {why}"))),
-    }
+    solve_geometry(&mut engine, front, &sizes, 0).map(|_| ())
 }
 
-/// The refusal of geometry `geometry` whose faces overlap (`why` names the tip or crack).
-pub(super) fn overlap_message(geometry: usize, why: &str) -> String {
-    format!(
-        "geometry {geometry}: {why}: the crack faces overlap in the linear solution, which has \
-         no contact (is the load opening the crack?)"
-    )
+/// Solves geometry number `geometry` of a run (the initial one without the growth checks
+/// of later ones) and refuses faces that overlap or a K that does not settle: the run's
+/// solve of every geometry, and [`check_initial`]'s.
+pub(super) fn solve_geometry(
+    engine: &mut Engine<'_>,
+    front: &Front,
+    sizes: &Sizes,
+    geometry: usize,
+) -> Result<Solved, CouplingError> {
+    let checked = engine
+        .solve_checked(front, sizes, geometry > 0)
+        .map_err(|e| fail(format!("geometry {geometry}: {e}")))?;
+    match checked {
+        Checked::Ok(s) => Ok(*s),
+        Checked::Overlap(why) => Err(fail(format!(
+            "geometry {geometry}: {why}: the crack faces overlap in the linear solution, which \
+             has no contact (is the load opening the crack?)"
+        ))),
+        Checked::Unsettled(why) => Err(fail(format!("geometry {geometry}: {why}"))),
+    }
 }

@@ -248,14 +248,7 @@ pub fn run_from(
             (fresh_history(&front, first), 0, 0)
         }
     };
-    let mut solved = match engine
-        .solve_checked(&front, &sizes, geometry > 0)
-        .map_err(|e| fail(format!("geometry {geometry}: {e}")))?
-    {
-        Checked::Ok(s) => *s,
-        Checked::Overlap(why) => return Err(fail(initial::overlap_message(geometry, &why))),
-        Checked::Unsettled(why) => return Err(fail(format!("geometry {geometry}: {why}"))),
-    };
+    let mut solved = initial::solve_geometry(&mut engine, &front, &sizes, geometry)?;
     if next == 0 {
         observer.event("solve", solve_event(&front, &solved, k_c, geometry));
     }
