@@ -12,6 +12,8 @@
 //!
 //! Checkpoints and `--resume`: [`checkpoint`](mod@checkpoint).
 //!
+//! Thin ligaments the paths form along other boundaries: [`ligaments`].
+//!
 //! Reporting: [`log`] (`growth_log.jsonl`, progress bar), [`output`] (files and
 //! plots of a run, [`output::finish`]), [`sif_record`] (K along the path, `sif_path.csv`), [`overlay`] (`pdbem plot-paths`), [`bench`](mod@bench)
 //! (`pdbem bench growth`); path comparison is `pdbem_coupling::growth::compare`.
@@ -24,6 +26,7 @@ pub mod bem_only;
 pub mod bench;
 pub mod checkpoint;
 pub mod full_pd;
+pub mod ligaments;
 pub mod log;
 pub mod output;
 pub mod overlay;

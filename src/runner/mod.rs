@@ -156,16 +156,19 @@ fn record_provenance(
     Ok(())
 }
 
-/// Growth: the scene's `growth.mode` picks the solver; every mode's history goes through
-/// the one output layer ([`crate::growth::output::finish`]).
+/// Growth: the scene's `growth.mode` picks the solver; every mode's history gets the
+/// thin-ligament note of its paths ([`crate::growth::ligaments`]) and goes through the one
+/// output layer ([`crate::growth::output::finish`]).
 fn run_growth(scene: &Scene, ctx: &RunContext) -> anyhow::Result<RunSummary> {
     use crate::growth::{bem_only, full_pd, pd_bem};
     let mode = scene.growth.as_ref().map(|g| g.mode).unwrap_or_default();
-    let history = match mode {
+    let mut history = match mode {
         GrowthMode::PdBem => pd_bem::run(scene, ctx)?,
         GrowthMode::BemOnly => bem_only::run(scene, ctx)?,
         GrowthMode::FullPd => full_pd::run(scene, ctx)?,
     };
+    let ligaments = crate::growth::ligaments::notes(scene, &history);
+    history.notes.extend(ligaments);
     crate::growth::output::finish(scene, ctx, &history)
 }
 
