@@ -148,22 +148,12 @@ pub fn geometry_at(geo0: &SceneGeometry, paths: &[TipPath], step: usize) -> Scen
 fn note(scene: &Scene, h: &GrowthHistory, first: &Found, most: &Found) -> String {
     let name = |l: &Ligament| scene.cracks[l.crack].name.clone();
     let describe = |f: &Found| {
-        let l = &f.ligament;
         format!(
-            "at step {} (load {}) cracks.{} ('{}') runs {:.3e} m alongside {} at {:.3e} m, \
-             from ({:.4}, {:.4}) to ({:.4}, {:.4}) m, a strip {:.0} times as long as it is thick",
+            "at step {} (load {}) {}, a strip {:.0} times as long as it is thick",
             f.step,
             f.load,
-            l.crack,
-            name(l),
-            l.length,
-            l.other,
-            l.width,
-            l.from.x,
-            l.from.y,
-            l.to.x,
-            l.to.y,
-            l.slenderness()
+            f.ligament.describe(scene),
+            f.ligament.slenderness()
         )
     };
     let most_text = if std::ptr::eq(first, most) {

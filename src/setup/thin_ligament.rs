@@ -77,6 +77,24 @@ impl Ligament {
     pub fn slenderness(&self) -> f64 {
         self.length / self.width
     }
+
+    /// Which crack runs along what, how far and how close: "cracks.i ('name') runs L m
+    /// alongside X at w m, from (x, y) to (x, y) m".
+    pub fn describe(&self, scene: &Scene) -> String {
+        format!(
+            "cracks.{} ('{}') runs {:.3e} m alongside {} at {:.3e} m, from ({:.4}, {:.4}) to \
+             ({:.4}, {:.4}) m",
+            self.crack,
+            scene.cracks[self.crack].name,
+            self.length,
+            self.other,
+            self.width,
+            self.from.x,
+            self.from.y,
+            self.to.x,
+            self.to.y,
+        )
+    }
 }
 
 /// One sample of a crack: where, the gap there (m) and the nearest other boundary.
@@ -119,23 +137,15 @@ pub fn resolved(scene: &Scene, l: &Ligament) -> bool {
 pub fn note(scene: &Scene, l: &Ligament) -> String {
     let name = &scene.cracks[l.crack].name;
     format!(
-        "thin ligament: cracks.{} ('{name}') runs {:.3e} m alongside {} at {:.3e} m, from \
-         ({:.4}, {:.4}) to ({:.4}, {:.4}) m (a strip {:.0} times as long as it is thick, more \
-         than {SLENDERNESS_LIMIT}): BEM crack faces resolve such a strip only with elements \
-         far below its thickness, and the error estimates do not see it (an edge crack 0.03 m \
+        "thin ligament: {} (a strip {:.0} times as long as it is thick, more than \
+         {SLENDERNESS_LIMIT}): BEM crack faces resolve such a strip only with elements far \
+         below its thickness, and the error estimates do not see it (an edge crack 0.03 m \
          under a free edge over 0.5 m: CMOD more than 92 % low with an estimate of 6 %); the \
          K at the tips of '{name}' and its CMOD may be off by more than their estimates. Up to \
          {RESOLVED_SLENDERNESS} times, crack elements of 1/64 of the thickness \
          (bem.group_sizes.{name}: {:.3e}) bring them within their estimates; beyond, move the \
          crack away from {}",
-        l.crack,
-        l.length,
-        l.other,
-        l.width,
-        l.from.x,
-        l.from.y,
-        l.to.x,
-        l.to.y,
+        l.describe(scene),
         l.slenderness(),
         RESOLVING_FRACTION * l.width,
         l.other,
