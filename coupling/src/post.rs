@@ -74,7 +74,7 @@ pub fn window_tip_sif(
     let radius = contour_radius(pb, window, tip, boundaries, contour)?;
     let ev = FieldEvaluator::new(&pb.mesh, &pb.material, &solution.solution, pb.background);
     let h = pb.windows[window].window.spec.dx;
-    let (k1, k2, j) = interaction_integral(&ev, tip, direction, radius, contour.points, h);
+    let (k1, k2, j) = interaction_integral(&ev, tip, direction, radius, contour.points, h, None);
     Ok(WindowTipSif { k1, k2, j, radius })
 }
 

@@ -50,6 +50,28 @@ impl<'a> FieldEvaluator<'a> {
         self.mesh
     }
 
+    /// The uniform remote field added to the solution's.
+    pub fn background(&self) -> &Background {
+        &self.background
+    }
+
+    /// Traction on element `e` of the whole field: the solution's plus the background
+    /// stress on the element's outward normal (zero on the free faces of a crack in an
+    /// infinite plate, which the solution loads by minus the remote traction).
+    pub fn boundary_traction(&self, e: usize) -> [f64; 2] {
+        let n = self.mesh.elements[e].normal;
+        let [sxx, syy, sxy] = self.background.stress;
+        let t = self.sol.t[e];
+        [t[0] + sxx * n.x + sxy * n.y, t[1] + sxy * n.x + syy * n.y]
+    }
+
+    /// Displacement at element `e`'s collocation point, background included.
+    pub fn boundary_displacement(&self, e: usize) -> [f64; 2] {
+        let b = self.background_u(self.mesh.elements[e].mid);
+        let u = self.sol.u[e];
+        [u[0] + b[0], u[1] + b[1]]
+    }
+
     /// The material.
     pub fn material(&self) -> &Material {
         &self.material

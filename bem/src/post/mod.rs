@@ -7,7 +7,10 @@
 //! - [`sif`]: K_I, K_II from crack-face displacement (least-squares fit that removes the
 //!   constant-element bias, REFERENCES.md) and from the interaction (M) integral on a circle
 //!   of interior points; J; kink angle by maximum circumferential stress; CMOD.
+//! - [`face_traction`]: the crack-face terms of J and the interaction integral when the
+//!   faces inside the contour carry tractions.
 
+pub mod face_traction;
 pub mod field;
 pub mod sif;
 

@@ -14,6 +14,8 @@
 //! $M = \oint [\sigma_{ij}\varepsilon^{aux}_{ij} n_1 - \sigma_{ij} u^{aux}_{i,1} n_j - \sigma^{aux}_{ij} u_{i,1} n_j]\,ds$
 //! with the Williams fields of unit $K^{aux}$, and
 //! $K = E' M / 2$. $J = \oint (W n_1 - \sigma_{ij} u_{i,1} n_j) ds = (K_I^2 + K_{II}^2)/E'$.
+//! Tractions on the crack faces inside the contour add a face integral to both
+//! ([`super::face_traction`]).
 //!
 //! **Kink angle** (Erdogan & Sih): $\theta = 2\arctan[(K_I - \sqrt{K_I^2 + 8K_{II}^2})/(4K_{II})]$,
 //! from the crack line, positive counter-clockwise.
@@ -272,7 +274,7 @@ fn fit_slope(
 
 /// Williams near-tip fields for unit K: (displacement, stress [s11, s22, s12]) in the tip
 /// frame, mode I (`mode` = 1) or II.
-fn williams(mode: u8, r: f64, th: f64, mu: f64, kappa: f64) -> ([f64; 2], [f64; 3]) {
+pub(crate) fn williams(mode: u8, r: f64, th: f64, mu: f64, kappa: f64) -> ([f64; 2], [f64; 3]) {
     let (h, t3) = (0.5 * th, 1.5 * th);
     let (s, c) = h.sin_cos();
     let f = 1.0 / (2.0 * PI * r).sqrt();
@@ -366,6 +368,10 @@ fn contour_integrand(ev: &FieldEvaluator, tip: V2, dir: V2, radius: f64, th: f64
 /// is integrated by Gauss panels on |θ| ≤ π - θ_c with θ_c = 3 h_tip / ρ, and the two
 /// wedges next to the crack faces by the quadratic through three unpolluted samples (the
 /// integrand is smooth in θ up to the faces).
+///
+/// `crack`: the mesh crack the tip belongs to, whose face tractions within the contour
+/// add their terms ([`super::face_traction`]); `None` for a contour whose crack faces
+/// inside it carry no tractions.
 pub fn interaction_integral(
     ev: &FieldEvaluator,
     tip: V2,
@@ -373,6 +379,7 @@ pub fn interaction_integral(
     radius: f64,
     npts: usize,
     h_tip: f64,
+    crack: Option<usize>,
 ) -> (f64, f64, f64) {
     let ep = ev.material().e_prime();
     let theta_c = (3.0 * h_tip / radius).clamp(0.0, 0.5);
@@ -406,6 +413,12 @@ pub fn interaction_integral(
             }
         }
     }
+    if let Some(ci) = crack {
+        let faces = super::face_traction::face_terms(ev, ci, tip, dir, radius);
+        for k in 0..3 {
+            acc[k] += faces[k];
+        }
+    }
     (0.5 * ep * acc[0], 0.5 * ep * acc[1], acc[2])
 }
 
@@ -436,7 +449,8 @@ pub fn analyze_tips(
         let (k1c, k2c, np) = cod_sif(mesh, &mat, sol, ci, at_end, opts.fit_fraction * l);
         let radius = opts.contour_fraction * l;
         let h_tip = tip_element_size(mesh, ci, at_end);
-        let (k1m, k2m, j) = interaction_integral(ev, pos, dir, radius, opts.contour_points, h_tip);
+        let (k1m, k2m, j) =
+            interaction_integral(ev, pos, dir, radius, opts.contour_points, h_tip, Some(ci));
         out.push(TipResult {
             crack: ci,
             at_end,
