@@ -372,3 +372,54 @@ fn pd_initiation_ramp_notes_a_solver_it_does_not_read() {
     let particles = format!("{brittle}, model: StateBased, solver: Adr(), refinement: ()");
     assert_eq!(notes(&particles, ramp), 0);
 }
+
+/// PD pre-cracks are traction-free: a condition on the faces of a crack that PD models
+/// (a window over its tip, stand-alone PD, full-PD growth) is refused, naming the crack
+/// (`src/scene/validate/face_loads.rs`; before, a coupled face pressure was dropped
+/// inside the window and K_I came out 6.3 % low). The BEM alone, BEM-only growth and a
+/// window away from the crack keep the condition.
+#[test]
+fn crack_face_conditions_are_refused_where_pd_models_the_crack() {
+    let pressure =
+        r#"[(on: "top", y: Traction(1)), (on: "bottom", y: Traction(-1)), (on: "c", normal: -1)]"#;
+    let upper = r#"[(on: "top", y: Traction(1)), (on: "bottom", y: Traction(-1.1)), (on: "c.upper", y: Traction(1))]"#;
+    let with = |boundary: &str, extra: &str| make(MAT, BODY, CRACKS, boundary, extra);
+    let tips = "pd: (), coupling: (side: 2, n: 20)";
+    let text = assert_invalid(
+        &with(pressure, tips),
+        "boundary.2.on = \"c\"",
+        "faces of crack 'c', and a PD window covers its tips",
+    );
+    assert!(text.contains("traction-free"), "{text}");
+    assert_invalid(
+        &with(upper, tips),
+        "boundary.2.on = \"c.upper\"",
+        "a PD window covers its tips",
+    );
+    assert_invalid(
+        &with(pressure, "pd: (dx: 0.1)"),
+        "boundary.2.on = \"c\"",
+        "stand-alone PD models every crack",
+    );
+    let full_pd = "material: (E: 1e4, nu: 0.3, plane: Stress, fracture: (g_c: 1)), pd: (), \
+                   coupling: (side: 2, n: 20), load: (initial: 1, step: 1, count: 2), \
+                   growth: (mode: FullPd)";
+    let full =
+        make(MAT, BODY, CRACKS, pressure, full_pd).replacen(&format!("material: {MAT}, "), "", 1);
+    assert_invalid(
+        &full,
+        "boundary.2.on = \"c\"",
+        "full-PD growth models every crack",
+    );
+    load(&full.replace("FullPd", "BemOnly")).expect("BEM-only growth");
+    // A window away from the crack, the BEM alone, BEM-only growth: valid.
+    let away = "pd: (), coupling: (side: 2, n: 20, placement: Centered(center: (5, 4)))";
+    load(&with(pressure, away)).expect("a window away from the crack");
+    load(&with(pressure, "")).expect("the BEM alone");
+    let over = "pd: (), coupling: (side: 2, n: 20, placement: Centered(center: (2, 10)))";
+    assert_invalid(
+        &with(pressure, over),
+        "boundary.2.on = \"c\"",
+        "the PD window (coupling.placement) covers part of it",
+    );
+}

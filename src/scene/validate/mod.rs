@@ -4,13 +4,15 @@
 //!
 //! Rules by section: `material`, `body` (outline, holes, patches),
 //! `cracks`, `boundary` (conditions, load, "nothing to solve"),
-//! `sections` (bem, reference, outputs), `pd` (pd, coupling, growth), `strain` (the
+//! `sections` (bem, reference, outputs), `pd` (pd, coupling, growth), `face_loads`
+//! (no crack-face conditions where PD models the crack), `strain` (the
 //! loads' nominal strain, a PD body's distance from the origin), `limits` (upper bounds
 //! of counts and sampling coordinates, safe output names).
 
 mod body;
 mod boundary;
 mod cracks;
+mod face_loads;
 mod growth;
 pub mod limits;
 mod material;
@@ -104,6 +106,7 @@ pub fn check(scene: &Scene) -> Vec<Issue> {
     }
     sections::check(&mut c, scene, body_ok);
     pd::check(&mut c, scene);
+    face_loads::check(&mut c, scene);
     growth::check(&mut c, scene);
     limits::check(&mut c, scene);
     c.issues

@@ -420,7 +420,7 @@ fn check_coupling(c: &mut Checker, scene: &Scene, co: &crate::scene::Coupling) {
     }
 }
 
-fn square_corners(center: P2, side: f64, angle_deg: f64) -> Vec<P2> {
+pub(super) fn square_corners(center: P2, side: f64, angle_deg: f64) -> Vec<P2> {
     let (e1, e2) = (
         direction(angle_deg) * side * 0.5,
         direction(angle_deg + 90.0) * side * 0.5,
