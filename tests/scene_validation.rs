@@ -516,3 +516,35 @@ fn scene_file_that_does_not_exist() {
     let chain = format!("{:#}", anyhow::Error::from(e));
     assert_eq!(chain.matches("(os error 2)").count(), 1, "{chain}");
 }
+
+/// `bem.interior_points` on or next to the boundary were evaluated wrongly (1e-9 m from
+/// the edge of a 10 m plate: sigma_yy 4e-11 instead of 1), and points on the left and
+/// bottom edges passed the inside test while the top and right ones did not: now every
+/// point within 1e-8 of the body's size of the outline, a hole or a crack is refused,
+/// naming it.
+#[test]
+fn interior_points_on_or_next_to_the_boundary_are_refused() {
+    let with = |pts: &str| base_with(&format!("bem: (interior_points: [{pts}])"));
+    for (pt, what) in [
+        ("(0, 5)", "from the outline"),
+        ("(5, 0.000000001)", "from the outline"),
+        ("(10, 5)", "outside the body"),
+        ("(1, 10)", "from crack 'c'"),
+        ("(3.0000001, 10)", "from crack 'c'"),
+    ] {
+        assert_invalid(&with(pt), "bem.interior_points.0", what);
+    }
+    load(&with("(5, 0.000001), (3.00001, 10), (5, 10)")).expect("clear of the boundary");
+}
+
+/// Stand-alone PD meshes no BEM: a crack too short for the grid is refused by the grid's
+/// rule, not by `bem.element_size`, which the scene does not use.
+#[test]
+fn stand_alone_pd_cracks_are_not_checked_against_bem_elements() {
+    let tiny = r#"[(name: "c", center: (5, 10.01), angle_deg: 0, length: 0.001)]"#;
+    let text = match load(&make(MAT, BODY, tiny, BOUNDARY, "pd: (dx: 0.5)")) {
+        Ok(_) => String::new(),
+        Err(e) => e.to_string(),
+    };
+    assert!(!text.contains("bem.element_size"), "{text}");
+}

@@ -81,6 +81,34 @@ fn pd_solver_params_are_checked() {
     }
     load(&base_with("pd: (dx: 0.1, solver: Implicit(max_iter: 20))")).expect("valid");
     load(&base_with("pd: (dx: 0.1, solver: Adr(tolerance: 1e-14))")).expect("valid");
+    // A cap of 1 always failed at run time ("did not converge in 1 iterations: measure
+    // inf"): convergence is measured from the second iteration. Implicit converges on an
+    // elastic plate with 2; the switching solver's caps may be 1.
+    for (field, solver) in [
+        (
+            "pd.solver.max_iter = 1",
+            "pd: (dx: 0.1, solver: Adr(max_iter: 1))",
+        ),
+        (
+            "pd.solver.max_iter = 1",
+            "pd: (dx: 0.1, solver: Implicit(max_iter: 1))",
+        ),
+        (
+            "coupling.max_iter = 1",
+            "pd: (), coupling: (side: 2, n: 20, max_iter: 1)",
+        ),
+    ] {
+        assert_invalid(
+            &base_with(solver),
+            field,
+            "iteration cap (convergence is measured from the second iteration) must be at least 2",
+        );
+    }
+    load(&base_with("pd: (dx: 0.1, solver: Implicit(max_iter: 2))")).expect("valid");
+    load(&base_with(
+        "pd: (dx: 0.1, solver: Switching(max_newton: 1, max_adr: 1))",
+    ))
+    .expect("valid");
 }
 
 #[test]

@@ -193,11 +193,7 @@ pub fn colinear_cracks_k1(sigma: f64, b: f64, c: f64) -> (f64, f64) {
 /// maximum circumferential stress (Erdogan & Sih):
 /// theta = 2 atan[(K_I - sqrt(K_I^2 + 8 K_II^2)) / (4 K_II)], 0 when K_II = 0.
 pub fn kink_angle_deg(k1: f64, k2: f64) -> f64 {
-    if k2 == 0.0 {
-        return 0.0;
-    }
-    let t = (k1 - (k1 * k1 + 8.0 * k2 * k2).sqrt()) / (4.0 * k2);
-    2.0 * t.atan().to_degrees()
+    crate::post::kink_angle(k1, k2).to_degrees()
 }
 
 /// Kirsch hoop stress on the hole of an infinite plate under remote uniaxial

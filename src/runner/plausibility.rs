@@ -74,7 +74,9 @@ pub fn review(scene: &Scene, summary: &mut RunSummary) {
     notes.extend(thin_ligaments(scene));
     let e_prime = scene.material.e_prime();
     for t in &mut summary.tips {
-        t.g = Some((t.k1 * t.k1 + t.k2 * t.k2) / e_prime);
+        t.g = Some(pdbem_coupling::growth::history::energy_release(
+            t.k1, t.k2, e_prime,
+        ));
     }
     notes.extend(summary.tips.iter().filter_map(j_against_g));
     summary.notes.extend(notes);

@@ -82,6 +82,9 @@ pub fn kink_angle(k1: f64, k2: f64) -> f64 {
     if k2 == 0.0 || (k2 / k1.abs().max(1e-300)).abs() < 1e-14 {
         return 0.0;
     }
+    // Scaled to the larger of the two: K of 1e155 Pa m^0.5 squared overflows.
+    let m = k1.abs().max(k2.abs());
+    let (k1, k2) = (k1 / m, k2 / m);
     2.0 * ((k1 - (k1 * k1 + 8.0 * k2 * k2).sqrt()) / (4.0 * k2)).atan()
 }
 
@@ -479,6 +482,11 @@ mod tests {
         assert_eq!(kink_angle(1.0, 0.0), 0.0);
         // Pure mode II: -70.53 degrees.
         assert!((kink_angle(0.0, 1.0).to_degrees() + 70.5288).abs() < 1e-3);
+        // Scale invariant up to the largest K: squared, 1e155 overflowed to -180 degrees.
+        for scale in [1e-200, 1e155, 1e300] {
+            let k = kink_angle(scale, scale);
+            assert!((k - kink_angle(1.0, 1.0)).abs() < 1e-12, "{scale}: {k}");
+        }
     }
 
     #[test]

@@ -256,7 +256,7 @@ impl SifRow {
                     k2,
                     k_eq: load * s.k_eq,
                     kink_deg: s.theta.to_degrees(),
-                    g: (k1 * k1 + k2 * k2) / e_prime,
+                    g: energy_release(k1, k2, e_prime),
                     cmod: cmod1.map(|c| c * load),
                 }
             })
@@ -287,8 +287,22 @@ pub struct FieldSnapshot {
     pub groups: Vec<u32>,
 }
 
+/// G = (K_I^2 + K_II^2) / E', without squaring K (K of 1e155 Pa m^0.5 squared overflows).
+pub fn energy_release(k1: f64, k2: f64, e_prime: f64) -> f64 {
+    let s = k1.hypot(k2) / e_prime.sqrt();
+    s * s
+}
+
 #[cfg(test)]
 mod tests {
+    /// G = K^2 / E' without squaring K: finite up to the largest K a double holds.
+    #[test]
+    fn energy_release_does_not_overflow() {
+        assert!((super::energy_release(3.0, 4.0, 25.0) - 1.0).abs() < 1e-15);
+        let g = super::energy_release(1.27e155, 0.0, 1e158);
+        assert!((g / 1.6129e152 - 1.0).abs() < 1e-12, "{g}");
+    }
+
     use super::*;
 
     /// `pdbem plot-paths` reads `growth.json` back: a step whose coupling broke down (no

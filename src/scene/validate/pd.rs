@@ -11,6 +11,14 @@ use crate::scene::{
 
 /// Smallest horizon factor m = delta / dx where the PD calibration holds.
 pub const MIN_HORIZON_FACTOR: f64 = 2.0;
+/// Smallest iteration cap of ADR, implicit Newton and the coupling: each measures
+/// convergence from its second iteration (the first has nothing to compare with), so a
+/// cap of 1 always failed at run time ("did not converge in 1 iterations: measure inf").
+/// The switching solver's caps may be 1 (a Newton step that does not converge hands
+/// the increment over).
+pub const MIN_ITERATIONS: usize = 2;
+/// What [`MIN_ITERATIONS`] bounds, in messages.
+const CAP: &str = "iteration cap (convergence is measured from the second iteration)";
 /// Largest horizon factor m = delta / dx accepted.
 pub const MAX_HORIZON_FACTOR: f64 = 6.0;
 /// Largest coupling tolerance psi (a relative change of the interface displacements).
@@ -270,7 +278,7 @@ fn check_solver(c: &mut Checker, solver: &PdSolver) {
         PdSolver::Explicit(_) => {}
         PdSolver::Adr(p) => {
             relative_tolerance(c, "pd.solver.tolerance", p.tolerance);
-            c.at_least("pd.solver.max_iter", p.max_iter, 1, "iteration cap");
+            c.at_least("pd.solver.max_iter", p.max_iter, MIN_ITERATIONS, CAP);
             if c.finite("pd.solver.safety_factor", p.safety_factor) && p.safety_factor < 1.0 {
                 c.fail(
                     "pd.solver.safety_factor",
@@ -281,7 +289,7 @@ fn check_solver(c: &mut Checker, solver: &PdSolver) {
         }
         PdSolver::Implicit(p) => {
             relative_tolerance(c, "pd.solver.tolerance", p.tolerance);
-            c.at_least("pd.solver.max_iter", p.max_iter, 1, "iteration cap");
+            c.at_least("pd.solver.max_iter", p.max_iter, MIN_ITERATIONS, CAP);
         }
         PdSolver::Switching(p) => {
             relative_tolerance(c, "pd.solver.tolerance", p.tolerance);
@@ -361,7 +369,7 @@ fn check_coupling(c: &mut Checker, scene: &Scene, co: &crate::scene::Coupling) {
         .as_ref()
         .is_some_and(|g| g.mode == GrowthMode::PdBem);
     check_psi(c, co.psi, pd_bem_growth);
-    c.at_least("coupling.max_iter", co.max_iter, 1, "iteration cap");
+    c.at_least("coupling.max_iter", co.max_iter, MIN_ITERATIONS, CAP);
     if co.ordering == CouplingOrdering::TractionToPd && pd_bem_growth {
         c.fail_at(
             "coupling.ordering",
