@@ -131,3 +131,45 @@ fn check_refuses_a_bem_only_scene_whose_loads_close_the_crack() {
         "{msg}"
     );
 }
+
+/// BEM-only growth in an infinite plate under a constant remote stress: once critical,
+/// the crack's K rises with its length and it never arrests. Before, the run hit the
+/// increment cap, rolled its path back, ended with "increase growth.da" (exit 3) and noted
+/// that no tip reached K_c, although the log held every increment; now the plate fails at
+/// that load, with the grown paths and the initiation load.
+#[test]
+fn an_infinite_plate_fails_by_unstable_growth() {
+    let text = r#"(
+    name: "griffith_growth",
+    description: "unstable growth under a constant remote stress",
+    material: (E: 1e4, nu: 0.3, plane: Stress, fracture: (k_c: 5)),
+    body: (outline: Infinite(syy: 1)),
+    cracks: [(name: "c", center: (0, 0), angle_deg: 20, length: 2)],
+    boundary: [],
+    load: (initial: 3, step: 0.5, count: 3),
+    growth: (mode: BemOnly, da: 0.5),
+    bem: (element_size: 0.5),
+    outputs: (plots: false),
+)"#;
+    let scene = pdbem::scene::Scene::parse(text, std::path::Path::new("griffith.ron")).unwrap();
+    let dir = std::env::temp_dir().join(format!("pdbem-increment-{}-inf", std::process::id()));
+    let s = run_scene(&scene, &dir, true).unwrap_or_else(|e| panic!("{e:#}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    let e = &s.extra;
+    // K_eq at load 3 (about 3 sqrt(pi) cos^2(20 deg) > 5): critical at the first load.
+    assert_eq!(e["end_state"], "failure", "{:?}", s.notes);
+    assert_eq!(e["failure_load"], 3.0);
+    assert_eq!(e["initiation_load"], 3.0);
+    assert_eq!(e["complete"], true);
+    for tip in e["tips_final"].as_array().unwrap() {
+        assert!(tip["extension"].as_f64().unwrap() > 2.0, "{tip}");
+    }
+    assert!(
+        s.notes
+            .iter()
+            .any(|n| n.contains("unstable growth in the infinite plate")),
+        "{:?}",
+        s.notes
+    );
+    assert!(!s.notes.iter().any(|n| n.contains("no tip reached K_c")));
+}

@@ -45,6 +45,22 @@ pub fn stop_after_step(
     false
 }
 
+/// Why an infinite plate failed: its tips grew `cap` increments at load `load` without
+/// arresting. A crack under a constant remote load has a K that rises with its length
+/// (Griffith), so once it has grown past the plate's features (the cap allows each tip
+/// twice their extent, times the number of tips) it does not arrest: the plate fails at
+/// that load. Before, the run
+/// ended with "increase growth.da", rolled the path back, and noted that no tip reached
+/// K_c although the log held every increment.
+pub fn unstable_note(cap: usize, load: f64) -> String {
+    format!(
+        "unstable growth in the infinite plate: the tips grew for {cap} rounds of increments \
+         at load {load} (the run's cap, far past the extent of the cracks and holes) without \
+         arresting; a crack under a constant remote load does not arrest once its K rises \
+         with its length, so the plate fails at this load (the paths end at the cap)"
+    )
+}
+
 /// The note of a run in which no tip advanced by a horizon: before its failure at
 /// `failure` (a body that came apart elsewhere, e.g. at a clamp) or within the load budget
 /// ending at `last`.

@@ -67,7 +67,7 @@ use super::events::EngineObserver;
 use super::front::{Front, Obstacle};
 use super::history::{FieldSnapshot, GrowthHistory, PathPoint, SifRow, StepRecord, TipPath};
 use super::records::Scenario;
-use super::verdict::stop_after_step;
+use super::verdict::{stop_after_step, unstable_note};
 use crate::error::CouplingError;
 
 /// A tip whose next increment would leave less than this many increments of ligament to
@@ -260,6 +260,7 @@ pub fn run_from(
         let mut solved_now = true;
         let saved = (front.clone(), history.clone(), geometry);
         let mut broken = None;
+        let mut unstable = None;
         let mut snap = false;
         let rows = SifRow::rows(&front, &solved.sifs, solved.cmod, (k, f), e_prime);
         history.sif_path.extend(rows);
@@ -269,9 +270,13 @@ pub fn run_from(
                 break;
             }
             if increments >= cap {
-                broken = Some(format!(
-                    "more than {cap} increments at load {f} (step {k}); increase growth.da"
-                ));
+                if front.outline_points().is_none() {
+                    unstable = Some(unstable_note(cap, f));
+                } else {
+                    broken = Some(format!(
+                        "more than {cap} increments at load {f} (step {k}); increase growth.da"
+                    ));
+                }
                 break;
             }
             if history.initiation_load.is_none() {
@@ -376,6 +381,10 @@ pub fn run_from(
             // Back to the end of the last completed step, whose records stand.
             (front, history, _) = saved;
             observer.event("note", json!({ "message": reason }));
+            if reason.contains("increments at load") {
+                // The tips did reach K_c at this load.
+                history.initiation_load.get_or_insert(f);
+            }
             history.failure_reason = Some(reason);
             current = false;
             break;
@@ -406,8 +415,8 @@ pub fn run_from(
             factors.len(),
             &format!("load {f:.4e}, {geometry} re-meshes"),
         );
-        let cut = front.separated();
-        let why = failure_reason(&front);
+        let cut = front.separated() || unstable.is_some();
+        let why = unstable.unwrap_or_else(|| failure_reason(&front));
         if stop_after_step(&mut history, observer, &front, cut, k, f, &why) || !solved_now {
             break;
         }
