@@ -320,7 +320,10 @@ fn check(path: &Path, plot_dir: Option<&Path>) -> anyhow::Result<()> {
     {
         crate::growth::bem_only::check(&scene)?;
     }
-    for note in crate::runner::plausibility::thin_ligaments(&scene) {
+    let geometry_notes = crate::runner::plausibility::thin_ligaments(&scene)
+        .into_iter()
+        .chain(crate::runner::plausibility::close_tips(&scene));
+    for note in geometry_notes {
         eprintln!("note: {}: {note}", path.display());
     }
     let footprint = crate::setup::footprint::of(&scene)?;

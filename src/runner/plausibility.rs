@@ -72,6 +72,7 @@ pub fn review(scene: &Scene, summary: &mut RunSummary) {
     );
     notes.extend(condition(summary));
     notes.extend(thin_ligaments(scene));
+    notes.extend(close_tips(scene));
     let e_prime = scene.material.e_prime();
     for t in &mut summary.tips {
         t.g = Some(pdbem_coupling::growth::history::energy_release(
@@ -95,6 +96,15 @@ pub fn thin_ligaments(scene: &Scene) -> Vec<String> {
         .iter()
         .map(|l| crate::setup::thin_ligament::note(scene, l))
         .collect()
+}
+
+/// The notes of tips within [`crate::setup::sizing::CLOSE_FEATURE_RATIO`] of the body's
+/// size of another boundary, in every mode whose K comes from the BEM.
+pub fn close_tips(scene: &Scene) -> Vec<String> {
+    if matches!(super::mode::mode_of(scene), super::mode::Mode::Pd) {
+        return Vec::new();
+    }
+    crate::setup::sizing::close_tip_notes(scene)
 }
 
 /// K_eq = sqrt(K_I^2 + K_II^2).
