@@ -98,13 +98,13 @@ pub fn thin_ligaments(scene: &Scene) -> Vec<String> {
         .collect()
 }
 
-/// The notes of tips within [`crate::setup::sizing::CLOSE_FEATURE_RATIO`] of the body's
+/// The notes of tips within [`crate::setup::close_tips::CLOSE_FEATURE_RATIO`] of the body's
 /// size of another boundary, in every mode whose K comes from the BEM.
 pub fn close_tips(scene: &Scene) -> Vec<String> {
     if matches!(super::mode::mode_of(scene), super::mode::Mode::Pd) {
         return Vec::new();
     }
-    crate::setup::sizing::close_tip_notes(scene)
+    crate::setup::close_tips::close_tip_notes(scene)
 }
 
 /// K_eq = sqrt(K_I^2 + K_II^2).

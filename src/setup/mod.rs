@@ -5,6 +5,7 @@
 //!
 //! Map:
 //! - [`sizing`]: the one element-size rule (outline, holes, cracks and mouths, windows);
+//! - [`close_tips`]: notes on tips nearer another boundary than the two-level estimate holds;
 //! - [`thin_ligament`]: notes on cracks whose flank runs close along another boundary (a thin ligament the BEM crack faces do not resolve);
 //! - [`bem`](mod@bem): the BEM model of a scene ([`bem::build`]: mesh, conditions, material);
 //! - [`balance`]: refusal of finite bodies whose tractions nothing balances
@@ -31,6 +32,7 @@
 
 pub mod balance;
 pub mod bem;
+pub mod close_tips;
 pub mod coupled;
 pub mod estimate;
 pub mod fit_stations;

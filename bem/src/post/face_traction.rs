@@ -23,7 +23,7 @@
 //! an interaction-integral $K_I$ 45 % low on the default contour ($\rho = 0.3 a$), so the
 //! two extractions disagreed by that much and the error estimate with them.
 
-use super::sif::williams;
+use super::williams::williams;
 use super::FieldEvaluator;
 use crate::mesh::V2;
 

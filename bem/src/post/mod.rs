@@ -7,12 +7,14 @@
 //! - [`sif`]: K_I, K_II from crack-face displacement (least-squares fit that removes the
 //!   constant-element bias, REFERENCES.md) and from the interaction (M) integral on a circle
 //!   of interior points; J; kink angle by maximum circumferential stress; CMOD.
+//! - [`williams`]: the near-tip fields of unit K, the integrals' auxiliary fields.
 //! - [`face_traction`]: the crack-face terms of J and the interaction integral when the
 //!   faces inside the contour carry tractions.
 
 pub mod face_traction;
 pub mod field;
 pub mod sif;
+pub mod williams;
 
 pub use field::{Background, FieldEvaluator};
 pub use sif::{cmod, kink_angle, TipResult};

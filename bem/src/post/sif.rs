@@ -20,6 +20,7 @@
 //! **Kink angle** (Erdogan & Sih): $\theta = 2\arctan[(K_I - \sqrt{K_I^2 + 8K_{II}^2})/(4K_{II})]$,
 //! from the crack line, positive counter-clockwise.
 
+use super::williams::williams;
 use super::FieldEvaluator;
 use crate::integrate::quadrature::gauss_legendre;
 use crate::mesh::{Crack, Mesh, V2};
@@ -272,40 +273,6 @@ fn fit_slope(
     match ata.lu().solve(&atb) {
         Some(c) => c[1] / scale,
         None => f64::NAN,
-    }
-}
-
-/// Williams near-tip fields for unit K: (displacement, stress [s11, s22, s12]) in the tip
-/// frame, mode I (`mode` = 1) or II.
-pub(crate) fn williams(mode: u8, r: f64, th: f64, mu: f64, kappa: f64) -> ([f64; 2], [f64; 3]) {
-    let (h, t3) = (0.5 * th, 1.5 * th);
-    let (s, c) = h.sin_cos();
-    let f = 1.0 / (2.0 * PI * r).sqrt();
-    let g = (r / (2.0 * PI)).sqrt() / (2.0 * mu);
-    if mode == 1 {
-        (
-            [
-                g * c * (kappa - 1.0 + 2.0 * s * s),
-                g * s * (kappa + 1.0 - 2.0 * c * c),
-            ],
-            [
-                f * c * (1.0 - s * t3.sin()),
-                f * c * (1.0 + s * t3.sin()),
-                f * s * c * t3.cos(),
-            ],
-        )
-    } else {
-        (
-            [
-                g * s * (kappa + 1.0 + 2.0 * c * c),
-                -g * c * (kappa - 1.0 - 2.0 * s * s),
-            ],
-            [
-                -f * s * (2.0 + c * t3.cos()),
-                f * s * c * t3.cos(),
-                f * c * (1.0 - s * t3.sin()),
-            ],
-        )
     }
 }
 
