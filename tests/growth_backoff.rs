@@ -186,6 +186,10 @@ fn a_bem_only_geometry_that_cannot_be_solved_ends_the_run_without_retry() {
     // The path is that of step 1: the initial tip only.
     let points = growth["paths"][0]["points"].as_array().expect("points");
     assert_eq!(points.len(), 1, "{points:?}");
+    // The crack did reach K_c at 5.5: that stays its initiation load (before, it went back
+    // with the path, and a note said no tip reached K_c).
+    assert_eq!(sm["initiation_load"], 5.5);
+    assert!(!notes(&dir).iter().any(|n| n.contains("no tip reached K_c")));
     assert!(dir.join("paths.png").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -273,6 +273,8 @@ pub fn run_from(
                 if front.outline_points().is_none() {
                     unstable = Some(unstable_note(cap, f));
                 } else {
+                    // The tips did reach K_c at this load.
+                    history.initiation_load.get_or_insert(f);
                     broken = Some(format!(
                         "more than {cap} increments at load {f} (step {k}); increase growth.da"
                     ));
@@ -379,12 +381,11 @@ pub fn run_from(
         }
         if let Some(reason) = broken {
             // Back to the end of the last completed step, whose records stand.
+            let initiation = history.initiation_load;
             (front, history, _) = saved;
             observer.event("note", json!({ "message": reason }));
-            if reason.contains("increments at load") {
-                // The tips did reach K_c at this load.
-                history.initiation_load.get_or_insert(f);
-            }
+            // A load at which the tips grew stays their initiation load.
+            history.initiation_load = history.initiation_load.or(initiation);
             history.failure_reason = Some(reason);
             current = false;
             break;
