@@ -273,8 +273,6 @@ pub fn run_from(
                 if front.outline_points().is_none() {
                     unstable = Some(unstable_note(cap, f));
                 } else {
-                    // The tips did reach K_c at this load.
-                    history.initiation_load.get_or_insert(f);
                     broken = Some(format!(
                         "more than {cap} increments at load {f} (step {k}); increase growth.da"
                     ));
