@@ -13,7 +13,9 @@
 //!    estimates and $\epsilon$ = [`COD_J_DISAGREEMENT`];
 //! 5. notes a BEM condition estimate above [`CONDITION_LIMIT`], and cracks whose flank
 //!    runs along a thin ligament the BEM does not resolve
-//!    ([`crate::setup::thin_ligament`]);
+//!    ([`crate::setup::thin_ligament`]), tips close to another boundary
+//!    ([`crate::setup::close_tips`]) and holes nearer another loop than the elements at
+//!    the gap ([`crate::setup::close_holes`]);
 //! 6. sets every tip's energy release rate $G = (K_I^2 + K_{II}^2) / E'$ from its
 //!    reported K and notes a tip whose contour J-integral (computed from the solved
 //!    field alone) differs from it by more than [`J_G_DISAGREEMENT`] of G: in linear
@@ -73,6 +75,7 @@ pub fn review(scene: &Scene, summary: &mut RunSummary) {
     notes.extend(condition(summary));
     notes.extend(thin_ligaments(scene));
     notes.extend(close_tips(scene));
+    notes.extend(close_holes(scene));
     let e_prime = scene.material.e_prime();
     for t in &mut summary.tips {
         t.g = Some(pdbem_coupling::growth::history::energy_release(
@@ -105,6 +108,18 @@ pub fn close_tips(scene: &Scene) -> Vec<String> {
         return Vec::new();
     }
     crate::setup::close_tips::close_tip_notes(scene)
+}
+
+/// The notes of holes nearer the outline or another hole than the elements at the gap
+/// ([`crate::setup::close_holes`]), in every mode whose fields come from the BEM.
+pub fn close_holes(scene: &Scene) -> Vec<String> {
+    if matches!(super::mode::mode_of(scene), super::mode::Mode::Pd) {
+        return Vec::new();
+    }
+    let gaps = crate::setup::close_holes::unresolved(scene);
+    gaps.iter()
+        .map(|g| crate::setup::close_holes::note(scene, g))
+        .collect()
 }
 
 /// K_eq = sqrt(K_I^2 + K_II^2).

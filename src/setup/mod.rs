@@ -32,6 +32,7 @@
 
 pub mod balance;
 pub mod bem;
+pub mod close_holes;
 pub mod close_tips;
 pub mod coupled;
 pub mod estimate;
