@@ -323,7 +323,8 @@ fn check(path: &Path, plot_dir: Option<&Path>) -> anyhow::Result<()> {
     let geometry_notes = crate::runner::plausibility::thin_ligaments(&scene)
         .into_iter()
         .chain(crate::runner::plausibility::close_tips(&scene))
-        .chain(crate::runner::plausibility::close_holes(&scene));
+        .chain(crate::runner::plausibility::close_holes(&scene))
+        .chain(crate::setup::horizon_scale::note(&scene));
     for note in geometry_notes {
         eprintln!("note: {}: {note}", path.display());
     }

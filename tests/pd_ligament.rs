@@ -211,3 +211,70 @@ fn loaded_nodes_a_crack_cuts_off_are_refused() {
     assert!(format!("{run:#}").contains(want), "{run:#}");
     check(&text("BodyForceLayer"), "layer.ron").expect("unloaded loose nodes are left");
 }
+
+/// Seed 001's 50 mm square with a 10 mm edge crack under 1 MPa (elastic bonds, surface
+/// correction) on `nx` nodes across, horizon factor `m`; without `pd` the BEM alone.
+fn edge_crack_square(pd: &str) -> Scene {
+    scene(&format!(
+        r#"(name: "square", material: (E: 30e9, nu: 0.3333333333333333, plane: Stress),
+        body: (outline: Rectangle(x0: 0, y0: 0, width: 0.05, height: 0.05)),
+        cracks: [(name: "crack", start: (0, 0.025), angle_deg: 0, length: 0.01)],
+        boundary: [(on: "top", y: Traction(1e6)), (on: "bottom", y: Traction(-1e6))],
+        {pd}
+        outputs: (plots: false, csv: false))"#
+    ))
+}
+
+/// Opening between the loaded edges (their mean y displacements) and the run's notes.
+fn edge_opening(s: &Scene, name: &str) -> (f64, Vec<String>) {
+    let out = temp(name);
+    let summary = pdbem::runner::run_scene(s, &out, true).expect("runs");
+    let _ = std::fs::remove_dir_all(&out);
+    let groups = summary.extra["load_displacement"]["groups"]
+        .as_array()
+        .expect("groups")
+        .clone();
+    let uy = |g: &str| {
+        groups.iter().find(|x| x["group"] == g).expect("group")["displacement"][1]
+            .as_f64()
+            .unwrap()
+    };
+    (uy("top") - uy("bottom"), summary.notes)
+}
+
+/// A cracked body only a few horizons across answers with PD's nonlocal stiffness: the
+/// square at 13 nodes and horizon factor 6 (the horizon 0.46 of its side) opens 19.6 %
+/// more than the BEM body and gets a note (`setup::horizon_scale`); at 50 nodes and
+/// factor 3.015 (0.06) it opens within 2.2 % of it and gets none.
+#[test]
+fn a_cracked_body_a_few_horizons_across_is_noted() {
+    let (elastic, _) = edge_opening(&edge_crack_square(""), "bem");
+    let wide = edge_crack_square(
+        "pd: (nx: 13, horizon_factor: 6, failure: Elastic, surface_correction: true),",
+    );
+    let (o, notes) = edge_opening(&wide, "wide");
+    println!("BEM {elastic:.5e}, horizon 0.46 of the side {o:.5e}");
+    assert!(o / elastic - 1.0 > 0.15, "{o} against {elastic}");
+    let noted: Vec<_> = notes
+        .iter()
+        .filter(|n| n.starts_with("pd: the horizon"))
+        .collect();
+    assert_eq!(noted.len(), 1, "{notes:?}");
+    assert!(
+        noted[0].contains("is 0.46 of the body's smaller side"),
+        "{}",
+        noted[0]
+    );
+    let fine = edge_crack_square("pd: (nx: 50, failure: Elastic, surface_correction: true),");
+    let (o, notes) = edge_opening(&fine, "fine");
+    println!("horizon 0.06 of the side {o:.5e}");
+    assert!((o / elastic - 1.0).abs() < 0.03, "{o} against {elastic}");
+    assert!(
+        notes.iter().all(|n| !n.starts_with("pd: the horizon")),
+        "{notes:?}"
+    );
+    let refined = edge_crack_square(
+        "pd: (nx: 13, horizon_factor: 6, failure: Elastic, refine_zones: [(centre: (0.015, 0.025), half_size: 0.008, levels: 2)]),",
+    );
+    assert!(pdbem::setup::horizon_scale::note(&refined).is_none());
+}

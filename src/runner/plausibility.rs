@@ -15,7 +15,8 @@
 //!    runs along a thin ligament the BEM does not resolve
 //!    ([`crate::setup::thin_ligament`]), tips close to another boundary
 //!    ([`crate::setup::close_tips`]) and holes nearer another loop than the elements at
-//!    the gap ([`crate::setup::close_holes`]);
+//!    the gap ([`crate::setup::close_holes`]), and a stand-alone PD body with cracks or
+//!    holes only a few horizons across ([`crate::setup::horizon_scale`]);
 //! 6. sets every tip's energy release rate $G = (K_I^2 + K_{II}^2) / E'$ from its
 //!    reported K and notes a tip whose contour J-integral (computed from the solved
 //!    field alone) differs from it by more than [`J_G_DISAGREEMENT`] of G: in linear
@@ -76,6 +77,7 @@ pub fn review(scene: &Scene, summary: &mut RunSummary) {
     notes.extend(thin_ligaments(scene));
     notes.extend(close_tips(scene));
     notes.extend(close_holes(scene));
+    notes.extend(crate::setup::horizon_scale::note(scene));
     let e_prime = scene.material.e_prime();
     for t in &mut summary.tips {
         t.g = Some(pdbem_coupling::growth::history::energy_release(

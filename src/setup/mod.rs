@@ -39,6 +39,7 @@ pub mod estimate;
 pub mod fit_stations;
 pub mod footprint;
 pub mod growth;
+pub mod horizon_scale;
 pub mod ligament;
 pub mod pd;
 pub mod reference_loads;
