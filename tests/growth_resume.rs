@@ -1,7 +1,8 @@
 //! Checkpoint and resume of growth runs (issue 18 item 3) and the end of a run whose load
 //! step cannot be solved (item 2). A run stopped after load step k (the runner's
 //! `stop_after` hook, or a `pdbem` child killed with SIGKILL), or inside one (full PD after
-//! a break round, PD-BEM after a relocation: `stop_within`) and resumed with `--resume`
+//! a break round, PD-BEM after a relocation, BEM-only after a growth round: `stop_within`)
+//! and resumed with `--resume`
 //! writes the same outputs as an uninterrupted run, bit for bit except wall times; a
 //! changed scene is refused. Scenes are small (seconds each).
 
@@ -280,6 +281,17 @@ fn pd_bem_resumed_inside_a_load_step_after_a_relocation_equals_an_uninterrupted_
 fn bem_only_resumed_before_the_crack_runs_equals_an_uninterrupted_run() {
     // Measured: 2.1 s and 2.1 s.
     stop_and_resume(&sent_bem_only(), 1, "bem-only");
+}
+
+#[test]
+fn bem_only_resumed_inside_a_load_step_equals_an_uninterrupted_run() {
+    // Unstable growth under load control runs within one load step: the crack runs
+    // through in step 2 (load 5.5). A checkpoint only at step ends would lose all of it
+    // at a kill (before, a run with a small da killed after minutes left an empty
+    // folder). Inside a step it is taken after a growth round whose geometry was solved;
+    // the resumed run solves that geometry anew from the front. Stopped after round 3.
+    let stopped = "in load step 2 after increment round 3";
+    stop_inside_a_step_and_resume(&sent_bem_only(), (2, 3), stopped, "bem-only-within");
 }
 
 #[test]

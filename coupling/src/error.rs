@@ -213,6 +213,17 @@ pub enum CouplingError {
         /// Relocation records of the run so far.
         relocation: usize,
     },
+    /// A BEM-only growth run was stopped by its observer inside a load step, after the
+    /// checkpoint of a growth round was offered (the run can be resumed from it).
+    #[error(
+        "growth run stopped by its observer in load step {step} after increment round {increments}"
+    )]
+    InterruptedAtIncrement {
+        /// The load step in progress (0-based).
+        step: usize,
+        /// Growth rounds of the step so far.
+        increments: usize,
+    },
     /// A growth checkpoint does not fit the run it is to resume (another scene or
     /// version).
     #[error("checkpoint: {message}")]

@@ -6,8 +6,10 @@
 //! ([`pdbem_coupling::growth::checkpoint`]), what the observer gathered (snapshots, the
 //! PD-BEM initial window outlines and relocation count) and the text of
 //! `growth_log.jsonl` so far. Full PD also writes one inside a load step, after a break
-//! round at which its solvers are renewed, and PD-BEM just after a relocation (where its
-//! state is whole; the seed's runs grow the whole path in one load step), when
+//! round at which its solvers are renewed, PD-BEM just after a relocation (where its
+//! state is whole; the seed's runs grow the whole path in one load step) and BEM-only
+//! after a growth round whose geometry was solved (unstable growth runs within one load
+//! step: 3500 increments, 7 minutes, on `growth_tension_edge` with da = 0.0023 m), when
 //! [`RunContext::round_checkpoint_every`] (5 minutes) has passed since the last
 //! ([`save_within`]). It lives in the run folder, outside the staging folder, so it
 //! survives a kill; a run that finishes (complete or not) deletes it with its commit.
@@ -77,8 +79,8 @@ pub struct RunCheckpoint {
     pub mode: String,
     /// The last completed load step (0-based); with `within`, the step in progress.
     pub step: usize,
-    /// Written inside `step`, after a break round (full PD) or a relocation (PD-BEM): the
-    /// step is not complete.
+    /// Written inside `step`, after a break round (full PD), a relocation (PD-BEM) or a
+    /// growth round (BEM-only): the step is not complete.
     /// Absent in checkpoints written before it was kept (they were all at step ends or
     /// read as such).
     #[serde(default)]

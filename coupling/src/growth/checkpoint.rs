@@ -18,7 +18,9 @@
 //!   the BEM system, every window and the accelerator anew in every run, so nothing the
 //!   state leaves out is carried past it.
 //! - BEM-only ([`BemOnlyCheckpoint`]): the crack front as grown and the history; every
-//!   geometry is meshed and solved anew from the front.
+//!   geometry is meshed and solved anew from the front; also inside a load step, after a
+//!   growth round whose geometry was solved ([`BemOnlyWithin`]: unstable growth under load
+//!   control runs within one step, thousands of increments with a small `da`).
 //! - Full PD ([`FullPdCheckpoint`]): the model state, the front, the tracker's recorded
 //!   arc lengths and the history, with the solver counters of the `solver` log event;
 //!   also inside a load step, after a break round at which the solvers were renewed
@@ -176,6 +178,27 @@ pub struct BemOnlyCheckpoint {
     /// Its field snapshots (not part of the history's serialised form).
     pub snapshots: Vec<FieldSnapshot>,
     /// Geometries solved so far (the `solve` events' counter).
+    pub geometry: usize,
+    /// Taken inside load step `next_step`, after a growth round whose geometry was solved
+    /// (None: before the step). Absent in checkpoints written before it was kept.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub within: Option<Box<BemOnlyWithin>>,
+}
+
+/// The place of a BEM-only checkpoint inside a load step: after `increments` growth
+/// rounds, with the state the step started from (a step that cannot solve a geometry
+/// returns to it).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BemOnlyWithin {
+    /// Growth rounds of the step so far.
+    pub increments: usize,
+    /// The cracks and tips at the step's start.
+    pub front: FrontState,
+    /// The history at the step's start.
+    pub history: GrowthHistory,
+    /// Its field snapshots.
+    pub snapshots: Vec<FieldSnapshot>,
+    /// Geometries solved before the step.
     pub geometry: usize,
 }
 

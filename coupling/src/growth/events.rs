@@ -38,9 +38,11 @@ pub trait EngineObserver {
     }
     /// Full PD, inside load step `step`, after break round `round` at which the engine
     /// renewed its solvers (every [`crate::growth::full_pd::RENEW_ROUNDS`] rounds, in
-    /// every run): `save` builds the checkpoint of the run as it stands (call it only
-    /// when one is wanted). `Break` stops the run there with
-    /// [`crate::CouplingError::InterruptedWithin`].
+    /// every run); BEM-only, after growth round `round` of the step, its geometry solved:
+    /// `save` builds the checkpoint of the run as it stands (call it only when one is
+    /// wanted). `Break` stops the run there with
+    /// [`crate::CouplingError::InterruptedWithin`] (full PD) or
+    /// [`crate::CouplingError::InterruptedAtIncrement`] (BEM-only).
     fn round_checkpoint(
         &mut self,
         _step: usize,

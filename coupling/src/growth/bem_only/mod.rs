@@ -48,6 +48,7 @@ pub mod sizing;
 pub(crate) mod solve;
 
 mod initial;
+mod rounds;
 
 pub(crate) use self::body::fail;
 pub use self::body::BemOnlyBody;
@@ -58,13 +59,14 @@ pub use super::criterion::TipSif;
 use std::time::Instant;
 
 use pdbem_bem::post::FieldEvaluator;
-use pdbem_geometry::{point_segment_projection, rotate, P2};
+use pdbem_geometry::{point_segment_projection, P2};
 use serde_json::json;
 
+use self::rounds::{failure_reason, full_increment_note, grow_tip, shortens, within_step};
 use self::solve::{Checked, Engine, Sizes, Solved};
 use super::checkpoint::{mismatch, BemOnlyCheckpoint, EngineCheckpoint};
 use super::events::EngineObserver;
-use super::front::{Front, Obstacle};
+use super::front::Front;
 use super::history::{FieldSnapshot, GrowthHistory, PathPoint, SifRow, StepRecord, TipPath};
 use super::records::Scenario;
 use super::verdict::{stop_after_step, unstable_note};
@@ -187,7 +189,7 @@ fn increment_cap(bounds: (P2, P2), front: &Front, sizes: &Sizes) -> usize {
     per_tip.saturating_mul(front.tips.len()).saturating_add(10)
 }
 
-fn point(p: P2, step: usize, load: f64) -> PathPoint {
+pub(crate) fn point(p: P2, step: usize, load: f64) -> PathPoint {
     PathPoint {
         x: p.x,
         y: p.y,
@@ -231,12 +233,12 @@ pub fn run_from(
     let first = factors.first().copied().unwrap_or(1.0);
     let sizes = engine.sizes(&front, params.da)?;
     let cap = increment_cap(bounds, &front, &sizes);
-    let (mut history, mut geometry, next) = match resume {
+    let (mut history, mut geometry, next, mut within) = match resume {
         Some(cp) => {
             front.restore(&cp.front).map_err(mismatch)?;
             let mut h = cp.history;
             h.snapshots = cp.snapshots;
-            (h, cp.geometry, cp.next_step)
+            (h, cp.geometry, cp.next_step, cp.within)
         }
         None => {
             observer.event(
@@ -245,7 +247,7 @@ pub fn run_from(
                        "da": sizes.da, "crack_element_size": sizes.element,
                        "local_sizing": body.sizing.is_some()}),
             );
-            (fresh_history(&front, first), 0, 0)
+            (fresh_history(&front, first), 0, 0, None)
         }
     };
     let mut solved = initial::solve_geometry(&mut engine, &front, &sizes, geometry)?;
@@ -256,14 +258,28 @@ pub fn run_from(
     let mut not_a_state = None;
     for (k, &f) in factors.iter().enumerate().skip(next) {
         let t0 = Instant::now();
-        let mut increments = 0;
+        // A run resumed inside this step goes on after its checkpoint's increments, with
+        // the state the step started from (the geometry's K rows are in its history).
+        let resumed = within.take();
+        let mut increments = resumed.as_ref().map_or(0, |w| w.increments);
         let mut solved_now = true;
-        let saved = (front.clone(), history.clone(), geometry);
+        let saved = match &resumed {
+            Some(w) => {
+                let mut start = front.clone();
+                start.restore(&w.front).map_err(mismatch)?;
+                let mut h = w.history.clone();
+                h.snapshots = w.snapshots.clone();
+                (start, h, w.geometry)
+            }
+            None => (front.clone(), history.clone(), geometry),
+        };
         let mut broken = None;
         let mut unstable = None;
         let mut snap = false;
-        let rows = SifRow::rows(&front, &solved.sifs, solved.cmod, (k, f), e_prime);
-        history.sif_path.extend(rows);
+        if resumed.is_none() {
+            let rows = SifRow::rows(&front, &solved.sifs, solved.cmod, (k, f), e_prime);
+            history.sif_path.extend(rows);
+        }
         loop {
             let growing = critical_tips(&front, &solved, f, k_c);
             if growing.is_empty() {
@@ -376,6 +392,21 @@ pub fn run_from(
             observer.event("solve", solve_event(&front, &solved, k_c, geometry));
             let rows = SifRow::rows(&front, &solved.sifs, solved.cmod, (k, f), e_prime);
             history.sif_path.extend(rows);
+            // Unstable growth runs within one load step, for thousands of increments
+            // with a small da: show each, and offer a checkpoint (the geometry is solved
+            // anew from the front on resume, so results do not depend on where it is).
+            let status = format!("load {f:.4e}: {increments} increments, geometry {geometry}");
+            observer.progress(k, factors.len(), &status);
+            let flow = observer.round_checkpoint(k, increments, &mut || {
+                let cp = within_step((k, increments), (&front, &history, geometry), &saved);
+                EngineCheckpoint::BemOnly(cp)
+            });
+            if flow.is_break() {
+                return Err(CouplingError::InterruptedAtIncrement {
+                    step: k,
+                    increments,
+                });
+            }
         }
         if let Some(reason) = broken {
             // Back to the end of the last completed step, whose records stand.
@@ -427,6 +458,7 @@ pub fn run_from(
                     history: history.clone(),
                     snapshots: history.snapshots.clone(),
                     geometry,
+                    within: None,
                 })
             });
             if flow.is_break() {
@@ -474,92 +506,4 @@ fn fresh_history(front: &Front, first: f64) -> GrowthHistory {
             .collect(),
         ..Default::default()
     }
-}
-
-/// Whether tip `t`'s next increment is shortened by an obstacle ahead ([`increment`]).
-fn shortens(front: &Front, t: &TipSif, sizes: &Sizes) -> bool {
-    let dir = rotate(&front.tip_direction(t.tip), t.theta);
-    let da = sizes.da[front.tips[t.tip].crack];
-    increment(front.room_ahead(t.tip, dir), da) < da
-}
-
-/// The note of a round of shortened increments taken again with the full `da`: load
-/// step, load and geometry, the tips that were shortened, why the geometry was refused.
-fn full_increment_note(
-    (step, load, geometry): (usize, f64, usize),
-    shortened: &[String],
-    why: &str,
-) -> String {
-    format!(
-        "step {step} (load {load}): after the shortened increments of {} towards the \
-         boundary, geometry {geometry} was not a growth state ({why}); the increments were \
-         taken with the full growth.da instead, which takes a tip within 2.5 growth.da of \
-         the outline or a hole onto it",
-        shortened.join(", ")
-    )
-}
-
-/// Why the body came apart: a tip reached the outline, or cracks joined across it.
-fn failure_reason(front: &Front) -> String {
-    match front
-        .tips
-        .iter()
-        .find(|t| t.ended.as_deref() == Some("outline"))
-    {
-        Some(t) => format!(
-            "tip reached the outline ({} was taken onto it when its increments, shortened \
-             towards it, would fall under {MIN_INCREMENT} growth.da, or left a geometry that \
-             is not a growth state)",
-            t.name
-        ),
-        None => match front.holes_reached().first() {
-            Some(h) => format!(
-                "cracks joined to hole {h} cut the body apart (a chain of cracks through the \
-                 holes links the outline to itself)"
-            ),
-            None => "a crack cut the body through".into(),
-        },
-    }
-}
-
-/// One increment of one tip: direction by MCS, `Front::step_ahead`, path point and events.
-/// The increment is [`increment`]'s, or with `snap` the full `da` (which takes a tip near
-/// the outline or a hole onto it). Returns whether the increment was shortened.
-fn grow_tip(
-    front: &mut Front,
-    history: &mut GrowthHistory,
-    observer: &mut dyn EngineObserver,
-    t: &TipSif,
-    sizes: &Sizes,
-    (f, step, k_c): (f64, usize, f64),
-    snap: bool,
-) -> bool {
-    let tip = t.tip;
-    let from = front.tip_position(tip);
-    let dir = rotate(&front.tip_direction(tip), t.theta);
-    let full = sizes.da[front.tips[tip].crack];
-    let da = if snap {
-        full
-    } else {
-        increment(front.room_ahead(tip, dir), full)
-    };
-    let hit = front.step_ahead(tip, dir, da, LIGAMENT_MARGIN * da);
-    let to = front.tip_position(tip);
-    if to != from {
-        history.paths[tip].points.push(point(to, step, f));
-    }
-    observer.event(
-        "grow",
-        json!({"step": step, "load": f, "tip": front.tips[tip].name,
-               "from": [from.x, from.y], "to": [to.x, to.y],
-               "kink_deg": t.theta.to_degrees(), "k_eq": f * t.k_eq, "k_c": k_c}),
-    );
-    if hit != Obstacle::None {
-        observer.event(
-            "tip_end",
-            json!({"step": step, "load": f, "tip": front.tips[tip].name,
-                   "reason": front.tips[tip].ended}),
-        );
-    }
-    da < full
 }
