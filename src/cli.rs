@@ -313,24 +313,32 @@ fn check(path: &Path, plot_dir: Option<&Path>) -> anyhow::Result<()> {
     crate::setup::estimate::check(&scene)?;
     crate::setup::reference_loads::check(&scene)?;
     crate::setup::fit_stations::check(&scene)?;
-    if scene
+    let bem_only_cost = if scene
         .growth
         .as_ref()
         .is_some_and(|g| g.mode == GrowthMode::BemOnly)
     {
-        crate::growth::bem_only::check(&scene)?;
-    }
+        Some(crate::growth::bem_only::cost_line(
+            &crate::growth::bem_only::check(&scene)?,
+        ))
+    } else {
+        None
+    };
     let geometry_notes = crate::runner::plausibility::thin_ligaments(&scene)
         .into_iter()
         .chain(crate::runner::plausibility::close_tips(&scene))
         .chain(crate::runner::plausibility::close_holes(&scene))
         .chain(crate::setup::horizon_scale::note(&scene));
-    for note in geometry_notes {
+    let cost_note = bem_only_cost.as_ref().and_then(|(_, n)| n.clone());
+    for note in geometry_notes.chain(cost_note) {
         eprintln!("note: {}: {note}", path.display());
     }
     let footprint = crate::setup::footprint::of(&scene)?;
     crate::outln!("{}", describe(&scene));
     for line in footprint.describe() {
+        crate::outln!("{line}");
+    }
+    if let Some((line, _)) = &bem_only_cost {
         crate::outln!("{line}");
     }
     if let Some(dir) = plot_dir {

@@ -124,6 +124,16 @@ fn check_refuses_a_bem_only_scene_whose_loads_close_the_crack() {
         r
     };
     check(&text, "pulled").expect("the pulled plate passes");
+    // What check prints on the run's cost: the first solve, and one crossing of the 20 m x
+    // 10 m plate's diagonal by its one tip in increments of the crack elements' 0.1 m.
+    let scene = pdbem::scene::Scene::parse(&text, std::path::Path::new("pulled.ron")).unwrap();
+    let first = pdbem::growth::bem_only::check(&scene).expect("solves");
+    assert!((first.da - 0.1).abs() < 1e-12, "{first:?}");
+    assert!(
+        (first.increments_across - 500f64.sqrt() / 0.1).abs() < 1e-9,
+        "{first:?}"
+    );
+    assert!(first.elements > 500 && first.seconds > 0.0, "{first:?}");
     let pushed = text.replace("x: Traction(1))", "x: Traction(-1))");
     let msg = format!("{:#}", check(&pushed, "pushed").expect_err("check refuses"));
     assert!(

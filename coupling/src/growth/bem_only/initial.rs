@@ -56,15 +56,38 @@ pub(super) fn critical_factor(k_c: f64, k_eq: f64) -> f64 {
 /// the increment `da`, at unit load, K confirmed on tip elements refined 4x) and refuses
 /// it as the run would: faces that overlap (K_I < 0 or CMOD < 0: the loads close the
 /// crack) or a K that does not settle.
+/// Returns what that solve cost, for the run's cost estimate.
 pub fn check_initial(
     body: &BemOnlyBody,
     front: &Front,
     da: Option<f64>,
     scenario: &dyn Scenario,
-) -> Result<(), CouplingError> {
+) -> Result<InitialSolve, CouplingError> {
     let mut engine = Engine::new(body, scenario);
     let sizes = engine.sizes(front, da)?;
-    solve_geometry(&mut engine, front, &sizes, 0).map(|_| ())
+    let t0 = std::time::Instant::now();
+    let solved = solve_geometry(&mut engine, front, &sizes, 0)?;
+    let (lo, hi) = front.bounds();
+    let da = sizes.smallest_da();
+    Ok(InitialSolve {
+        elements: solved.mesh.len(),
+        seconds: t0.elapsed().as_secs_f64(),
+        da,
+        increments_across: (hi - lo).norm() / da * front.tips.len() as f64,
+    })
+}
+
+/// The first geometry of a BEM-only run as [`check_initial`] solved it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InitialSolve {
+    /// Elements of its mesh.
+    pub elements: usize,
+    /// Wall time of its solve (every geometry of the run is solved alike) (s).
+    pub seconds: f64,
+    /// The smallest increment (m).
+    pub da: f64,
+    /// Increments for every tip to cross the body's bounding-box diagonal once.
+    pub increments_across: f64,
 }
 
 /// Solves geometry number `geometry` of a run (the initial one without the growth checks

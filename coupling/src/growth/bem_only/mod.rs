@@ -53,7 +53,7 @@ mod rounds;
 pub(crate) use self::body::fail;
 pub use self::body::BemOnlyBody;
 use self::initial::critical_factor;
-pub use self::initial::{check_initial, critical_loads, TipCritical};
+pub use self::initial::{check_initial, critical_loads, InitialSolve, TipCritical};
 pub use super::criterion::TipSif;
 
 use std::time::Instant;
