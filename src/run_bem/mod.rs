@@ -7,7 +7,8 @@
 //! values of both levels go to `summary.json` under `richardson`. The two levels share no
 //! matrix (every entry depends on h), so the coarse level costs about 1/8 of the fine one.
 //!
-//! The primary `k1`, `k2` are the crack-opening fit; `k1_j`, `k2_j` the interaction integral.
+//! The primary `k1`, `k2` are the crack-opening fit (the interaction integral for a crack
+//! loaded on one face, [`level::tip_result`]); `k1_j`, `k2_j` the interaction integral.
 
 use crate::output::csv::{num, CsvTable};
 use crate::runner::context::RunContext;
@@ -42,8 +43,8 @@ fn extrapolate(coarse: &Level, fine: &Level) -> (Vec<TipResult>, Vec<CrackResult
                 k1,
                 k2,
                 kink_deg: pdbem_bem::post::kink_angle(k1, k2).to_degrees(),
-                k1_cod: Some(k1),
-                k2_cod: Some(k2),
+                k1_cod: exo(c.k1_cod, f.k1_cod),
+                k2_cod: exo(c.k2_cod, f.k2_cod),
                 k1_j: exo(c.k1_j, f.k1_j),
                 k2_j: exo(c.k2_j, f.k2_j),
                 j: exo(c.j, f.j),

@@ -206,7 +206,8 @@ pub fn summarize(scene: &Scene, out: &CoupledOutcome) -> Result<RunSummary> {
         contour_points: scene.bem.j_contour.points,
     };
     for t in analyze_tips(&pb.mesh, &ev, sol, &opts).context("BEM tips")? {
-        tips.push(crate::run_bem::tip_result(&pb.mesh, &t));
+        let one_face = crate::run_bem::level::one_face_loaded(scene, t.crack, &pb.mesh);
+        tips.push(crate::run_bem::tip_result(&pb.mesh, &t, one_face));
     }
     notes.extend(damage_notes(out));
     let cracks = crate::run_bem::level::crack_results(&pb.mesh, sol);

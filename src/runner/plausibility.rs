@@ -71,7 +71,8 @@ pub fn review(scene: &Scene, summary: &mut RunSummary) {
         summary
             .tips
             .iter()
-            .filter_map(|t| disagreement(t, one_face_loaded(scene, &t.name))),
+            .filter(|t| !one_face_loaded(scene, &t.name))
+            .filter_map(disagreement),
     );
     notes.extend(condition(summary));
     notes.extend(thin_ligaments(scene));
@@ -204,23 +205,16 @@ fn j_against_g(t: &TipResult) -> Option<String> {
 
 /// The note of a tip whose two SIF estimates disagree by more than
 /// [`COD_J_DISAGREEMENT`] of K_eq.
-fn disagreement(t: &TipResult, one_face: bool) -> Option<String> {
+fn disagreement(t: &TipResult) -> Option<String> {
     let (k1c, k2c, k1j, k2j) = (t.k1_cod?, t.k2_cod?, t.k1_j?, t.k2_j?);
     let scale = k_eq(k1c, k2c).max(k_eq(k1j, k2j));
     let diff = (k1c - k1j).hypot(k2c - k2j);
-    let what = if one_face {
-        "a condition on one face of the crack adds a term linear in r to the opening, which \
-         the fit does not hold, so refining does not bring them together: take the interaction \
-         integral's K (path independent; docs/scene.md, crack faces)"
-    } else {
-        "the SIF is not resolved; refine the crack mesh or move the contour (bem.j_contour) \
-         off other boundaries"
-    };
     (diff > COD_J_DISAGREEMENT * scale).then(|| {
         format!(
             "tip {}: the crack-opening fit (K_I {k1c:.6e}, K_II {k2c:.6e}) and the interaction \
              integral (K_I {k1j:.6e}, K_II {k2j:.6e} Pa m^0.5) differ by {:.2} % of K_eq, more \
-             than {:.0} %: {what}",
+             than {:.0} %: the SIF is not resolved; refine the crack mesh or move the contour \
+             (bem.j_contour) off other boundaries",
             t.name,
             100.0 * diff / scale,
             100.0 * COD_J_DISAGREEMENT
@@ -229,13 +223,11 @@ fn disagreement(t: &TipResult, one_face: bool) -> Option<String> {
 }
 
 /// Whether the crack of tip `tip` (`<crack>.end` / `.start`) has a condition on one of
-/// its faces alone (`<crack>.upper` or `<crack>.lower`).
+/// its faces alone: its K is the interaction integral's and the tip's own note says why
+/// the fit differs ([`crate::run_bem::level::tip_result`]).
 fn one_face_loaded(scene: &Scene, tip: &str) -> bool {
     let crack = tip.rsplit_once('.').map_or(tip, |(c, _)| c);
-    scene
-        .boundary
-        .iter()
-        .any(|b| b.on == format!("{crack}.upper") || b.on == format!("{crack}.lower"))
+    crate::setup::bem::loaded_on_one_face(scene, crack)
 }
 
 /// The note of a condition estimate above [`CONDITION_LIMIT`].
@@ -270,12 +262,10 @@ mod tests {
 
     #[test]
     fn disagreement_notes_only_above_the_threshold() {
-        assert!(disagreement(&tip(1.0, 1.0 + 0.5 * COD_J_DISAGREEMENT), false).is_none());
-        let n = disagreement(&tip(1.0, 1.0 + 2.0 * COD_J_DISAGREEMENT), false).unwrap();
+        assert!(disagreement(&tip(1.0, 1.0 + 0.5 * COD_J_DISAGREEMENT)).is_none());
+        let n = disagreement(&tip(1.0, 1.0 + 2.0 * COD_J_DISAGREEMENT)).unwrap();
         assert!(n.contains("c.end") && n.contains("1.000000e0") && n.contains("1.040000e0"));
         assert!(n.contains("refine the crack mesh"));
-        let n = disagreement(&tip(1.0, 1.0 + 2.0 * COD_J_DISAGREEMENT), true).unwrap();
-        assert!(n.contains("one face") && !n.contains("refine the crack mesh"));
     }
 
     #[test]

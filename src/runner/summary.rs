@@ -43,6 +43,11 @@ pub struct TipResult {
     pub k2: f64,
     /// Kink angle by maximum circumferential stress (from the crack line, CCW positive).
     pub kink_deg: f64,
+    /// Where `k1`, `k2` come from when not the crack-opening fit: `interaction_integral`
+    /// (a crack loaded on one face, or a fit without stations,
+    /// [`crate::run_bem::level::tip_result`]). Absent: the fit.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k_source: Option<String>,
     /// K_I from crack-opening displacement.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub k1_cod: Option<f64>,

@@ -164,6 +164,15 @@ pub fn mesh_builder(scene: &Scene, geo: &SceneGeometry, refine: f64) -> Result<M
     Ok(b)
 }
 
+/// Whether the crack named `crack` has a condition on one of its faces alone
+/// (`<crack>.upper` or `<crack>.lower` in `scene.boundary`): there the crack-opening fit
+/// is biased and K is the interaction integral's
+/// ([`crate::run_bem::level::tip_result`]).
+pub fn loaded_on_one_face(scene: &Scene, crack: &str) -> bool {
+    let faces = [format!("{crack}.upper"), format!("{crack}.lower")];
+    scene.boundary.iter().any(|b| faces.contains(&b.on))
+}
+
 /// The outline (split at the patches) and hole loops of `scene` at refinement `refine`.
 pub fn loops(scene: &Scene, geo: &SceneGeometry, refine: f64) -> Vec<LoopSpec> {
     let base = scene.bem.base_size(geo) / refine;

@@ -266,6 +266,16 @@ pub fn bem_only_body(scene: &Scene, geo: &SceneGeometry) -> Result<BemOnlyBody> 
         fit_fraction: scene.bem.cod_fit_fraction,
         sizing: rule,
         field: features,
+        integral_cracks: scene
+            .cracks
+            .iter()
+            .filter(|c| super::bem::loaded_on_one_face(scene, &c.name))
+            .map(|c| c.name.clone())
+            .collect(),
+        contour: (
+            scene.bem.j_contour.radius_fraction,
+            scene.bem.j_contour.points,
+        ),
     })
 }
 

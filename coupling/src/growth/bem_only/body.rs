@@ -31,6 +31,13 @@ pub struct BemOnlyBody {
     /// Sources of the size field other than the tips (features, outline coarsening),
     /// used with `sizing`.
     pub field: SizeField,
+    /// Cracks whose K is the interaction integral's, by name: those with a condition on
+    /// one face alone, where the crack-opening fit is biased (its K_II 18 % low on a
+    /// Griffith crack with one face pressed; `pdbem::run_bem::level::tip_result`).
+    pub integral_cracks: Vec<String>,
+    /// The integral's contour: radius as a fraction of the tip length scale (at most the
+    /// fit range, the straight run behind a grown tip) and points.
+    pub contour: (f64, usize),
 }
 
 /// A BEM-only growth error with `message`.

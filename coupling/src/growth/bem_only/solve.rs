@@ -22,7 +22,8 @@
 use std::time::Instant;
 
 use pdbem_bem::mesh::{CrackSpec, TipRefinement};
-use pdbem_bem::post::sif::{cmod, cod_sif, tip_length_scale};
+use pdbem_bem::post::sif::{cmod, cod_sif, interaction_integral, tip_length_scale};
+use pdbem_bem::post::FieldEvaluator;
 use pdbem_bem::{BemSystem, Mesh, MeshBuilder, PairCache, Solution};
 
 use super::body::{fail, BemOnlyBody};
@@ -275,7 +276,9 @@ impl<'a> Engine<'a> {
         }
     }
 
-    /// SIFs of every tip by the crack-opening fit over r < `fit(tip, crack, position)`.
+    /// SIFs of every tip by the crack-opening fit over r < `fit(tip, crack, position)`,
+    /// or by the interaction integral on a contour no larger for the cracks of
+    /// [`BemOnlyBody::integral_cracks`].
     fn tip_sifs(
         &self,
         front: &Front,
@@ -284,14 +287,39 @@ impl<'a> Engine<'a> {
         fit: impl Fn(usize, usize, pdbem_geometry::P2) -> f64,
     ) -> Result<Vec<TipSif>, CouplingError> {
         let mut sifs = Vec::new();
-        for (ci, at_end, pos, _) in mesh.tips() {
+        let ev = (!self.body.integral_cracks.is_empty()).then(|| {
+            FieldEvaluator::new(mesh, &self.body.material, solution, self.body.background)
+        });
+        for (ci, at_end, pos, dir) in mesh.tips() {
             let end = if at_end { "end" } else { "start" };
             let name = format!("{}.{end}", mesh.cracks[ci].name);
             let Some(t) = front.tips.iter().position(|f| f.name == name) else {
                 continue;
             };
             let r = fit(t, ci, pos);
-            let (k1, k2, _) = cod_sif(mesh, &self.body.material, solution, ci, at_end, r);
+            let integral = ev
+                .as_ref()
+                .filter(|_| self.body.integral_cracks.contains(&mesh.cracks[ci].name));
+            let (k1, k2) = match integral {
+                Some(ev) => {
+                    let (fraction, points) = self.body.contour;
+                    let radius = (fraction * tip_length_scale(mesh, ci, pos)).min(r);
+                    let c = &mesh.cracks[ci];
+                    let h_tip = mesh.elements[if at_end {
+                        c.upper[c.upper.len() - 1]
+                    } else {
+                        c.upper[0]
+                    }]
+                    .h;
+                    let (k1, k2, _) =
+                        interaction_integral(ev, pos, dir, radius, points, h_tip, Some(ci));
+                    (k1, k2)
+                }
+                None => {
+                    let (k1, k2, _) = cod_sif(mesh, &self.body.material, solution, ci, at_end, r);
+                    (k1, k2)
+                }
+            };
             if !(k1.is_finite() && k2.is_finite()) {
                 return Err(fail(format!(
                     "tip {name}: no SIF (no crack element within {r:.3e} m of the tip)"
