@@ -503,3 +503,31 @@ fn check_notes_a_final_load_far_past_the_damage_onset() {
         );
     }
 }
+
+/// An edge crack at 2 degrees to its edge cuts a flap 3 m long and at most 0.1 m thick
+/// off a 20 m x 10 m plate; pulled by 1 Pa (E = 1e4 Pa) the linear solution bends it by
+/// more than the plate's size (CMOD 138 m, estimate 147 m): a note says the
+/// small-displacement solution no longer describes it. At 60 degrees (no flap) none.
+#[test]
+fn a_cmod_beyond_a_tenth_of_the_crack_is_noted() {
+    let plate = |angle: f64| {
+        let text = format!(
+            r#"(name: "flap", description: "an edge crack nearly along its edge",
+            material: (E: 1e4, nu: 0.3, plane: Stress),
+            body: (outline: Rectangle(x0: 0, y0: 0, width: 20, height: 10)),
+            cracks: [(name: "crack", start: (5, 0), angle_deg: {angle}, length: 3)],
+            boundary: [(on: "top", y: Traction(1)), (on: "bottom", y: Traction(-1))])"#
+        );
+        Scene::parse(&text, std::path::Path::new("flap.ron")).unwrap()
+    };
+    let s = reviewed(&plate(2.0));
+    let cmod = s.cracks[0].cmod.unwrap();
+    assert!(cmod > 20.0, "{cmod}");
+    assert!(
+        has_note(&s, &["crack crack: CMOD is", "small-displacement"]),
+        "{:?}",
+        s.notes
+    );
+    let s = reviewed(&plate(60.0));
+    assert!(!has_note(&s, &["small-displacement"]), "{:?}", s.notes);
+}

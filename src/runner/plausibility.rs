@@ -16,7 +16,9 @@
 //!    ([`crate::setup::thin_ligament`]), tips close to another boundary
 //!    ([`crate::setup::close_tips`]) and holes nearer another loop than the elements at
 //!    the gap ([`crate::setup::close_holes`]), and a stand-alone PD body with cracks or
-//!    holes only a few horizons across ([`crate::setup::horizon_scale`]);
+//!    holes only a few horizons across ([`crate::setup::horizon_scale`]), and a static
+//!    solution that opens a crack by more than [`LARGE_OPENING`] of its length or moves a
+//!    held body's boundary by more than [`LARGE_DISPLACEMENT`] of its size;
 //! 6. sets every tip's energy release rate $G = (K_I^2 + K_{II}^2) / E'$ from its
 //!    reported K and notes a tip whose contour J-integral (computed from the solved
 //!    field alone) differs from it by more than [`J_G_DISAGREEMENT`] of G: in linear
@@ -59,6 +61,18 @@ pub const CONDITION_LIMIT: f64 = 1e10;
 /// overlap is far larger.
 pub const OVERLAP_TOLERANCE: f64 = 1e-6;
 
+/// A static BEM or coupled solution whose CMOD exceeds this fraction of its crack's
+/// length (faces turned by about a tenth of a radian) gets a note: the linear,
+/// small-displacement solution no longer describes such a body. An edge crack at 2
+/// degrees to its edge (a flap 3 m long and at most 0.1 m thick on a 20 m x 10 m plate
+/// pulled by 1 Pa, E = 1e4 Pa) read a CMOD of 138 m with an estimate of 147 m and no
+/// note; the shipped static cases reach 0.008 (`sent_bem_a8`).
+pub const LARGE_OPENING: f64 = 0.1;
+
+/// The same for the mean displacement of a boundary group of a body held by displacement
+/// conditions, as a fraction of the body's size (a mean strain of 1 %).
+pub const LARGE_DISPLACEMENT: f64 = 1e-2;
+
 /// Adds the plausibility notes of `summary` (see the module docs).
 pub fn review(scene: &Scene, summary: &mut RunSummary) {
     let mut notes = Vec::new();
@@ -79,6 +93,7 @@ pub fn review(scene: &Scene, summary: &mut RunSummary) {
     notes.extend(close_tips(scene));
     notes.extend(close_holes(scene));
     notes.extend(crate::setup::horizon_scale::note(scene));
+    notes.extend(large_displacements(scene, summary));
     let e_prime = scene.material.e_prime();
     for t in &mut summary.tips {
         t.g = Some(pdbem_coupling::growth::history::energy_release(
@@ -178,6 +193,67 @@ fn crack_overlap(scene: &Scene, summary: &RunSummary) -> Vec<String> {
                 "crack {}: CMOD = {cmod:.6e} m < 0: crack faces overlap: the linear solution \
                  has no contact, a negative opening is not physical",
                 c.name
+            ));
+        }
+    }
+    out
+}
+
+/// The notes of CMODs over [`LARGE_OPENING`] of their crack's length and boundary
+/// displacements over [`LARGE_DISPLACEMENT`] of the body's size, in static BEM and
+/// coupled runs (a growth run's last geometry may be cut through, which its verdict says).
+fn large_displacements(scene: &Scene, summary: &RunSummary) -> Vec<String> {
+    use super::mode::{mode_of, Mode};
+    if !matches!(mode_of(scene), Mode::Bem | Mode::Coupled) {
+        return Vec::new();
+    }
+    let geo = SceneGeometry::of(scene);
+    let text = |what: String, v: f64, of: &str, scale: f64, limit: f64| {
+        format!(
+            "{what} is {v:.4e} m, {:.2e} of {of} {scale:.4e} m (a note over {limit:.0e}): the \
+             linear, small-displacement solution no longer describes the body there (a thin \
+             flap bent far, a load too large for E, or a body held too little); its K and CMOD \
+             are those of linear theory only",
+            v / scale
+        )
+    };
+    let mut out = Vec::new();
+    for c in &summary.cracks {
+        let (Some(cmod), Some(g)) = (c.cmod, geo.cracks.iter().find(|g| g.name == c.name)) else {
+            continue;
+        };
+        let length = crate::geometry::polyline_length(&g.points);
+        if cmod.abs() > LARGE_OPENING * length {
+            let what = format!("crack {}: CMOD", c.name);
+            out.push(text(what, cmod.abs(), "its length", length, LARGE_OPENING));
+        }
+    }
+    let size = crate::setup::sizing::geometry_extent(&geo);
+    let limit = LARGE_DISPLACEMENT * size;
+    // A body held by tractions alone moves by the rigid motion the solver fixed: only
+    // a body held by displacement conditions has group displacements to judge.
+    let held = scene.boundary.iter().any(|b| {
+        [b.x, b.y]
+            .iter()
+            .any(|c| matches!(c, crate::scene::Component::Displacement(_)))
+    });
+    let groups = summary
+        .extra
+        .get("load_displacement")
+        .and_then(|l| l["groups"].as_array())
+        .filter(|_| held);
+    for g in groups.into_iter().flatten() {
+        let u = &g["displacement"];
+        let (ux, uy) = (u[0].as_f64().unwrap_or(0.0), u[1].as_f64().unwrap_or(0.0));
+        if ux.hypot(uy) > limit {
+            let name = g["group"].as_str().unwrap_or("?");
+            let what = format!("boundary group '{name}': its displacement");
+            out.push(text(
+                what,
+                ux.hypot(uy),
+                "the body's size",
+                size,
+                LARGE_DISPLACEMENT,
             ));
         }
     }
