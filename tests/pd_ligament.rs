@@ -245,7 +245,8 @@ fn edge_opening(s: &Scene, name: &str) -> (f64, Vec<String>) {
 /// A cracked body only a few horizons across answers with PD's nonlocal stiffness: the
 /// square at 13 nodes and horizon factor 6 (the horizon 0.46 of its side) opens 19.6 %
 /// more than the BEM body and gets a note (`setup::horizon_scale`); at 50 nodes and
-/// factor 3.015 (0.06) it opens within 2.2 % of it and gets none.
+/// factor 3.015 (0.06) it opens within 2.2 % of it and gets none. A refinement zone counts
+/// at its finest level; full-PD growth at the windows' spacing.
 #[test]
 fn a_cracked_body_a_few_horizons_across_is_noted() {
     let (elastic, _) = edge_opening(&edge_crack_square(""), "bem");
@@ -277,4 +278,24 @@ fn a_cracked_body_a_few_horizons_across_is_noted() {
         "pd: (nx: 13, horizon_factor: 6, failure: Elastic, refine_zones: [(centre: (0.015, 0.025), half_size: 0.008, levels: 2)]),",
     );
     assert!(pdbem::setup::horizon_scale::note(&refined).is_none());
+    // Full-PD growth runs the whole body at the windows' spacing: 0.004 m / 4.
+    let full_pd = |n: usize| {
+        scene(&format!(
+            r#"(name: "square", material: (E: 30e9, nu: 0.3333333333333333, plane: Stress, fracture: (g_c: 110)),
+            body: (outline: Rectangle(x0: 0, y0: 0, width: 0.05, height: 0.05)),
+            cracks: [(name: "crack", start: (0, 0.025), angle_deg: 0, length: 0.01)],
+            boundary: [(on: "top", y: Traction(1e6)), (on: "bottom", y: Traction(-1e6))],
+            load: (initial: 4, step: 0.25, count: 4),
+            pd: (failure: FromGc, horizon_factor: 6),
+            coupling: (side: 0.004, n: {n}),
+            growth: (mode: FullPd),
+            outputs: (plots: false, csv: false))"#
+        ))
+    };
+    let note = pdbem::setup::horizon_scale::note(&full_pd(2)).expect("noted");
+    assert!(
+        note.contains("is 0.24 of the body's smaller side"),
+        "{note}"
+    );
+    assert!(pdbem::setup::horizon_scale::note(&full_pd(8)).is_none());
 }

@@ -9,7 +9,8 @@
 //! $\delta / H$ = 0.06 +3.4 %, 0.12 +6.1 %, 0.24 +10.8 %, 0.46 +19.6 %; horizon factor
 //! 3.015: 0.03 -1.1 %, 0.06 -2.2 %, 0.12 -3.7 %, 0.23 +0.6 % (the grid's own error
 //! of the opposite sign cancelling). So a stand-alone PD scene with a crack or a hole
-//! whose horizon exceeds [`HORIZON_FRACTION`] of the body's smaller side gets a note.
+//! whose horizon exceeds [`HORIZON_FRACTION`] of the body's smaller side gets a note (and
+//! full-PD growth, which runs the whole body at the windows' spacing).
 //! Under a uniform strain the surface correction makes any horizon exact (a strip of 1.7
 //! horizons, `pd_bar_tension`, gives the bar's solution), so bodies without cracks or
 //! holes get none. A refinement (`pd.refinement`, `pd.refine_zones`) is taken at its finest
@@ -38,9 +39,15 @@ fn finest_halvings(pd: &crate::scene::PdSettings) -> f64 {
     2f64.powi(refined.max(zones).min(30) as i32)
 }
 
-/// The note of a stand-alone PD scene whose horizon is large against its body.
+/// The note of a stand-alone PD scene (or full-PD growth, at the windows' spacing) whose
+/// horizon is large against its body.
 pub fn note(scene: &Scene) -> Option<String> {
-    if mode_of(scene) != Mode::Pd || (scene.cracks.is_empty() && scene.body.holes.is_empty()) {
+    let full_pd = scene
+        .growth
+        .as_ref()
+        .is_some_and(|g| g.mode == crate::scene::GrowthMode::FullPd);
+    let whole_body = mode_of(scene) == Mode::Pd || full_pd;
+    if !whole_body || (scene.cracks.is_empty() && scene.body.holes.is_empty()) {
         return None;
     }
     let pd = scene.pd.as_ref()?;
@@ -48,12 +55,14 @@ pub fn note(scene: &Scene) -> Option<String> {
     let outline = geo.outline.as_ref()?;
     let (lo, hi) = bounding_box(&outline.points);
     let (w, h) = (hi.x - lo.x, hi.y - lo.y);
-    let dx = match (pd.dx, pd.nx) {
-        (Some(dx), _) => dx,
-        (None, Some(nx)) if nx > 0 => w / nx as f64,
+    // Full-PD growth runs the whole body at the windows' spacing, uniform.
+    let (dx, halvings) = match (full_pd, &scene.coupling, pd.dx, pd.nx) {
+        (true, Some(c), _, _) => (c.dx(), 1.0),
+        (false, _, Some(dx), _) => (dx, finest_halvings(pd)),
+        (false, _, None, Some(nx)) if nx > 0 => (w / nx as f64, finest_halvings(pd)),
         _ => return None,
     };
-    let delta = pd.horizon_factor * dx / finest_halvings(pd);
+    let delta = pd.horizon_factor * dx / halvings;
     let side = w.min(h);
     let ratio = delta / side;
     (ratio.is_finite() && ratio > HORIZON_FRACTION).then(|| {
