@@ -393,3 +393,31 @@ fn two_close_holes_get_one_note() {
     );
     assert!(pdbem::runner::plausibility::close_holes(&scene(0.05)).is_empty());
 }
+
+/// A crack passing 1e-3 m above a hole of radius 1 m runs along it in several stretches
+/// (the gap doubles every few samples away from the closest point): one note, on the
+/// thinnest, counting the others. Before, 4 notes (5 with 2048 elements on the hole).
+#[test]
+fn a_crack_passing_a_hole_gets_one_ligament_note() {
+    let text = r#"(
+    name: "passing",
+    description: "a crack passing just above a hole",
+    material: (E: 1e4, nu: 0.3, plane: Stress),
+    body: (
+        outline: Rectangle(x0: 0, y0: 0, width: 20, height: 10),
+        holes: [Circle(center: (10, 4), radius: 1, name: "h")],
+    ),
+    cracks: [(name: "crack", start: (0, 5.001), angle_deg: 0, length: 12)],
+    boundary: [(on: "top", y: Traction(1)), (on: "bottom", y: Traction(-1))],
+)"#;
+    let scene = Scene::parse(text, Path::new("passing.ron")).expect("parses");
+    let stretches = thin_ligament::of_scene(&scene);
+    assert!(stretches.len() > 1, "{stretches:?}");
+    let notes = thin_ligaments(&scene);
+    assert_eq!(notes.len(), 1, "{notes:?}");
+    let more = format!(
+        "({} more stretches of the crack run alongside 'h'",
+        stretches.len() - 1
+    );
+    assert!(notes[0].contains(&more), "{}", notes[0]);
+}

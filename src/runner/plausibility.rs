@@ -113,10 +113,7 @@ pub fn thin_ligaments(scene: &Scene) -> Vec<String> {
         return Vec::new();
     }
     let ligaments = crate::setup::thin_ligament::of_scene(scene);
-    ligaments
-        .iter()
-        .map(|l| crate::setup::thin_ligament::note(scene, l))
-        .collect()
+    crate::setup::thin_ligament::grouped_notes(scene, &ligaments)
 }
 
 /// The notes of tips within [`crate::setup::close_tips::CLOSE_FEATURE_RATIO`] of the body's

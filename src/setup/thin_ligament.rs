@@ -152,6 +152,43 @@ pub fn note(scene: &Scene, l: &Ligament) -> String {
     )
 }
 
+/// The notes of `ligaments` (of `scene`): one per crack and other boundary, on its
+/// thinnest stretch, saying how many more stretches along the same boundary it stands
+/// for. A crack passing a hole makes several (the gap doubles every few samples away from
+/// the closest point, and a polygon's vertices and chords alternate): 9 notes for one
+/// crack 12 m long passing 1e-3 m above a hole of radius 1 m got 4 notes (5 with 2048
+/// elements on the hole) before.
+pub fn grouped_notes(scene: &Scene, ligaments: &[Ligament]) -> Vec<String> {
+    let mut groups: Vec<Vec<&Ligament>> = Vec::new();
+    for l in ligaments {
+        let same = |g: &&mut Vec<&Ligament>| g[0].crack == l.crack && g[0].other == l.other;
+        match groups.iter_mut().find(same) {
+            Some(g) => g.push(l),
+            None => groups.push(vec![l]),
+        }
+    }
+    groups
+        .iter()
+        .map(|g| {
+            let thinnest = g
+                .iter()
+                .min_by(|a, b| a.width.total_cmp(&b.width))
+                .unwrap_or(&g[0]);
+            let mut text = note(scene, thinnest);
+            if g.len() > 1 {
+                text.push_str(&format!(
+                    " ({} more stretches of the crack run alongside {}, up to {:.0} times as \
+                     long as they are thick)",
+                    g.len() - 1,
+                    thinnest.other,
+                    g.iter().map(|l| l.slenderness()).fold(0.0, f64::max)
+                ));
+            }
+            text
+        })
+        .collect()
+}
+
 /// Every ligament of the cracks of `geo` against `loops` and the other cracks, slender
 /// or not.
 pub fn find(geo: &SceneGeometry, loops: &[LoopSpec]) -> Vec<Ligament> {
