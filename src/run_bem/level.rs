@@ -97,8 +97,8 @@ pub fn one_face_loaded(scene: &Scene, crack: usize, mesh: &pdbem_bem::Mesh) -> b
 ///
 /// A condition on one face alone adds a term linear in r to the tangential opening,
 /// which the fit's $\sqrt{r}$, $r^{3/2}$ terms do not hold: on a Griffith crack with one
-/// face pressed the fit's K_II was 18 % low at every refinement (0.162 against the
-/// integral's 0.199 and the exact $\frac{\kappa-1}{\kappa+1} p \sqrt{a/\pi}$ = 0.198),
+/// face pressed the fit's K_II was 19 % low at every refinement (0.160 against the
+/// integral's 0.197 and the exact $\frac{\kappa-1}{\kappa+1} p \sqrt{a/\pi}$ = 0.1975),
 /// so there the interaction integral (path independent with the face terms,
 /// `pdbem_bem::post::face_traction`) is the primary K and the fit is kept as
 /// `k1_cod`, `k2_cod`.
@@ -136,7 +136,7 @@ fn one_face_result(name: String, t: &pdbem_bem::post::TipResult) -> TipResult {
     let note = format!(
         "tip {name}: k1, k2 are the interaction-integral values (contour radius {:.3e} m): a \
          condition on one face of the crack adds a term linear in r to the opening, which the \
-         crack-opening fit does not hold (its K_II 18 % low on a Griffith crack with one face \
+         crack-opening fit does not hold (its K_II 19 % low on a Griffith crack with one face \
          pressed, at any refinement); the fit's values are k1_cod, k2_cod",
         t.contour_radius
     );

@@ -45,9 +45,11 @@ fn extrapolate(coarse: &Level, fine: &Level) -> (Vec<TipResult>, Vec<CrackResult
                 kink_deg: pdbem_bem::post::kink_angle(k1, k2).to_degrees(),
                 k1_cod: exo(c.k1_cod, f.k1_cod),
                 k2_cod: exo(c.k2_cod, f.k2_cod),
+                k_source: f.k_source.clone(),
                 k1_j: exo(c.k1_j, f.k1_j),
                 k2_j: exo(c.k2_j, f.k2_j),
                 j: exo(c.j, f.j),
+                notes: f.notes.clone(),
                 ..Default::default()
             }
         })

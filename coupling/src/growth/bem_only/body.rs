@@ -32,7 +32,7 @@ pub struct BemOnlyBody {
     /// used with `sizing`.
     pub field: SizeField,
     /// Cracks whose K is the interaction integral's, by name: those with a condition on
-    /// one face alone, where the crack-opening fit is biased (its K_II 18 % low on a
+    /// one face alone, where the crack-opening fit is biased (its K_II 19 % low on a
     /// Griffith crack with one face pressed; `pdbem::run_bem::level::tip_result`).
     pub integral_cracks: Vec<String>,
     /// The integral's contour: radius as a fraction of the tip length scale (at most the
