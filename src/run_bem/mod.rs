@@ -10,6 +10,7 @@
 //! The primary `k1`, `k2` are the crack-opening fit (the interaction integral for a crack
 //! loaded on one face, [`level::tip_result`]); `k1_j`, `k2_j` the interaction integral.
 
+use crate::geometry::point_segment_distance;
 use crate::output::csv::{num, CsvTable};
 use crate::runner::context::RunContext;
 use crate::runner::report::save_plot;
@@ -263,11 +264,9 @@ pub const NEAR_BOUNDARY: f64 = 0.3;
 /// of its length, if any.
 fn near_boundary_note(mesh: &pdbem_bem::Mesh, pts: &[V2], file: &str) -> Option<String> {
     let near = |p: &V2| {
-        mesh.elements.iter().any(|e| {
-            let d = e.b - e.a;
-            let t = ((p - e.a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0);
-            (e.a + t * d - p).norm() < NEAR_BOUNDARY * e.h
-        })
+        mesh.elements
+            .iter()
+            .any(|e| point_segment_distance(p, &e.a, &e.b) < NEAR_BOUNDARY * e.h)
     };
     let n = pts.iter().filter(|p| near(p)).count();
     (n > 0).then(|| {
@@ -348,11 +347,9 @@ fn write_samples(
     // are exact arbitrarily close to an element, but undefined on it).
     let mesh = ev.mesh();
     let off_boundary = |p: &V2| {
-        mesh.elements.iter().all(|e| {
-            let d = e.b - e.a;
-            let t = ((p - e.a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0);
-            (e.a + t * d - p).norm() > 1e-3 * e.h
-        })
+        mesh.elements
+            .iter()
+            .all(|e| point_segment_distance(p, &e.a, &e.b) > 1e-3 * e.h)
     };
     let inside = |p: &V2| geo.contains(p) && off_boundary(p);
     for l in &scene.outputs.lines {
