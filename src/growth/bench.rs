@@ -127,6 +127,9 @@ pub struct GrowthBenchReport {
     pub dx: f64,
     /// PD node spacing of the full-PD body (m).
     pub full_pd_dx: f64,
+    /// Finest PD node spacing of the windows (m): `dx / 2^levels` with `coupling.refine`,
+    /// else `dx`. The deviations are also given in it: "within one fine dx" (issue 20).
+    pub tip_dx: f64,
     /// One entry per mode.
     pub runs: Vec<GrowthBenchRun>,
     /// Wall time of full PD over PD-BEM (`None` when either failed).
@@ -394,12 +397,13 @@ pub fn table(r: &GrowthBenchReport) -> String {
     for d in &r.path_deviations {
         let _ = writeln!(
             t,
-            "path deviation {} vs {} ({}): {:.4} m = {:.2} dx over a reach of {:.3} m{}",
+            "path deviation {} vs {} ({}): {:.4} m = {:.2} dx{} over a reach of {:.3} m{}",
             d.a,
             d.b,
             d.tip,
             d.max_m,
             d.max_dx,
+            in_tip_spacings(d.max_m, r),
             d.common_reach_m,
             d.before_overstrain
                 .map(|[m, r]| format!("; below PD-BEM's overstrain load {m:.4} m over {r:.3} m"))
@@ -407,6 +411,15 @@ pub fn table(r: &GrowthBenchReport) -> String {
         );
     }
     t
+}
+
+/// " (N tip dx)" when the windows' finest spacing is finer than `dx` (refined windows).
+fn in_tip_spacings(m: f64, r: &GrowthBenchReport) -> String {
+    if r.tip_dx < r.dx {
+        format!(" ({:.2} tip dx of {:e} m)", m / r.tip_dx, r.tip_dx)
+    } else {
+        String::new()
+    }
 }
 
 /// `bench growth` on `cases/<case>.ron` under the current folder, or a scene file
@@ -455,6 +468,10 @@ pub fn run(out: &Path, quick: bool, case: Option<&str>) -> Result<()> {
             .unwrap_or(f64::NAN)
     };
     let (dx, full_pd_dx) = (spacing(GrowthMode::PdBem), spacing(GrowthMode::FullPd));
+    let tip_dx = match base.coupling.as_ref().and_then(|c| c.refine) {
+        Some(r) => dx * 0.5f64.powi(r.levels.min(30) as i32),
+        None => dx,
+    };
     let report = GrowthBenchReport {
         bench: "growth",
         threads: rayon::current_num_threads(),
@@ -462,6 +479,7 @@ pub fn run(out: &Path, quick: bool, case: Option<&str>) -> Result<()> {
         quick,
         dx,
         full_pd_dx,
+        tip_dx,
         path_deviations: deviations(&runs, dx),
         runs,
         ratio_full_pd_to_pd_bem: ratio,
@@ -570,6 +588,7 @@ mod tests {
             quick: false,
             dx: 0.1,
             full_pd_dx: 0.1,
+            tip_dx: 0.1,
             runs: vec![pdbem],
             ratio_full_pd_to_pd_bem: None,
             ratio_uniform_fine_to_refined: Some(4.35),
@@ -577,11 +596,19 @@ mod tests {
         };
         let t = table(&report);
         assert!(!t.contains("refined windows: full PD"), "{t}");
+        assert!(!t.contains("tip dx"), "{t}");
         // Refined windows: full PD at their finest spacing, said in the header.
         let fine = GrowthBenchReport {
             full_pd_dx: 0.05,
+            tip_dx: 0.05,
             ..report
         };
+        // Refined windows: the deviation in tip spacings too (1.0 m = 10 dx = 20 tip dx).
+        assert!(
+            table(&fine).contains("= 10.00 dx (20.00 tip dx of 5e-2 m) over a reach"),
+            "{}",
+            table(&fine)
+        );
         assert!(
             table(&fine).contains("refined windows: full PD at their finest spacing, dx = 5e-2 m"),
             "{}",
