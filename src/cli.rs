@@ -328,6 +328,7 @@ fn check(path: &Path, plot_dir: Option<&Path>) -> anyhow::Result<()> {
         .into_iter()
         .chain(crate::runner::plausibility::close_tips(&scene))
         .chain(crate::runner::plausibility::close_holes(&scene))
+        .chain(crate::runner::plausibility::outline_necks(&scene))
         .chain(crate::setup::horizon_scale::note(&scene));
     let cost_note = bem_only_cost.as_ref().and_then(|(_, n)| n.clone());
     for note in geometry_notes.chain(cost_note) {

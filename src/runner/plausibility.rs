@@ -92,6 +92,7 @@ pub fn review(scene: &Scene, summary: &mut RunSummary) {
     notes.extend(thin_ligaments(scene));
     notes.extend(close_tips(scene));
     notes.extend(close_holes(scene));
+    notes.extend(outline_necks(scene));
     notes.extend(crate::setup::horizon_scale::note(scene));
     notes.extend(large_displacements(scene, summary));
     let e_prime = scene.material.e_prime();
@@ -134,6 +135,18 @@ pub fn close_holes(scene: &Scene) -> Vec<String> {
     let gaps = crate::setup::close_holes::unresolved(scene);
     gaps.iter()
         .map(|g| crate::setup::close_holes::note(scene, g))
+        .collect()
+}
+
+/// The notes of necks of a boundary loop narrower than the elements there
+/// ([`crate::setup::outline_necks`]), in every mode whose fields come from the BEM.
+pub fn outline_necks(scene: &Scene) -> Vec<String> {
+    if matches!(super::mode::mode_of(scene), super::mode::Mode::Pd) {
+        return Vec::new();
+    }
+    crate::setup::outline_necks::unresolved(scene)
+        .iter()
+        .map(crate::setup::outline_necks::note)
         .collect()
 }
 

@@ -33,7 +33,8 @@
 //! times the larger element size at the gap gets a note (in every mode whose fields come
 //! from the BEM, and in `pdbem check`) naming the sizes that resolve it. Gaps between a
 //! hole and a crack are the crack's ligament ([`super::thin_ligament`]) or its tip's
-//! length scale ([`super::sizing`]); necks of the outline itself are not checked.
+//! length scale ([`super::sizing`]); necks of the outline itself are
+//! [`super::outline_necks`]'s.
 
 use pdbem_bem::mesh::{Element, Mesh};
 

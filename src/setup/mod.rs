@@ -41,6 +41,7 @@ pub mod footprint;
 pub mod growth;
 pub mod horizon_scale;
 pub mod ligament;
+pub mod outline_necks;
 pub mod pd;
 pub mod reference_loads;
 pub mod refined_size;
