@@ -413,7 +413,7 @@ pub fn table(r: &GrowthBenchReport) -> String {
     t
 }
 
-/// " (N tip dx)" when the windows' finest spacing is finer than `dx` (refined windows).
+/// " (N tip dx of T m)" when the windows' finest spacing is finer than `dx` (refined windows).
 fn in_tip_spacings(m: f64, r: &GrowthBenchReport) -> String {
     if r.tip_dx < r.dx {
         format!(" ({:.2} tip dx of {:e} m)", m / r.tip_dx, r.tip_dx)
