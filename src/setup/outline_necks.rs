@@ -107,9 +107,9 @@ fn loop_necks(mesh: &Mesh, elements: &[Element]) -> Vec<Neck> {
         .collect();
     let total: f64 = elements.iter().map(|e| e.h).sum();
     // Sweep along x: two elements nearer than GAP_RESOLUTION times the larger one have
-    // midpoints within (1/2 + GAP_RESOLUTION) (h_e + h_f) <= (1 + 2 GAP_RESOLUTION) h_max.
+    // midpoints within GAP_RESOLUTION h_max + (h_e + h_f) / 2 <= (1 + GAP_RESOLUTION) h_max.
     let h_max = elements.iter().map(|e| e.h).fold(0.0, f64::max);
-    let window = (1.0 + 2.0 * GAP_RESOLUTION) * h_max;
+    let window = (1.0 + GAP_RESOLUTION) * h_max;
     let mut order: Vec<usize> = (0..elements.len()).collect();
     order.sort_by(|&a, &b| elements[a].mid.x.total_cmp(&elements[b].mid.x));
     let mut out = Vec::new();
