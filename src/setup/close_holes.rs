@@ -159,7 +159,7 @@ fn box_distance(a: (P2, P2), b: (P2, P2)) -> f64 {
 }
 
 /// Midpoint between the nearer ends of two elements (where the note says the gap is).
-fn nearest_midpoint(e: &Element, f: &Element) -> P2 {
+pub(super) fn nearest_midpoint(e: &Element, f: &Element) -> P2 {
     let pe = closest_on(e, f);
     let pf = closest_on(f, e);
     0.5 * (pe + pf)
@@ -167,7 +167,7 @@ fn nearest_midpoint(e: &Element, f: &Element) -> P2 {
 
 /// The point of element `e` nearest element `f` (nearest of its ends or of the
 /// projections of `f`'s ends).
-fn closest_on(e: &Element, f: &Element) -> P2 {
+pub(super) fn closest_on(e: &Element, f: &Element) -> P2 {
     let project = |p: &P2| {
         let t = ((p - e.a).dot(&e.tangent)).clamp(0.0, e.h);
         e.a + e.tangent * t

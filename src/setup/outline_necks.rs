@@ -33,7 +33,7 @@ use crate::geometry::{point_segment_distance, segment_segment_distance, P2};
 use crate::scene::shapes::SceneGeometry;
 use crate::scene::Scene;
 
-use super::close_holes::{GAP_RESOLUTION, RESOLVING_FRACTION};
+use super::close_holes::{closest_on, nearest_midpoint, GAP_RESOLUTION, RESOLVING_FRACTION};
 
 /// Two pieces of a loop count as a neck only when the loop runs at least this many gap
 /// widths between them: the flanks of a wedge of half-angle theta near its tip are
@@ -135,7 +135,7 @@ fn loop_necks(mesh: &Mesh, elements: &[Element]) -> Vec<Neck> {
             {
                 continue;
             }
-            let at = crossing_midpoint(e, f);
+            let at = nearest_midpoint(e, f);
             out.push(Neck {
                 groups: [mesh.groups[e.group].clone(), mesh.groups[f.group].clone()],
                 gap,
@@ -151,28 +151,12 @@ fn loop_necks(mesh: &Mesh, elements: &[Element]) -> Vec<Neck> {
 /// Whether the segment between the nearest points of `e` and `f` runs through the body:
 /// it leaves each element against its outward normal.
 fn across_material(e: &Element, f: &Element) -> bool {
-    let (pe, pf) = (closest_on(e, f), closest_on(f, e));
-    let v = pf - pe;
+    let v = closest_on(f, e) - closest_on(e, f);
     if v.norm() > 0.0 {
         v.dot(&e.normal) < 0.0 && v.dot(&f.normal) > 0.0
     } else {
         e.normal.dot(&f.normal) < 0.0
     }
-}
-
-/// The point of element `e` nearest element `f`.
-fn closest_on(e: &Element, f: &Element) -> P2 {
-    let project = |p: &P2| e.a + e.tangent * (p - e.a).dot(&e.tangent).clamp(0.0, e.h);
-    [e.a, e.b, project(&f.a), project(&f.b)]
-        .into_iter()
-        .min_by(|x, y| {
-            point_segment_distance(x, &f.a, &f.b).total_cmp(&point_segment_distance(y, &f.a, &f.b))
-        })
-        .unwrap_or(e.mid)
-}
-
-fn crossing_midpoint(e: &Element, f: &Element) -> P2 {
-    0.5 * (closest_on(e, f) + closest_on(f, e))
 }
 
 /// The edge groups of `elements` with an element within `radius` of `at`, in loop order.
